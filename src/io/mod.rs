@@ -1,0 +1,316 @@
+//! Reading and writing triangle meshes.
+//!
+//! [`read_mesh`] reads OBJ, PLY (ASCII and binary), OFF and STL (ASCII and binary)
+//! files into a [`TriangleSoup`], choosing the format by the file extension; the
+//! per-format readers ([`read_obj`], [`read_ply`], [`read_off`], [`read_stl`]) parse
+//! bytes already in memory. Readers check the structure of a file (counts, indices,
+//! numbers) and fan polygons into triangles, but keep coordinates as written: a NaN
+//! or infinite coordinate is left to [`crate::mesh::Mesh::from_soup`] to reject.
+//! Their errors name the line (text formats) or the element and byte offset (binary
+//! formats) where the file goes wrong.
+//!
+//! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; like every writer of
+//! the crate they go through [`atomic::write_atomically`].
+
+pub mod atomic;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+
+pub use obj::{read_obj, write_obj};
+pub use off::read_off;
+pub use ply::{read_ply, write_ply, VertexAttribute};
+pub use stl::read_stl;
+
+use std::io::{BufRead, Read};
+use std::path::Path;
+
+use crate::mesh::TriangleSoup;
+use crate::{Error, Point, Result};
+
+/// The file extensions [`read_mesh`] understands (compared case-insensitively).
+pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &["obj", "ply", "off", "stl"];
+
+/// A callback told how many bytes of a file have been parsed so far and the file's
+/// total size, e.g. to drive a progress bar.
+pub type Progress<'a> = &'a dyn Fn(u64, u64);
+
+/// Read a triangle mesh file, choosing the reader by the extension: `.obj`, `.ply`
+/// (ASCII, binary little and big endian), `.off` (also `COFF`, `NOFF`, `CNOFF`, `NCOFF`) or
+/// `.stl` (ASCII and binary), in any letter case.
+///
+/// Errors are [`Error::File`] naming `path`: an unsupported extension, a missing
+/// file, a directory, or malformed content (with the line or element).
+pub fn read_mesh(path: &Path) -> Result<TriangleSoup> {
+    read_mesh_impl(path, None)
+}
+
+/// [`read_mesh`], calling `progress(bytes_parsed, total_bytes)` as parsing advances
+/// (about every megabyte, and once at the end).
+pub fn read_mesh_with_progress(path: &Path, progress: Progress<'_>) -> Result<TriangleSoup> {
+    read_mesh_impl(path, Some(progress))
+}
+
+fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<TriangleSoup> {
+    let parse = reader_for(path)?;
+    let bytes = read_file(path)?;
+    parse_bytes(&bytes, progress, parse).map_err(|e| e.in_file(path))
+}
+
+/// A format's parser, working on an [`Input`].
+type Parser = fn(&mut Input<'_>) -> Result<TriangleSoup>;
+
+/// The parser for the extension of `path`.
+fn reader_for(path: &Path) -> Result<Parser> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("obj") => Ok(obj::parse),
+        Some("ply") => Ok(ply::parse),
+        Some("off") => Ok(off::parse),
+        Some("stl") => Ok(stl::parse),
+        other => Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "{}; supported mesh formats are .{}",
+                match other {
+                    Some(ext) => format!("unsupported file extension '.{ext}'"),
+                    None => "no file extension to tell the mesh format".to_string(),
+                },
+                SUPPORTED_MESH_EXTENSIONS.join(", .")
+            ),
+        }),
+    }
+}
+
+/// The whole content of `path`, with clear messages for a missing file or a directory.
+fn read_file(path: &Path) -> Result<Vec<u8>> {
+    let file_error = |message: &str| Error::File {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    };
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.is_dir() => Err(file_error("is a directory, not a mesh file")),
+        Ok(_) => std::fs::read(path).map_err(|e| Error::io(path, e)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(file_error("no such file")),
+        Err(e) => Err(Error::io(path, e)),
+    }
+}
+
+/// Run `parse` over `bytes`; the common entry of every reader.
+fn parse_bytes(
+    bytes: &[u8],
+    progress: Option<Progress<'_>>,
+    parse: Parser,
+) -> Result<TriangleSoup> {
+    if bytes.is_empty() {
+        return Err(Error::Parse("the file is empty".to_string()));
+    }
+    let mut input = Input::new(bytes, progress);
+    let soup = parse(&mut input)?;
+    input.report();
+    Ok(soup)
+}
+
+/// Report progress after at least this many bytes.
+const PROGRESS_STEP: usize = 1 << 20;
+
+/// The bytes of a mesh file being parsed: a cursor that hands out lines or byte
+/// blocks, counts lines for error messages and reports progress. It is also a
+/// [`BufRead`] for parsers that want one.
+struct Input<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    /// Number of lines handed out by [`Input::next_line`] (the current line number).
+    line: usize,
+    progress: Option<Progress<'a>>,
+    next_report: usize,
+}
+
+impl<'a> Input<'a> {
+    fn new(bytes: &'a [u8], progress: Option<Progress<'a>>) -> Self {
+        Input {
+            bytes,
+            pos: 0,
+            line: 0,
+            progress,
+            next_report: PROGRESS_STEP,
+        }
+    }
+
+    /// Bytes not parsed yet.
+    fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
+
+    /// The bytes not parsed yet, without consuming them.
+    fn rest(&self) -> &'a [u8] {
+        &self.bytes[self.pos..]
+    }
+
+    /// Offset of the next byte to parse.
+    fn position(&self) -> usize {
+        self.pos
+    }
+
+    /// The 1-based number of the line last returned by [`Input::next_line`].
+    fn line(&self) -> usize {
+        self.line
+    }
+
+    /// Declare that `line` lines have been read by other means (e.g. a header parser
+    /// reading through [`BufRead`]), so that later line numbers are right.
+    fn set_line(&mut self, line: usize) {
+        self.line = line;
+    }
+
+    fn advance(&mut self, n: usize) {
+        self.pos += n;
+        if self.pos >= self.next_report {
+            self.next_report = self.pos + PROGRESS_STEP;
+            self.report();
+        }
+    }
+
+    fn report(&self) {
+        if let Some(progress) = self.progress {
+            progress(self.pos as u64, self.bytes.len() as u64);
+        }
+    }
+
+    /// The next `n` bytes, or `None` (consuming nothing) if fewer are left.
+    fn take(&mut self, n: usize) -> Option<&'a [u8]> {
+        let block = self.bytes.get(self.pos..self.pos.checked_add(n)?)?;
+        self.advance(n);
+        Some(block)
+    }
+
+    /// The next line without its line break, or `None` at the end of the input.
+    fn next_line(&mut self) -> Result<Option<&'a str>> {
+        let rest = &self.bytes[self.pos..];
+        if rest.is_empty() {
+            return Ok(None);
+        }
+        let (line, consumed) = match rest.iter().position(|&b| b == b'\n') {
+            Some(end) => (&rest[..end], end + 1),
+            None => (rest, rest.len()),
+        };
+        self.line += 1;
+        self.advance(consumed);
+        let line = line.strip_suffix(b"\r").unwrap_or(line);
+        std::str::from_utf8(line).map(Some).map_err(|_| {
+            line_error(
+                self.line,
+                "not text (binary data or an unsupported character encoding)",
+            )
+        })
+    }
+
+    /// The next line that is not blank once a `#` comment is cut off, trimmed.
+    fn next_record(&mut self) -> Result<Option<&'a str>> {
+        while let Some(line) = self.next_line()? {
+            let content = line
+                .split_once('#')
+                .map_or(line, |(before, _)| before)
+                .trim();
+            if !content.is_empty() {
+                return Ok(Some(content));
+            }
+        }
+        Ok(None)
+    }
+}
+
+impl Read for Input<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.remaining());
+        buf[..n].copy_from_slice(&self.bytes[self.pos..self.pos + n]);
+        self.advance(n);
+        Ok(n)
+    }
+}
+
+impl BufRead for Input<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        Ok(&self.bytes[self.pos..])
+    }
+
+    fn consume(&mut self, amount: usize) {
+        self.advance(amount.min(self.remaining()));
+    }
+}
+
+/// A parse error located at a line of a text file.
+fn line_error(line: usize, message: impl std::fmt::Display) -> Error {
+    Error::Parse(format!("line {line}: {message}"))
+}
+
+/// The error for a file that stops before all the elements its header announced.
+fn truncated(read: usize, claimed: usize, what: &str) -> Error {
+    Error::Parse(format!(
+        "the file ends after {read} of {claimed} {what} (truncated file or wrong count in the header)"
+    ))
+}
+
+/// How many items to reserve for a count claimed by a header: never more than the
+/// rest of the file could hold at `min_bytes` bytes per item, so an absurd header
+/// cannot trigger a huge allocation.
+fn capped_capacity(claimed: usize, remaining_bytes: usize, min_bytes: usize) -> usize {
+    claimed.min(remaining_bytes / min_bytes.max(1))
+}
+
+/// Parse a number written in a text file, naming the token if it is not one.
+/// `nan` and `inf` are numbers here.
+fn parse_number<T: std::str::FromStr>(token: &str) -> std::result::Result<T, String> {
+    token
+        .parse()
+        .map_err(|_| format!("cannot read '{token}' as a number"))
+}
+
+/// The next three tokens as a point.
+fn parse_point<'t>(
+    tokens: &mut impl Iterator<Item = &'t str>,
+) -> std::result::Result<Point, String> {
+    let mut xyz = [0.0; 3];
+    for (i, value) in xyz.iter_mut().enumerate() {
+        let token = tokens
+            .next()
+            .ok_or_else(|| format!("a vertex needs 3 coordinates, found {i}"))?;
+        *value = parse_number(token)?;
+    }
+    Ok(Point::from(xyz))
+}
+
+/// Check a polygon's 0-based corner indices against `vertex_count` and fan it into
+/// triangles `(c0, ci, ci+1)`. `scratch` is a reusable buffer. The error message
+/// does not say where the polygon is: the caller prefixes that.
+fn push_polygon(
+    corners: impl IntoIterator<Item = i64>,
+    vertex_count: usize,
+    scratch: &mut Vec<u32>,
+    triangles: &mut Vec<[u32; 3]>,
+) -> std::result::Result<(), String> {
+    scratch.clear();
+    for index in corners {
+        match u32::try_from(index) {
+            Ok(i) if (i as usize) < vertex_count => scratch.push(i),
+            _ => {
+                return Err(format!(
+                    "vertex index {index} is out of range (the file has {vertex_count} vertices)"
+                ))
+            }
+        }
+    }
+    if scratch.len() < 3 {
+        return Err(format!(
+            "a face needs at least 3 corners, found {}",
+            scratch.len()
+        ));
+    }
+    let first = scratch[0];
+    triangles.extend(scratch.windows(2).skip(1).map(|w| [first, w[0], w[1]]));
+    Ok(())
+}

@@ -1,0 +1,384 @@
+//! Feature lines: the output of every extractor, and the writers that save them.
+//!
+//! A [`FeatureLines`] value is a list of [`Polyline`]s, each tagged with a
+//! [`LineKind`], a closed flag and a strength. [`write_lines`] saves it in the format
+//! given by the file extension ([`LineFormat::from_path`]):
+//!
+//! | extension | format | writer |
+//! |---|---|---|
+//! | `.json` | `crestline-lines/1` JSON, read back by [`read_json`] | [`write_json`] |
+//! | `.obj` | Wavefront OBJ, `v` and `l` records | [`write_obj`] |
+//! | `.ply` | binary little-endian PLY, `vertex` and `edge` elements | [`write_ply`] |
+//! | `.vtk` | legacy ASCII VTK `POLYDATA` (ParaView, VisIt) | [`write_vtk`] |
+//!
+//! Every writer first checks the lines ([`FeatureLines::validate`]), so a NaN or an
+//! infinite value is an error before any file is created, then writes under a
+//! temporary name and renames on success
+//! ([`write_atomically`]).
+
+mod indexing;
+mod json;
+mod obj;
+mod ply;
+mod vtk;
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::io::atomic::write_atomically;
+use crate::{Error, Point, Result};
+
+pub use json::{read_json, write_json, FORMAT};
+pub use obj::write_obj;
+pub use ply::write_ply;
+pub use vtk::write_vtk;
+
+/// What a feature line is. Serialized in lowercase (`"ridge"`, `"valley"`, ...).
+///
+/// The integer [`code`](LineKind::code) of each kind is what the PLY and VTK writers
+/// store per edge or cell; the order of the variants below is the order of the codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LineKind {
+    /// Code 0: a convex crest, where `k_max` is maximal along its principal direction.
+    Ridge,
+    /// Code 1: a concave crest, where `k_min` is minimal along its principal direction.
+    Valley,
+    /// Code 2: an ascending 1-cell of a Morse-Smale complex (saddle to maximum).
+    Ascending,
+    /// Code 3: a descending 1-cell of a Morse-Smale complex (saddle to minimum).
+    Descending,
+    /// Code 4: a crest line of an isosurface in a 3D image (marching lines), ridge or
+    /// valley not distinguished.
+    Crest,
+    /// Code 5: a parabolic line, where the Gaussian curvature is zero.
+    Parabolic,
+    /// Code 6: a silhouette seen from a camera, where the surface turns away.
+    Silhouette,
+    /// Code 7: a contour or iso-line of a scalar field.
+    Contour,
+}
+
+impl LineKind {
+    /// Every kind, in the order of their codes.
+    pub const ALL: [LineKind; 8] = [
+        LineKind::Ridge,
+        LineKind::Valley,
+        LineKind::Ascending,
+        LineKind::Descending,
+        LineKind::Crest,
+        LineKind::Parabolic,
+        LineKind::Silhouette,
+        LineKind::Contour,
+    ];
+
+    /// The lowercase name, as written in JSON and in file comments.
+    pub fn name(self) -> &'static str {
+        match self {
+            LineKind::Ridge => "ridge",
+            LineKind::Valley => "valley",
+            LineKind::Ascending => "ascending",
+            LineKind::Descending => "descending",
+            LineKind::Crest => "crest",
+            LineKind::Parabolic => "parabolic",
+            LineKind::Silhouette => "silhouette",
+            LineKind::Contour => "contour",
+        }
+    }
+
+    /// The integer code stored by the PLY and VTK writers (0 = ridge, 1 = valley, ...,
+    /// in the order of [`LineKind::ALL`]).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+
+    /// The table of codes, `0 ridge, 1 valley, ...`, written into file headers.
+    fn code_table() -> String {
+        let entries: Vec<String> = Self::ALL
+            .iter()
+            .map(|kind| format!("{} {}", kind.code(), kind.name()))
+            .collect();
+        entries.join(", ")
+    }
+}
+
+impl std::fmt::Display for LineKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One feature line: a sequence of points with a kind, a closed flag and a strength.
+///
+/// A closed polyline does **not** repeat its first point at the end: the segment from
+/// the last point back to the first is implied by `closed`. Writers need at least two
+/// points on an open line and three on a closed one (see [`FeatureLines::validate`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Polyline {
+    /// What the line is.
+    pub kind: LineKind,
+    /// Whether the line is a loop (last point connected back to the first).
+    pub closed: bool,
+    /// How pronounced the line is; its meaning depends on the extractor (for ridges
+    /// and valleys, the integral of the curvature along the line, dimensionless).
+    pub strength: f64,
+    /// The points in order, without a repeated first point for closed lines.
+    #[serde(with = "json::point_arrays")]
+    pub points: Vec<Point>,
+}
+
+impl Polyline {
+    /// A polyline from its parts.
+    pub fn new(kind: LineKind, closed: bool, strength: f64, points: Vec<Point>) -> Polyline {
+        Polyline {
+            kind,
+            closed,
+            strength,
+            points,
+        }
+    }
+
+    /// The segments in order, including the closing segment (last point to first)
+    /// when the line is closed and has more than one point.
+    pub fn segments(&self) -> impl Iterator<Item = (&Point, &Point)> + '_ {
+        let closing = match (self.closed, self.points.first(), self.points.last()) {
+            (true, Some(first), Some(last)) if self.points.len() > 1 => Some((last, first)),
+            _ => None,
+        };
+        self.points
+            .windows(2)
+            .map(|pair| (&pair[0], &pair[1]))
+            .chain(closing)
+    }
+
+    /// The length of the line, including the closing segment if it is closed.
+    pub fn length(&self) -> f64 {
+        self.segments().map(|(a, b)| (b - a).norm()).sum()
+    }
+
+    /// The fewest points a writable line needs: three if closed, two if open.
+    fn min_points(&self) -> usize {
+        if self.closed {
+            3
+        } else {
+            2
+        }
+    }
+}
+
+/// The feature lines found on one input, with the name of that input.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FeatureLines {
+    /// Where the lines come from (usually the input file name); written into every
+    /// output file.
+    pub source: String,
+    /// The lines, in the order extractors produced them.
+    pub lines: Vec<Polyline>,
+}
+
+impl FeatureLines {
+    /// An empty set of lines found on `source`.
+    pub fn new(source: impl Into<String>) -> FeatureLines {
+        FeatureLines {
+            source: source.into(),
+            lines: Vec::new(),
+        }
+    }
+
+    /// Append a line.
+    pub fn push(&mut self, line: Polyline) {
+        self.lines.push(line);
+    }
+
+    /// Number of lines.
+    pub fn len(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// Whether there are no lines.
+    pub fn is_empty(&self) -> bool {
+        self.lines.is_empty()
+    }
+
+    /// The lines in order.
+    pub fn iter(&self) -> std::slice::Iter<'_, Polyline> {
+        self.lines.iter()
+    }
+
+    /// The lines of one kind, in order.
+    pub fn of_kind(&self, kind: LineKind) -> impl Iterator<Item = &Polyline> + '_ {
+        self.lines.iter().filter(move |line| line.kind == kind)
+    }
+
+    /// Keep only the lines for which `keep` returns true (e.g.
+    /// `lines.retain(|l| l.kind == LineKind::Ridge)`), preserving their order.
+    pub fn retain<F: FnMut(&Polyline) -> bool>(&mut self, keep: F) {
+        self.lines.retain(keep);
+    }
+
+    /// The summed length of all lines (closing segments included).
+    pub fn total_length(&self) -> f64 {
+        self.lines.iter().map(Polyline::length).sum()
+    }
+
+    /// How many lines there are of each kind present (kinds with no line are absent).
+    pub fn count_by_kind(&self) -> BTreeMap<LineKind, usize> {
+        let mut counts = BTreeMap::new();
+        for line in &self.lines {
+            *counts.entry(line.kind).or_insert(0) += 1;
+        }
+        counts
+    }
+
+    /// Total number of points over all lines.
+    pub fn point_count(&self) -> usize {
+        self.lines.iter().map(|line| line.points.len()).sum()
+    }
+
+    /// Check that the lines can be written: every coordinate and strength finite, at
+    /// least two points on every open line and three on every closed one. The error
+    /// ([`Error::Argument`]) names the first offending line by its index.
+    pub fn validate(&self) -> Result<()> {
+        self.problem()
+            .map_or(Ok(()), |message| Err(Error::Argument(message)))
+    }
+
+    /// Why [`validate`](Self::validate) fails, if it does.
+    fn problem(&self) -> Option<String> {
+        self.first_problem(f64::is_finite, "not finite")
+    }
+
+    /// The first reason the lines cannot be written, if any: a value for which `fits`
+    /// is false (described as `what`), or a line with too few points.
+    fn first_problem(&self, fits: impl Fn(f64) -> bool, what: &str) -> Option<String> {
+        self.lines.iter().enumerate().find_map(|(index, line)| {
+            if !fits(line.strength) {
+                return Some(format!(
+                    "line {index}: strength {} is {what}",
+                    line.strength
+                ));
+            }
+            if line.points.len() < line.min_points() {
+                let closure = if line.closed { "closed" } else { "open" };
+                return Some(format!(
+                    "line {index}: {closure} lines need at least {} points, this one has {}",
+                    line.min_points(),
+                    line.points.len()
+                ));
+            }
+            line.points.iter().enumerate().find_map(|(p, point)| {
+                point
+                    .iter()
+                    .find(|&&v| !fits(v))
+                    .map(|v| format!("line {index}: point {p} has coordinate {v}, which is {what}"))
+            })
+        })
+    }
+}
+
+impl<'a> IntoIterator for &'a FeatureLines {
+    type Item = &'a Polyline;
+    type IntoIter = std::slice::Iter<'a, Polyline>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.lines.iter()
+    }
+}
+
+/// A file format for feature lines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LineFormat {
+    /// `crestline-lines/1` JSON ([`write_json`], [`read_json`]).
+    Json,
+    /// Wavefront OBJ with `l` records ([`write_obj`]).
+    Obj,
+    /// Binary little-endian PLY with vertices and edges ([`write_ply`]).
+    Ply,
+    /// Legacy ASCII VTK `POLYDATA` ([`write_vtk`]).
+    Vtk,
+}
+
+impl LineFormat {
+    /// Every format, in the order listed in error messages.
+    pub const ALL: [LineFormat; 4] = [
+        LineFormat::Json,
+        LineFormat::Obj,
+        LineFormat::Ply,
+        LineFormat::Vtk,
+    ];
+
+    /// The file extension of the format, lowercase and without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            LineFormat::Json => "json",
+            LineFormat::Obj => "obj",
+            LineFormat::Ply => "ply",
+            LineFormat::Vtk => "vtk",
+        }
+    }
+
+    /// The format given by the extension of `path` (case-insensitive). An unknown or
+    /// missing extension is an [`Error::File`] listing the supported ones.
+    pub fn from_path(path: &Path) -> Result<LineFormat> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        Self::ALL
+            .into_iter()
+            .find(|format| format.extension() == extension)
+            .ok_or_else(|| {
+                let supported: Vec<String> = Self::ALL
+                    .iter()
+                    .map(|format| format!(".{}", format.extension()))
+                    .collect();
+                Error::File {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "unknown feature-line format {:?}; supported extensions: {}",
+                        extension,
+                        supported.join(", ")
+                    ),
+                }
+            })
+    }
+
+    /// Write `lines` to `path` in this format.
+    pub fn write(self, path: &Path, lines: &FeatureLines) -> Result<()> {
+        match self {
+            LineFormat::Json => write_json(path, lines),
+            LineFormat::Obj => write_obj(path, lines),
+            LineFormat::Ply => write_ply(path, lines),
+            LineFormat::Vtk => write_vtk(path, lines),
+        }
+    }
+}
+
+/// Write `lines` to `path` in the format given by its extension
+/// ([`LineFormat::from_path`]).
+pub fn write_lines(path: &Path, lines: &FeatureLines) -> Result<()> {
+    LineFormat::from_path(path)?.write(path, lines)
+}
+
+/// Check `lines` ([`FeatureLines::validate`]), then write `path` through `fill` under
+/// a temporary name, renamed on success.
+fn write_checked<F>(path: &Path, lines: &FeatureLines, fill: F) -> Result<()>
+where
+    F: FnOnce(&mut BufWriter<&mut File>) -> std::io::Result<()>,
+{
+    lines.validate()?;
+    write_atomically(path, fill)
+}
+
+/// `text` on one line, for file headers and comments: line breaks and other control
+/// characters become spaces.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}

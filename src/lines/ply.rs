@@ -1,0 +1,97 @@
+//! Binary little-endian PLY output: an `edge` element holding the segments of all
+//! lines, each with its two vertices, the [`LineKind`](super::LineKind) code, the
+//! strength and the index of its line.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+use super::indexing::{indexed, points};
+use super::{one_line, write_checked, FeatureLines, LineKind, FORMAT};
+use crate::{Error, Result};
+
+/// Write `lines` to `path` as a binary little-endian PLY file:
+///
+/// ```text
+/// element vertex <points>   property float x, y, z
+/// element edge <segments>   property int vertex1, int vertex2, uchar kind,
+///                           float strength, int line
+/// ```
+///
+/// A closed line contributes the segment from its last point back to its first. The
+/// kind codes are listed in a `comment` header line (see [`LineKind::code`]).
+/// Besides the checks of [`super::write_json`], every value must fit in a 32-bit
+/// float; otherwise the error ([`Error::Argument`]) comes before any file is created.
+pub fn write_ply(path: &Path, lines: &FeatureLines) -> Result<()> {
+    let fits_f32 = |v: f64| v.is_finite() && v.abs() <= f64::from(f32::MAX);
+    if let Some(message) = lines.first_problem(fits_f32, "not a finite 32-bit float") {
+        return Err(Error::Argument(message));
+    }
+    write_checked(path, lines, |w| {
+        write_header(w, lines)?;
+        write_vertices(w, lines)?;
+        write_edges(w, lines)
+    })
+}
+
+/// The ASCII header, up to and including `end_header`.
+fn write_header(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
+    let edge_count: usize = indexed(lines).map(|item| item.path_len() - 1).sum();
+    writeln!(w, "ply")?;
+    writeln!(w, "format binary_little_endian 1.0")?;
+    writeln!(w, "comment {FORMAT} feature lines")?;
+    writeln!(w, "comment source: {}", one_line(&lines.source))?;
+    writeln!(w, "comment edge kind codes: {}", LineKind::code_table())?;
+    writeln!(
+        w,
+        "comment edge line: index of the polyline the edge belongs to"
+    )?;
+    writeln!(w, "element vertex {}", lines.point_count())?;
+    for axis in ["x", "y", "z"] {
+        writeln!(w, "property float {axis}")?;
+    }
+    writeln!(w, "element edge {edge_count}")?;
+    writeln!(w, "property int vertex1")?;
+    writeln!(w, "property int vertex2")?;
+    writeln!(w, "property uchar kind")?;
+    writeln!(w, "property float strength")?;
+    writeln!(w, "property int line")?;
+    writeln!(w, "end_header")
+}
+
+/// The `vertex` element: x, y, z as little-endian 32-bit floats.
+fn write_vertices(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
+    for p in points(lines) {
+        for v in [p.x, p.y, p.z] {
+            // Range checked in `write_ply`.
+            w.write_all(&(v as f32).to_le_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+/// The `edge` element, one record per segment.
+fn write_edges(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
+    for item in indexed(lines) {
+        let kind = item.line.kind.code();
+        let strength = item.line.strength as f32;
+        let line = ply_int(item.number)?;
+        for (a, b) in item.edges() {
+            w.write_all(&ply_int(a)?.to_le_bytes())?;
+            w.write_all(&ply_int(b)?.to_le_bytes())?;
+            w.write_all(&[kind])?;
+            w.write_all(&strength.to_le_bytes())?;
+            w.write_all(&line.to_le_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+/// An index as a PLY `int`; more than `i32::MAX` points or lines do not fit.
+fn ply_int(index: usize) -> io::Result<i32> {
+    i32::try_from(index).map_err(|_| {
+        io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("index {index} does not fit in a PLY int"),
+        )
+    })
+}

@@ -1,0 +1,601 @@
+//! Building a [`Mesh`] from a [`TriangleSoup`], repairing what real files contain.
+//!
+//! The steps, in order:
+//! 1. reject non-finite coordinates and out-of-range indices;
+//! 2. weld vertices with exactly equal positions (STL files repeat every vertex);
+//! 3. drop degenerate (zero-area) and repeated faces;
+//! 4. pair the faces along each edge; an edge with three or more faces is split so
+//!    that at most two faces share each copy;
+//! 5. orient every edge-connected component consistently (an unorientable one is an
+//!    error) and turn closed components with negative volume outside-out;
+//! 6. split vertices whose faces form several fans (bow-ties) into one vertex per fan;
+//! 7. drop unreferenced vertices and connect the halfedges.
+//!
+//! Faces are addressed by *corners*: corner `3f + i` is corner `i` of face `f`, and
+//! also names the directed edge from corner `i` to corner `i + 1` of that face.
+
+use std::fmt;
+
+use petgraph::unionfind::UnionFind;
+use rayon::prelude::*;
+
+use super::{FaceId, HalfedgeId, Mesh, ScalarProperty, TriangleSoup, VertexId};
+use crate::{Error, Point, Result};
+
+/// What [`Mesh::from_soup`] changed to make the input a clean oriented manifold.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct RepairReport {
+    /// Vertices merged into another vertex with exactly the same position.
+    pub welded_vertices: usize,
+    /// Vertices no face refers to (after dropping faces), removed.
+    pub unreferenced_vertices: usize,
+    /// Faces with a repeated corner or zero area, removed.
+    pub degenerate_faces: usize,
+    /// Faces with the same three corners as an earlier face, removed.
+    pub duplicate_faces: usize,
+    /// Edges shared by three or more faces, split into manifold edges.
+    pub non_manifold_edges: usize,
+    /// Vertices where several fans of faces met, split into one vertex per fan.
+    pub non_manifold_vertices: usize,
+    /// Faces whose orientation disagreed with the rest of their component, flipped.
+    pub flipped_faces: usize,
+    /// Closed components with negative signed volume, turned outside-out.
+    pub inverted_components: usize,
+}
+
+impl RepairReport {
+    /// Whether the input needed no repair at all.
+    pub fn is_clean(&self) -> bool {
+        *self == RepairReport::default()
+    }
+
+    /// One human-readable sentence per repair made.
+    pub fn messages(&self) -> Vec<String> {
+        let items = [
+            (self.welded_vertices, "duplicate vertices welded"),
+            (self.unreferenced_vertices, "unreferenced vertices dropped"),
+            (
+                self.degenerate_faces,
+                "degenerate (zero-area) faces dropped",
+            ),
+            (self.duplicate_faces, "repeated faces dropped"),
+            (self.non_manifold_edges, "non-manifold edges split"),
+            (self.non_manifold_vertices, "non-manifold vertices split"),
+            (
+                self.flipped_faces,
+                "faces re-oriented to agree with their component",
+            ),
+            (
+                self.inverted_components,
+                "inside-out closed components re-oriented (negative volume)",
+            ),
+        ];
+        items
+            .iter()
+            .filter(|(n, _)| *n > 0)
+            .map(|(n, what)| format!("{n} {what}"))
+            .collect()
+    }
+}
+
+impl fmt::Display for RepairReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let messages = self.messages();
+        if messages.is_empty() {
+            write!(f, "no repairs")
+        } else {
+            write!(f, "{}", messages.join("; "))
+        }
+    }
+}
+
+/// Marker for an unpaired corner (a boundary edge) or an unassigned slot.
+const NONE: u32 = u32::MAX;
+
+impl Mesh {
+    /// Build a manifold, consistently oriented halfedge mesh from `soup`, repairing
+    /// duplicate vertices, degenerate and repeated faces, non-manifold edges and
+    /// vertices, and inconsistent or inside-out orientation. Every repair is counted
+    /// in the returned [`RepairReport`].
+    ///
+    /// Errors: a non-finite coordinate or out-of-range index (naming the vertex or
+    /// face), a component that cannot be oriented, or no faces left.
+    pub fn from_soup(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
+        let TriangleSoup {
+            positions,
+            triangles,
+            vertex_scalars,
+        } = soup;
+        validate(&positions, &triangles, &vertex_scalars)?;
+        let mut report = RepairReport::default();
+
+        let weld = weld_coincident(&positions);
+        report.welded_vertices = positions.len() - weld.distinct;
+        let welded: Vec<[u32; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| weld.representative[v as usize]))
+            .collect();
+        let mut tris = drop_bad_faces(&positions, welded, &mut report);
+        if tris.is_empty() {
+            return Err(Error::Mesh(
+                "no faces (after dropping degenerate and repeated faces)".into(),
+            ));
+        }
+
+        let mut partner = pair_edges(&tris, &mut report);
+        orient(&positions, &mut tris, &mut partner, &mut report)?;
+        let mut positions = positions;
+        let mut scalars = vertex_scalars;
+        split_fans(
+            &mut tris,
+            &partner,
+            &mut positions,
+            &mut scalars,
+            &mut report,
+        );
+        let referenced = compact_vertices(&mut tris, &mut positions, &mut scalars);
+        report.unreferenced_vertices = weld.distinct - (referenced - report.non_manifold_vertices);
+
+        Ok((connect(positions, &tris, &partner, scalars), report))
+    }
+}
+
+/// Reject non-finite coordinates, out-of-range indices and mis-sized properties.
+fn validate(positions: &[Point], triangles: &[[u32; 3]], scalars: &[ScalarProperty]) -> Result<()> {
+    if positions.len() >= NONE as usize / 2 || triangles.len() >= NONE as usize / 3 {
+        return Err(Error::Mesh(format!(
+            "too many elements ({} vertices, {} faces)",
+            positions.len(),
+            triangles.len()
+        )));
+    }
+    if let Some(i) = positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        let p = positions[i];
+        return Err(Error::Mesh(format!(
+            "vertex {i} has a non-finite coordinate ({}, {}, {})",
+            p.x, p.y, p.z
+        )));
+    }
+    let n = positions.len();
+    if let Some((f, t)) = triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(Error::Mesh(format!(
+            "face {f} refers to vertex {} but there are only {n} vertices",
+            t.iter().max().copied().unwrap_or_default()
+        )));
+    }
+    if let Some(p) = scalars.iter().find(|p| p.values.len() != n) {
+        return Err(Error::Mesh(format!(
+            "vertex property '{}' has {} values for {n} vertices",
+            p.name,
+            p.values.len()
+        )));
+    }
+    Ok(())
+}
+
+/// The result of welding: each vertex's representative (the first vertex with the
+/// same position) and the number of distinct positions.
+struct Weld {
+    representative: Vec<u32>,
+    distinct: usize,
+}
+
+/// Find vertices at exactly the same position (`-0.0` equals `0.0`).
+fn weld_coincident(positions: &[Point]) -> Weld {
+    let key = |i: u32| {
+        let p = positions[i as usize];
+        // Adding 0.0 turns -0.0 into +0.0, so both get the same bits.
+        [p.x + 0.0, p.y + 0.0, p.z + 0.0].map(f64::to_bits)
+    };
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(i), i));
+    let mut representative = vec![0u32; positions.len()];
+    let mut distinct = 0;
+    let mut run_start = 0;
+    for (k, &i) in order.iter().enumerate() {
+        if k == 0 || key(i) != key(order[run_start]) {
+            run_start = k;
+            distinct += 1;
+        }
+        representative[i as usize] = order[run_start];
+    }
+    Weld {
+        representative,
+        distinct,
+    }
+}
+
+/// Remove faces with a repeated corner or zero area, then faces whose corner set
+/// repeats an earlier face (whatever its orientation).
+fn drop_bad_faces(
+    positions: &[Point],
+    tris: Vec<[u32; 3]>,
+    report: &mut RepairReport,
+) -> Vec<[u32; 3]> {
+    let before = tris.len();
+    let tris: Vec<[u32; 3]> = tris
+        .into_par_iter()
+        .filter(|t| !is_degenerate(positions, t))
+        .collect();
+    report.degenerate_faces = before - tris.len();
+
+    let sorted_key = |t: &[u32; 3]| {
+        let mut k = *t;
+        k.sort_unstable();
+        k
+    };
+    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&f| (sorted_key(&tris[f as usize]), f));
+    let mut keep = vec![true; tris.len()];
+    for w in order.windows(2) {
+        if sorted_key(&tris[w[0] as usize]) == sorted_key(&tris[w[1] as usize]) {
+            keep[w[1] as usize] = false;
+        }
+    }
+    let kept: Vec<[u32; 3]> = tris
+        .iter()
+        .zip(&keep)
+        .filter_map(|(t, &k)| k.then_some(*t))
+        .collect();
+    report.duplicate_faces = tris.len() - kept.len();
+    kept
+}
+
+/// A face is degenerate if two corners coincide or its area vanishes relative to
+/// its longest edge (collinear corners, up to rounding).
+fn is_degenerate(positions: &[Point], t: &[u32; 3]) -> bool {
+    if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+        return true;
+    }
+    let [a, b, c] = t.map(|v| positions[v as usize]);
+    let (ab, ac, bc) = (b - a, c - a, c - b);
+    let longest = ab
+        .norm_squared()
+        .max(ac.norm_squared())
+        .max(bc.norm_squared());
+    ab.cross(&ac).norm() <= 8.0 * f64::EPSILON * longest
+}
+
+/// Start and end vertex of the directed edge of corner `c`.
+#[inline]
+fn corner_edge(tris: &[[u32; 3]], c: usize) -> (u32, u32) {
+    let t = &tris[c / 3];
+    (t[c % 3], t[(c + 1) % 3])
+}
+
+/// Pair the corners (directed face edges) that lie on the same undirected edge.
+/// `partner[c]` is the corner across the edge, or [`NONE`] on the boundary. Edges
+/// with three or more faces are split: faces traversing the edge in opposite
+/// directions are paired first, the rest become boundary.
+fn pair_edges(tris: &[[u32; 3]], report: &mut RepairReport) -> Vec<u32> {
+    let corner_count = tris.len() * 3;
+    let undirected = |c: usize| {
+        let (a, b) = corner_edge(tris, c);
+        (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
+    };
+    let mut keyed: Vec<(u64, u32)> = (0..corner_count)
+        .into_par_iter()
+        .map(|c| (undirected(c), c as u32))
+        .collect();
+    keyed.par_sort_unstable();
+
+    let mut partner = vec![NONE; corner_count];
+    for group in keyed.chunk_by(|x, y| x.0 == y.0) {
+        match group {
+            [_] => {}
+            [(_, c), (_, d)] => {
+                partner[*c as usize] = *d;
+                partner[*d as usize] = *c;
+            }
+            _ => {
+                report.non_manifold_edges += 1;
+                pair_non_manifold(tris, group, &mut partner);
+            }
+        }
+    }
+    partner
+}
+
+/// Pair the faces around one edge with three or more faces: each face that runs
+/// along the edge forwards with one that runs backwards, in input order.
+fn pair_non_manifold(tris: &[[u32; 3]], group: &[(u64, u32)], partner: &mut [u32]) {
+    let (forward, backward): (Vec<u32>, Vec<u32>) = group.iter().map(|&(_, c)| c).partition(|&c| {
+        let (a, b) = corner_edge(tris, c as usize);
+        a < b
+    });
+    for (&c, &d) in forward.iter().zip(&backward) {
+        partner[c as usize] = d;
+        partner[d as usize] = c;
+    }
+}
+
+/// Corner `i` of a face becomes corner `FLIPPED_CORNER[i]` when the face's corners
+/// 1 and 2 are swapped (the directed edge it names is reversed).
+const FLIPPED_CORNER: [usize; 3] = [2, 1, 0];
+
+/// Orient every edge-connected component consistently, keeping the orientation of
+/// the majority of its faces, and turn closed components with negative volume
+/// outside-out. Flips faces in `tris` and renumbers `partner` to match.
+fn orient(
+    positions: &[Point],
+    tris: &mut [[u32; 3]],
+    partner: &mut [u32],
+    report: &mut RepairReport,
+) -> Result<()> {
+    let flip = consistent_flips(tris, partner, positions, report)?;
+    if !flip.iter().any(|&f| f) {
+        return Ok(());
+    }
+    let mut renumbered = vec![NONE; partner.len()];
+    let new_corner = |c: usize| {
+        let (f, i) = (c / 3, c % 3);
+        3 * f + if flip[f] { FLIPPED_CORNER[i] } else { i }
+    };
+    for (c, &d) in partner.iter().enumerate() {
+        if d != NONE {
+            renumbered[new_corner(c)] = new_corner(d as usize) as u32;
+        }
+    }
+    partner.copy_from_slice(&renumbered);
+    for (t, &f) in tris.iter_mut().zip(&flip) {
+        if f {
+            t.swap(1, 2);
+        }
+    }
+    Ok(())
+}
+
+/// Decide which faces to flip: a breadth-first search over each component makes
+/// neighbours agree; the component then keeps its majority orientation, unless it
+/// is closed and that orientation encloses negative volume.
+fn consistent_flips(
+    tris: &[[u32; 3]],
+    partner: &[u32],
+    positions: &[Point],
+    report: &mut RepairReport,
+) -> Result<Vec<bool>> {
+    let face_count = tris.len();
+    let mut flip = vec![false; face_count];
+    let mut visited = vec![false; face_count];
+    let mut queue = Vec::new();
+    let mut component_faces = Vec::new();
+    for (component, seed) in (0..face_count).enumerate() {
+        if visited[seed] {
+            continue;
+        }
+        visited[seed] = true;
+        queue.push(seed);
+        component_faces.clear();
+        let mut closed = true;
+        while let Some(f) = queue.pop() {
+            component_faces.push(f);
+            for (c, &d) in partner.iter().enumerate().skip(3 * f).take(3) {
+                if d == NONE {
+                    closed = false;
+                    continue;
+                }
+                let g = d as usize / 3;
+                // Neighbours must run along the shared edge in opposite directions.
+                let same_direction = corner_edge(tris, c) == corner_edge(tris, d as usize);
+                let want = flip[f] ^ same_direction;
+                if !visited[g] {
+                    visited[g] = true;
+                    flip[g] = want;
+                    queue.push(g);
+                } else if flip[g] != want {
+                    return Err(Error::Mesh(format!(
+                        "component {component} (the faces connected to face {seed}) cannot be \
+                         oriented consistently (it is Möbius-like)"
+                    )));
+                }
+            }
+        }
+        let flipped = component_faces.iter().filter(|&&f| flip[f]).count();
+        let mut invert = 2 * flipped > component_faces.len();
+        report.flipped_faces += flipped.min(component_faces.len() - flipped);
+        if closed && signed_volume(positions, tris, &component_faces, &flip) * sign(invert) < 0.0 {
+            invert = !invert;
+            report.inverted_components += 1;
+        }
+        if invert {
+            for &f in &component_faces {
+                flip[f] = !flip[f];
+            }
+        }
+    }
+    Ok(flip)
+}
+
+fn sign(negative: bool) -> f64 {
+    if negative {
+        -1.0
+    } else {
+        1.0
+    }
+}
+
+/// Six times the signed volume enclosed by `faces`, each flipped where `flip` says.
+fn signed_volume(positions: &[Point], tris: &[[u32; 3]], faces: &[usize], flip: &[bool]) -> f64 {
+    faces
+        .iter()
+        .map(|&f| {
+            let [a, b, c] = tris[f].map(|v| positions[v as usize].coords);
+            a.dot(&b.cross(&c)) * sign(flip[f])
+        })
+        .sum()
+}
+
+/// Give each fan of faces around a vertex its own vertex: corners at the same vertex
+/// belong to one fan when they are linked through paired edges. Extra fans get new
+/// vertices (copies of the position and of every per-vertex property).
+fn split_fans(
+    tris: &mut [[u32; 3]],
+    partner: &[u32],
+    positions: &mut Vec<Point>,
+    scalars: &mut [ScalarProperty],
+    report: &mut RepairReport,
+) {
+    let corner_count = partner.len();
+    let mut fans = UnionFind::<u32>::new(corner_count);
+    for (c, &d) in partner.iter().enumerate() {
+        if d == NONE {
+            continue;
+        }
+        // Edge c runs a -> b and edge d runs b -> a: corner c (at a) meets the
+        // corner after d (at a), and the corner after c (at b) meets corner d.
+        fans.union(c as u32, next_corner(d as usize) as u32);
+        fans.union(next_corner(c) as u32, d);
+    }
+    let fan_of = fans.into_labeling();
+    let mut fan_vertex = vec![NONE; corner_count];
+    let mut vertex_taken = vec![false; positions.len()];
+    for (c, &fan) in fan_of.iter().enumerate() {
+        let (f, i) = (c / 3, c % 3);
+        let fan = fan as usize;
+        if fan_vertex[fan] == NONE {
+            let v = tris[f][i] as usize;
+            fan_vertex[fan] = if vertex_taken[v] {
+                report.non_manifold_vertices += 1;
+                positions.push(positions[v]);
+                for p in scalars.iter_mut() {
+                    p.values.push(p.values[v]);
+                }
+                (positions.len() - 1) as u32
+            } else {
+                vertex_taken[v] = true;
+                v as u32
+            };
+        }
+        tris[f][i] = fan_vertex[fan];
+    }
+}
+
+#[inline]
+fn next_corner(c: usize) -> usize {
+    if c % 3 == 2 {
+        c - 2
+    } else {
+        c + 1
+    }
+}
+
+/// Drop vertices no face refers to, keeping the order of the others; returns the
+/// number of vertices kept.
+fn compact_vertices(
+    tris: &mut [[u32; 3]],
+    positions: &mut Vec<Point>,
+    scalars: &mut [ScalarProperty],
+) -> usize {
+    let mut new_index = vec![NONE; positions.len()];
+    for t in tris.iter() {
+        for &v in t {
+            new_index[v as usize] = 0;
+        }
+    }
+    let mut kept = 0u32;
+    for slot in new_index.iter_mut() {
+        if *slot == 0 {
+            *slot = kept;
+            kept += 1;
+        }
+    }
+    let keep = |values: &[f64]| -> Vec<f64> {
+        values
+            .iter()
+            .zip(&new_index)
+            .filter_map(|(x, &n)| (n != NONE).then_some(*x))
+            .collect()
+    };
+    for p in scalars.iter_mut() {
+        p.values = keep(&p.values);
+    }
+    *positions = positions
+        .iter()
+        .zip(&new_index)
+        .filter_map(|(x, &n)| (n != NONE).then_some(*x))
+        .collect();
+    for t in tris.iter_mut() {
+        *t = t.map(|v| new_index[v as usize]);
+    }
+    kept as usize
+}
+
+/// Create the halfedge arrays. Each pair of partner corners becomes one edge; each
+/// unpaired corner becomes an edge whose other halfedge is a boundary halfedge.
+/// Boundary halfedges are linked into loops through each boundary vertex's unique
+/// outgoing boundary halfedge (unique because every vertex has a single fan).
+fn connect(
+    positions: Vec<Point>,
+    tris: &[[u32; 3]],
+    partner: &[u32],
+    scalars: Vec<ScalarProperty>,
+) -> Mesh {
+    let corner_count = partner.len();
+    let mut corner_halfedge = vec![NONE; corner_count];
+    let mut edge_count = 0u32;
+    for c in 0..corner_count {
+        if corner_halfedge[c] != NONE {
+            continue;
+        }
+        corner_halfedge[c] = 2 * edge_count;
+        if partner[c] != NONE {
+            corner_halfedge[partner[c] as usize] = 2 * edge_count + 1;
+        }
+        edge_count += 1;
+    }
+
+    let halfedge_count = 2 * edge_count as usize;
+    let mut next = vec![HalfedgeId::INVALID; halfedge_count];
+    let mut prev = vec![HalfedgeId::INVALID; halfedge_count];
+    let mut target = vec![VertexId::INVALID; halfedge_count];
+    let mut face = vec![FaceId::INVALID; halfedge_count];
+    let mut vertex_halfedge = vec![HalfedgeId::INVALID; positions.len()];
+    let mut boundary_out = vec![HalfedgeId::INVALID; positions.len()];
+    for c in 0..corner_count {
+        let h = HalfedgeId(corner_halfedge[c]);
+        let (from, to) = corner_edge(tris, c);
+        next[h.idx()] = HalfedgeId(corner_halfedge[next_corner(c)]);
+        prev[next[h.idx()].idx()] = h;
+        target[h.idx()] = VertexId(to);
+        face[h.idx()] = FaceId((c / 3) as u32);
+        vertex_halfedge[from as usize] = h;
+        if partner[c] == NONE {
+            let b = HalfedgeId(h.0 ^ 1);
+            target[b.idx()] = VertexId(from);
+            boundary_out[to as usize] = b;
+        }
+    }
+    for h in (0..halfedge_count as u32).map(HalfedgeId) {
+        if !face[h.idx()].is_valid() {
+            let n = boundary_out[target[h.idx()].idx()];
+            next[h.idx()] = n;
+            prev[n.idx()] = h;
+        }
+    }
+    for (v, b) in boundary_out.iter().enumerate() {
+        if b.is_valid() {
+            vertex_halfedge[v] = *b;
+        }
+    }
+    let face_halfedge = (0..tris.len())
+        .map(|f| HalfedgeId(corner_halfedge[3 * f]))
+        .collect();
+
+    Mesh {
+        positions,
+        vertex_halfedge,
+        face_halfedge,
+        halfedge_next: next,
+        halfedge_prev: prev,
+        halfedge_target: target,
+        halfedge_face: face,
+        vertex_scalars: scalars,
+    }
+}

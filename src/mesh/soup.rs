@@ -1,0 +1,22 @@
+//! The indexed triangle list that readers produce and [`crate::mesh::Mesh`] is built from.
+
+use crate::Point;
+
+/// A named per-vertex scalar, e.g. a PLY vertex property such as `quality` or a
+/// user's indicator field.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalarProperty {
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+/// Positions and triangles exactly as a file states them: nothing welded, oriented
+/// or checked. Polygons with more than three corners are fanned into triangles by
+/// the readers. Indices are in range (readers check that).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleSoup {
+    pub positions: Vec<Point>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-vertex scalars carried along through construction (same length as `positions`).
+    pub vertex_scalars: Vec<ScalarProperty>,
+}
