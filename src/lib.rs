@@ -24,6 +24,7 @@ pub mod error;
 pub mod io;
 pub mod lines;
 pub mod mesh;
+pub mod report;
 
 pub use error::{Error, Result};
 

@@ -1,0 +1,105 @@
+//! `crestline info`: what a mesh file contains.
+
+use std::path::{Path, PathBuf};
+
+use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
+use crestline::report::Report;
+use crestline::Result;
+
+use super::load::load_mesh;
+use super::ReportArg;
+
+/// Arguments of `crestline info`.
+#[derive(clap::Args, Debug)]
+pub struct InfoArgs {
+    /// The mesh file (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// Load the mesh and print its summary to stdout.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let mut report = Report::new("info", &args.mesh);
+    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    let components = report.stage("topology", || mesh.components());
+    print!("{}", summary(&args.mesh, &mesh, &components, &repairs));
+    if let Some(path) = &args.report.report {
+        fill_counts(&mut report, &mesh, &components);
+        report.section("repairs", &repairs);
+        report.write(path)?;
+    }
+    Ok(())
+}
+
+fn fill_counts(report: &mut Report, mesh: &Mesh, components: &[ComponentInfo]) {
+    report.count("vertices", mesh.vertex_count());
+    report.count("faces", mesh.face_count());
+    report.count("edges", mesh.edge_count());
+    report.count(
+        "boundary_loops",
+        components.iter().map(|c| c.boundary_loops).sum::<usize>(),
+    );
+    report.count("components", components.len());
+    report.count("euler_characteristic", mesh.euler_characteristic());
+}
+
+/// The human-readable summary, one fact per line.
+fn summary(
+    path: &Path,
+    mesh: &Mesh,
+    components: &[ComponentInfo],
+    repairs: &RepairReport,
+) -> String {
+    let bbox = mesh.bounding_box();
+    let boundary_loops: usize = components.iter().map(|c| c.boundary_loops).sum();
+    let mut lines = vec![
+        format!("file              {}", path.display()),
+        format!("vertices          {}", mesh.vertex_count()),
+        format!("faces             {}", mesh.face_count()),
+        format!("edges             {}", mesh.edge_count()),
+        format!("boundary loops    {boundary_loops}"),
+        format!("components        {}", components.len()),
+        format!("euler char.       {}", mesh.euler_characteristic()),
+        format!("genus             {}", genus_list(components)),
+        format!(
+            "bounding box      [{:.6}, {:.6}, {:.6}] .. [{:.6}, {:.6}, {:.6}]",
+            bbox.min.x, bbox.min.y, bbox.min.z, bbox.max.x, bbox.max.y, bbox.max.z
+        ),
+        format!("diagonal          {:.6}", bbox.diagonal()),
+        format!("mean edge length  {:.6}", mesh.mean_edge_length()),
+    ];
+    let messages = repairs.messages();
+    if messages.is_empty() {
+        lines.push("repairs           none".into());
+    } else {
+        lines.push(format!(
+            "repairs           {}",
+            messages.join("\n                  ")
+        ));
+    }
+    lines.join("\n") + "\n"
+}
+
+/// The genus of each component, largest components first (at most ten listed).
+fn genus_list(components: &[ComponentInfo]) -> String {
+    let mut sorted: Vec<&ComponentInfo> = components.iter().collect();
+    sorted.sort_by_key(|c| std::cmp::Reverse(c.faces));
+    let mut text = sorted
+        .iter()
+        .take(10)
+        .map(|c| {
+            let boundary = if c.boundary_loops > 0 {
+                format!(" ({} boundary loops)", c.boundary_loops)
+            } else {
+                String::new()
+            };
+            format!("{}{boundary}", c.genus)
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    if sorted.len() > 10 {
+        text += &format!(", ... ({} more components)", sorted.len() - 10);
+    }
+    text
+}

@@ -1,0 +1,47 @@
+//! Command-line parsing and dispatch. Exit codes: 0 success, 1 an error (printed as
+//! one line `error: <file>: <what is wrong>`), 2 bad usage (printed by clap).
+
+mod info;
+mod load;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Feature lines on surfaces: ridges and valleys of triangle meshes.
+#[derive(Parser, Debug)]
+#[command(name = "crestline", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Print the size, topology and geometry of a mesh, and every repair its file needed.
+    Info(info::InfoArgs),
+}
+
+/// Options every computing command accepts.
+#[derive(clap::Args, Debug)]
+pub struct ReportArg {
+    /// Write stage timings and counts as JSON to this file.
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+}
+
+/// Parse the command line, run the command, and turn its outcome into an exit code.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Command::Info(args) => info::run(&args),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err}");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! The command-line tool as a user meets it: exit codes, one-line errors, reports.
+
+use std::process::{Command, Output};
+
+fn crestline(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Exit code 1 and exactly one line `error: <file>: ...` containing `words`.
+fn assert_one_line_error(out: &Output, file: &str, words: &str) {
+    let err = stderr(out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with(&format!("error: {file}: ")), "{err}");
+    assert!(err.contains(words), "{err}");
+}
+
+#[test]
+fn info_prints_the_bunny_summary() {
+    let out = crestline(&["info", "meshes/bunny.obj"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in [
+        "vertices          28088",
+        "faces             56172",
+        "edges             84258",
+        "genus             0",
+        "repairs           none",
+    ] {
+        assert!(text.contains(line), "missing '{line}' in\n{text}");
+    }
+}
+
+#[test]
+fn info_lists_repairs() {
+    let out = crestline(&["info", "meshes/cow.obj"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("1 non-manifold vertices split"), "{text}");
+}
+
+#[test]
+fn report_has_the_documented_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("r.json");
+    let out = crestline(&[
+        "info",
+        "meshes/bone.ply",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(json["command"], "info");
+    assert_eq!(json["input"], "meshes/bone.ply");
+    let stages: Vec<&str> = json["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            assert!(s["seconds"].as_f64().unwrap() >= 0.0);
+            s["name"].as_str().unwrap()
+        })
+        .collect();
+    assert_eq!(stages, ["read", "build", "topology"]);
+    assert_eq!(json["counts"]["vertices"], 1513);
+    assert_eq!(json["counts"]["faces"], 3022);
+    assert_eq!(json["repairs"]["unreferenced_vertices"], 359);
+}
+
+#[test]
+fn missing_file_is_a_one_line_error() {
+    let out = crestline(&["info", "meshes/no-such-mesh.obj"]);
+    assert_one_line_error(&out, "meshes/no-such-mesh.obj", "no such file");
+}
+
+#[test]
+fn directory_is_a_one_line_error() {
+    let out = crestline(&["info", "meshes"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).starts_with("error: meshes: "),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn unknown_extension_lists_the_supported_ones() {
+    let out = crestline(&["info", "Cargo.toml"]);
+    assert_one_line_error(&out, "Cargo.toml", ".obj");
+    for ext in ["ply", "off", "stl"] {
+        assert!(stderr(&out).contains(ext));
+    }
+}
+
+#[test]
+fn malformed_file_is_a_one_line_error_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("broken.off");
+    std::fs::write(&path, "OFF\n3 1 0\n0 0 0\n1 0 0\n").unwrap();
+    let file = path.to_str().unwrap();
+    let out = crestline(&["info", file]);
+    assert_one_line_error(&out, file, "vertices");
+}
+
+#[test]
+fn bad_usage_exits_with_two() {
+    assert_eq!(crestline(&["info"]).status.code(), Some(2));
+    assert_eq!(crestline(&["no-such-command"]).status.code(), Some(2));
+    assert_eq!(
+        crestline(&["info", "meshes/bunny.obj", "--bogus"])
+            .status
+            .code(),
+        Some(2)
+    );
+}
+
+#[test]
+fn every_subcommand_has_help() {
+    let out = crestline(&["--help"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let commands: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(commands.contains(&"info"), "{text}");
+    for command in commands {
+        let out = crestline(&[command, "--help"]);
+        assert!(out.status.success(), "{command} --help");
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Usage:"));
+    }
+}
