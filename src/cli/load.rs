@@ -40,3 +40,10 @@ fn progress_bar(path: &Path) -> ProgressBar {
     bar.set_message(path.display().to_string());
     bar
 }
+
+/// Print each repair as a warning naming the file.
+pub fn warn_repairs(path: &Path, repairs: &RepairReport) {
+    for message in repairs.messages() {
+        eprintln!("warning: {}: {message}", path.display());
+    }
+}

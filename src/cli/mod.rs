@@ -1,6 +1,7 @@
 //! Command-line parsing and dispatch. Exit codes: 0 success, 1 an error (printed as
 //! one line `error: <file>: <what is wrong>`), 2 bad usage (printed by clap).
 
+mod curvature;
 mod info;
 mod load;
 
@@ -21,6 +22,8 @@ struct Cli {
 enum Command {
     /// Print the size, topology and geometry of a mesh, and every repair its file needed.
     Info(info::InfoArgs),
+    /// Estimate principal curvatures and directions per vertex; write them as PLY properties.
+    Curvature(curvature::CurvatureArgs),
 }
 
 /// Options every computing command accepts.
@@ -36,6 +39,7 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Info(args) => info::run(&args),
+        Command::Curvature(args) => curvature::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

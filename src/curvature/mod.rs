@@ -1,8 +1,27 @@
-//! Principal curvatures and directions.
+//! Principal curvatures and directions of a mesh, per vertex.
 //!
 //! Sign convention, used everywhere in crestline: with outward normals (faces
 //! counter-clockwise seen from outside) a sphere has both principal curvatures
 //! positive. `k_max ≥ k_min` algebraically.
+//!
+//! Estimators implement [`CurvatureEstimator`]; two come with the crate:
+//! - [`ShapeOperator`] (the default): the edge-based discrete shape operator of
+//!   Hildebrandt, Polthier and Wardetzky (2005), §3. Linear in the number of edges
+//!   and parallel; accurate on regular meshes, noisier on irregular ones.
+//! - [`JetFit`]: a weighted least-squares cubic fit (a 3-jet in the sense of Cazals
+//!   and Pouget) over an adaptive neighbourhood of rings. Accurate on irregular
+//!   meshes; use it where the mesh has many 3- and 4-valent vertices or strongly
+//!   varying triangle sizes.
+
+mod accuracy;
+mod field;
+mod jet;
+mod shape_operator;
+
+pub use accuracy::relative_rms_error;
+pub use field::{CurvatureEstimator, CurvatureField};
+pub use jet::JetFit;
+pub use shape_operator::ShapeOperator;
 
 use nalgebra::Matrix3;
 
@@ -71,4 +90,19 @@ pub fn symmetric_2x2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
     let mean = 0.5 * (a + c);
     let radius = (0.5 * (a - c)).hypot(b);
     (mean + radius, mean - radius, 0.5 * (2.0 * b).atan2(a - c))
+}
+
+/// Principal curvatures of the implicit surface F = 0 at a point where ∇F =
+/// `gradient` and the Hessian of F is `hessian`, with outward normal n = ∇F/|∇F|:
+/// the shape operator is W = P H P / |∇F| with P = I − n nᵀ, restricted to the
+/// tangent plane. Returns the curvatures and n.
+pub fn implicit_curvature(
+    gradient: &Vector,
+    hessian: &Matrix3<f64>,
+) -> (PrincipalCurvatures, Vector) {
+    let norm = gradient.norm();
+    let n = gradient / norm;
+    let projector = Matrix3::identity() - n * n.transpose();
+    let shape = projector * hessian * projector / norm;
+    (PrincipalCurvatures::from_tangent_operator(&shape, &n), n)
 }

@@ -36,9 +36,9 @@ pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &["obj", "ply", "off", "stl"];
 /// total size, e.g. to drive a progress bar.
 pub type Progress<'a> = &'a dyn Fn(u64, u64);
 
-/// Read a triangle mesh file, choosing the reader by the extension: `.obj`, `.ply`
-/// (ASCII, binary little and big endian), `.off` (also `COFF`, `NOFF`, `CNOFF`, `NCOFF`) or
-/// `.stl` (ASCII and binary), in any letter case.
+/// Read a triangle mesh file, choosing the reader by the extension, in any letter
+/// case: `.obj`, `.ply` (ASCII, binary little and big endian), `.off` (also `COFF`,
+/// `NOFF`, `CNOFF`, `NCOFF`) or `.stl` (ASCII and binary).
 ///
 /// Errors are [`Error::File`] naming `path`: an unsupported extension, a missing
 /// file, a directory, or malformed content (with the line or element).
@@ -53,8 +53,9 @@ pub fn read_mesh_with_progress(path: &Path, progress: Progress<'_>) -> Result<Tr
 }
 
 fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<TriangleSoup> {
-    let parse = reader_for(path)?;
-    let bytes = read_file(path)?;
+    check_is_file(path)?;
+    let parse = parser_for(path)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     parse_bytes(&bytes, progress, parse).map_err(|e| e.in_file(path))
 }
 
@@ -62,39 +63,38 @@ fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<Triangl
 type Parser = fn(&mut Input<'_>) -> Result<TriangleSoup>;
 
 /// The parser for the extension of `path`.
-fn reader_for(path: &Path) -> Result<Parser> {
+fn parser_for(path: &Path) -> Result<Parser> {
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
-        Some("obj") => Ok(obj::parse),
-        Some("ply") => Ok(ply::parse),
-        Some("off") => Ok(off::parse),
-        Some("stl") => Ok(stl::parse),
-        other => Err(Error::File {
-            path: path.to_path_buf(),
-            message: format!(
-                "{}; supported mesh formats are .{}",
-                match other {
-                    Some(ext) => format!("unsupported file extension '.{ext}'"),
-                    None => "no file extension to tell the mesh format".to_string(),
-                },
-                SUPPORTED_MESH_EXTENSIONS.join(", .")
-            ),
-        }),
-    }
+    let problem = match extension.as_deref() {
+        Some("obj") => return Ok(obj::parse),
+        Some("ply") => return Ok(ply::parse),
+        Some("off") => return Ok(off::parse),
+        Some("stl") => return Ok(stl::parse),
+        Some(other) => format!("unsupported file extension '.{other}'"),
+        None => "no file extension to tell the mesh format".to_string(),
+    };
+    Err(Error::File {
+        path: path.to_path_buf(),
+        message: format!(
+            "{problem}; supported mesh formats are .{}",
+            SUPPORTED_MESH_EXTENSIONS.join(", .")
+        ),
+    })
 }
 
-/// The whole content of `path`, with clear messages for a missing file or a directory.
-fn read_file(path: &Path) -> Result<Vec<u8>> {
+/// Check that `path` names an existing file, with clear messages for a missing file
+/// or a directory.
+fn check_is_file(path: &Path) -> Result<()> {
     let file_error = |message: &str| Error::File {
         path: path.to_path_buf(),
         message: message.to_string(),
     };
     match std::fs::metadata(path) {
         Ok(meta) if meta.is_dir() => Err(file_error("is a directory, not a mesh file")),
-        Ok(_) => std::fs::read(path).map_err(|e| Error::io(path, e)),
+        Ok(_) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(file_error("no such file")),
         Err(e) => Err(Error::io(path, e)),
     }
@@ -109,9 +109,10 @@ fn parse_bytes(
     if bytes.is_empty() {
         return Err(Error::Parse("the file is empty".to_string()));
     }
-    let mut input = Input::new(bytes, progress);
-    let soup = parse(&mut input)?;
-    input.report();
+    let soup = parse(&mut Input::new(bytes, progress))?;
+    if let Some(progress) = progress {
+        progress(bytes.len() as u64, bytes.len() as u64);
+    }
     Ok(soup)
 }
 
@@ -171,13 +172,9 @@ impl<'a> Input<'a> {
         self.pos += n;
         if self.pos >= self.next_report {
             self.next_report = self.pos + PROGRESS_STEP;
-            self.report();
-        }
-    }
-
-    fn report(&self) {
-        if let Some(progress) = self.progress {
-            progress(self.pos as u64, self.bytes.len() as u64);
+            if let Some(progress) = self.progress {
+                progress(self.pos as u64, self.bytes.len() as u64);
+            }
         }
     }
 

@@ -65,7 +65,9 @@ fn header_error(e: &ParseError, line: usize) -> Error {
     line_error(e.line().unwrap_or(line), library_message(e))
 }
 
-/// A `ply-rs-bw` error message on one line, without its own line prefix.
+/// A `ply-rs-bw` error message on one line, without its own line prefix and
+/// without the grammar's internal diagnostics: "Couldn't parse line: 'property
+/// floot x'".
 fn library_message(e: &ParseError) -> String {
     let text = e.to_string();
     let text = match e.line() {
@@ -75,7 +77,15 @@ fn library_message(e: &ParseError) -> String {
             .to_string(),
         None => text,
     };
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    match text.split_once(" String: ") {
+        Some((reason, rest)) => {
+            let quoted = rest.split(" Error: ").next().unwrap_or(rest).trim();
+            let quoted = quoted.replace(" '", "'");
+            format!("{}: {quoted}", reason.trim_end_matches('.'))
+        }
+        None => text,
+    }
 }
 
 /// What the header says about the elements the reader uses.
@@ -183,6 +193,11 @@ impl Payload<'_, '_> {
         def: &ElementDef,
         mut sink: impl FnMut(usize, E) -> std::result::Result<(), String>,
     ) -> Result<()> {
+        if def.properties.is_empty() {
+            // Records without properties take no bytes: nothing to read, however
+            // large the count.
+            return Ok(());
+        }
         let parser = Parser::<E>::new();
         for i in 0..def.count {
             let offset = self.reader.get_ref().position();
@@ -489,7 +504,9 @@ pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -
     super::atomic::write_atomically(path, |w| {
         w.write_all(header.as_bytes())?;
         for (v, p) in mesh.positions().iter().enumerate() {
-            p.coords.iter().try_for_each(|&c| write_f32(w, c))?;
+            p.coords
+                .iter()
+                .try_for_each(|&c| w.write_all(&c.to_le_bytes()))?;
             for attribute in attributes {
                 attribute.write_vertex(v, w)?;
             }
@@ -514,6 +531,7 @@ fn ply_header(mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<String>
         )));
     }
     let mut names: Vec<String> = ["x", "y", "z"].map(String::from).to_vec();
+    let mut attribute_names = Vec::new();
     for attribute in attributes {
         let name = attribute.name();
         if attribute.len() != vertex_count {
@@ -533,13 +551,18 @@ fn ply_header(mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<String>
                     "vertex property '{property}' is given twice"
                 )));
             }
-            names.push(property);
+            names.push(property.clone());
+            attribute_names.push(property);
         }
     }
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by crestline\nelement vertex {vertex_count}\n"
     );
-    for name in &names {
+    // Positions in double precision, so that a written mesh reads back exactly.
+    for name in ["x", "y", "z"] {
+        header += &format!("property double {name}\n");
+    }
+    for name in &attribute_names {
         header += &format!("property float {name}\n");
     }
     header += &format!(

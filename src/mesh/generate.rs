@@ -16,7 +16,7 @@ use rand::{Rng, SeedableRng};
 use spade::{DelaunayTriangulation, Triangulation};
 
 use super::{Mesh, TriangleSoup};
-use crate::curvature::{tangent_basis, PrincipalCurvatures};
+use crate::curvature::{implicit_curvature, tangent_basis, PrincipalCurvatures};
 use crate::{Point, Result, Vector};
 
 /// How the vertices of a generated surface are placed.
@@ -61,11 +61,7 @@ pub trait ImplicitSurface {
 
     /// Exact principal curvatures at a point `p` on the surface.
     fn curvature(&self, p: &Point) -> PrincipalCurvatures {
-        let g = self.gradient(p);
-        let n = g.normalize();
-        let projector = Matrix3::identity() - n * n.transpose();
-        let shape = projector * self.hessian(p) * projector / g.norm();
-        PrincipalCurvatures::from_tangent_operator(&shape, &n)
+        implicit_curvature(&self.gradient(p), &self.hessian(p)).0
     }
 }
 

@@ -26,6 +26,14 @@ impl BoundingBox {
     }
 }
 
+/// Signed angle from unit normal `n1` to unit normal `n2` about the unit `axis`
+/// (φ = atan2(⟨n1 × n2, axis⟩, ⟨n1, n2⟩)): the signed dihedral angle of an edge
+/// whose direction is `axis` as the boundary of the face with normal `n1` runs.
+#[inline]
+pub fn signed_angle(n1: &Vector, n2: &Vector, axis: &Vector) -> f64 {
+    n1.cross(n2).dot(axis).atan2(n1.dot(n2))
+}
+
 /// Cotangent of the angle between `u` and `v`.
 #[inline]
 fn cot(u: &Vector, v: &Vector) -> f64 {
@@ -136,8 +144,7 @@ impl Mesh {
         let h = self.edge_halfedge(e, 0);
         let n1 = self.face_normal(self.face(h));
         let n2 = self.face_normal(self.face(self.twin(h)));
-        let e_hat = self.halfedge_vector(h).normalize();
-        n1.cross(&n2).dot(&e_hat).atan2(n1.dot(&n2))
+        signed_angle(&n1, &n2, &self.halfedge_vector(h).normalize())
     }
 
     /// Cotan weight w_e = ½ (cot α + cot β) of the angles opposite `e` (one term on a

@@ -1,0 +1,139 @@
+//! The per-vertex curvature field every estimator produces.
+
+use crate::mesh::{Mesh, VertexId};
+use crate::{Result, Vector};
+
+use super::PrincipalCurvatures;
+
+/// Principal curvatures, directions and normals at every vertex of a mesh, stored
+/// as one array per quantity (indexed by [`VertexId`]).
+#[derive(Clone, Debug, Default)]
+pub struct CurvatureField {
+    pub k_max: Vec<f64>,
+    pub k_min: Vec<f64>,
+    /// Unit direction of `k_max`, defined up to sign.
+    pub d_max: Vec<Vector>,
+    /// Unit direction of `k_min`, defined up to sign; `(d_max, d_min, normal)` is
+    /// right-handed.
+    pub d_min: Vec<Vector>,
+    /// The unit normal the estimator used (outward).
+    pub normal: Vec<Vector>,
+    /// Vertices whose values are not to be trusted (on the boundary, or where the
+    /// estimator had too little data).
+    pub unreliable: Vec<bool>,
+}
+
+impl CurvatureField {
+    /// Collect a field from per-vertex estimates `(curvatures, normal, unreliable)`.
+    pub fn from_vertices(values: Vec<(PrincipalCurvatures, Vector, bool)>) -> CurvatureField {
+        let mut field = CurvatureField::with_capacity(values.len());
+        for (k, normal, unreliable) in values {
+            field.k_max.push(k.k_max);
+            field.k_min.push(k.k_min);
+            field.d_max.push(k.d_max);
+            field.d_min.push(k.d_min);
+            field.normal.push(normal);
+            field.unreliable.push(unreliable);
+        }
+        field
+    }
+
+    fn with_capacity(n: usize) -> CurvatureField {
+        CurvatureField {
+            k_max: Vec::with_capacity(n),
+            k_min: Vec::with_capacity(n),
+            d_max: Vec::with_capacity(n),
+            d_min: Vec::with_capacity(n),
+            normal: Vec::with_capacity(n),
+            unreliable: Vec::with_capacity(n),
+        }
+    }
+
+    /// Number of vertices.
+    pub fn len(&self) -> usize {
+        self.k_max.len()
+    }
+
+    /// Whether the field has no vertices.
+    pub fn is_empty(&self) -> bool {
+        self.k_max.is_empty()
+    }
+
+    /// The principal curvatures and directions at `v`.
+    pub fn at(&self, v: VertexId) -> PrincipalCurvatures {
+        let i = v.idx();
+        PrincipalCurvatures {
+            k_max: self.k_max[i],
+            k_min: self.k_min[i],
+            d_max: self.d_max[i],
+            d_min: self.d_min[i],
+        }
+    }
+
+    /// Mean curvature (k_max + k_min) / 2 per vertex.
+    pub fn mean(&self) -> Vec<f64> {
+        self.k_max
+            .iter()
+            .zip(&self.k_min)
+            .map(|(a, b)| 0.5 * (a + b))
+            .collect()
+    }
+
+    /// Gaussian curvature k_max k_min per vertex.
+    pub fn gauss(&self) -> Vec<f64> {
+        self.k_max
+            .iter()
+            .zip(&self.k_min)
+            .map(|(a, b)| a * b)
+            .collect()
+    }
+
+    /// Curvedness √((k_max² + k_min²) / 2) per vertex (Koenderink).
+    pub fn curvedness(&self) -> Vec<f64> {
+        self.k_max
+            .iter()
+            .zip(&self.k_min)
+            .map(|(a, b)| (0.5 * (a * a + b * b)).sqrt())
+            .collect()
+    }
+
+    /// Check that the field fits `mesh` and holds only finite values: the contract
+    /// every estimator must meet before later stages use its output.
+    pub fn check(&self, mesh: &Mesh) -> Result<()> {
+        let n = mesh.vertex_count();
+        let lengths = [
+            self.k_min.len(),
+            self.d_max.len(),
+            self.d_min.len(),
+            self.normal.len(),
+            self.unreliable.len(),
+        ];
+        if self.k_max.len() != n || lengths.iter().any(|&l| l != n) {
+            return Err(crate::Error::Argument(format!(
+                "curvature field has {} values for a mesh with {n} vertices",
+                self.k_max.len()
+            )));
+        }
+        let finite = |v: &Vector| v.iter().all(|x| x.is_finite());
+        let bad = (0..n).find(|&i| {
+            !self.k_max[i].is_finite()
+                || !self.k_min[i].is_finite()
+                || !finite(&self.d_max[i])
+                || !finite(&self.d_min[i])
+                || !finite(&self.normal[i])
+        });
+        match bad {
+            Some(i) => Err(crate::Error::Mesh(format!(
+                "curvature estimate at vertex {i} is not finite"
+            ))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A way of estimating curvature on a mesh. Implement it to plug a custom
+/// estimator into every stage that needs curvature.
+pub trait CurvatureEstimator {
+    /// Estimate principal curvatures, directions and normals at every vertex.
+    fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField>;
+}

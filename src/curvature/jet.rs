@@ -1,0 +1,185 @@
+//! Curvature from a local least-squares fit of a cubic height function (a 3-jet,
+//! in the manner of Cazals and Pouget, "Estimating differential quantities using
+//! polynomial fitting of osculating jets", 2003).
+
+use nalgebra::{Matrix3, SMatrix, SVector};
+use rayon::prelude::*;
+
+use crate::mesh::{Mesh, VertexId};
+use crate::{Result, Vector};
+
+use super::{implicit_curvature, tangent_basis, CurvatureEstimator, CurvatureField};
+
+/// Fits z = f(x, y), a polynomial of degree 3, to the vertices of a neighbourhood
+/// of rings around each vertex, in the frame of the vertex's area-weighted normal,
+/// and takes the curvature of the fitted graph at the vertex. The neighbourhood
+/// grows ring by ring until it holds `min_points` vertices (or `max_rings` rings);
+/// where fewer than 10 points are found, a quadric (degree 2) is fitted, and with
+/// fewer than 6 the vertex is flagged unreliable.
+///
+/// Error on a smooth surface sampled with spacing h is O(h²), independent of the
+/// triangulation's regularity, unlike the discrete shape operator.
+#[derive(Clone, Copy, Debug)]
+pub struct JetFit {
+    /// Smallest number of vertices to fit to (the vertex itself included).
+    pub min_points: usize,
+    /// Largest number of rings to gather.
+    pub max_rings: usize,
+}
+
+impl Default for JetFit {
+    fn default() -> Self {
+        JetFit {
+            min_points: 30,
+            max_rings: 4,
+        }
+    }
+}
+
+impl CurvatureEstimator for JetFit {
+    fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
+        let normals = area_weighted_normals(mesh);
+        let values = mesh
+            .par_vertices()
+            .map_init(Vec::new, |ring_buffer, v| {
+                let points = self.neighbourhood(mesh, v, ring_buffer);
+                let (k, normal, fitted) = fit_vertex(mesh, v, &normals[v.idx()], points);
+                (k, normal, !fitted || mesh.is_boundary_vertex(v))
+            })
+            .collect();
+        Ok(CurvatureField::from_vertices(values))
+    }
+}
+
+impl JetFit {
+    /// The vertices of the smallest ring neighbourhood of `v` with at least
+    /// `min_points` vertices (or `max_rings` rings), `v` first.
+    fn neighbourhood<'a>(
+        &self,
+        mesh: &Mesh,
+        v: VertexId,
+        found: &'a mut Vec<VertexId>,
+    ) -> &'a [VertexId] {
+        found.clear();
+        found.push(v);
+        let mut ring_start = 0;
+        for _ in 0..self.max_rings {
+            let ring_end = found.len();
+            for i in ring_start..ring_end {
+                for w in mesh.neighbors(found[i]) {
+                    if !found.contains(&w) {
+                        found.push(w);
+                    }
+                }
+            }
+            ring_start = ring_end;
+            if found.len() >= self.min_points || found.len() == ring_end {
+                break;
+            }
+        }
+        found
+    }
+}
+
+/// Unit normals from the sum of the area vectors of the faces around each vertex.
+fn area_weighted_normals(mesh: &Mesh) -> Vec<Vector> {
+    mesh.par_vertices()
+        .map(|v| {
+            let sum: Vector = mesh.vertex_faces(v).map(|f| mesh.face_area_vector(f)).sum();
+            sum.normalize()
+        })
+        .collect()
+}
+
+/// Number of monomials of degree ≤ 4, ≤ 3 and ≤ 2 in (x, y): the columns of a fit.
+const QUARTIC: usize = 15;
+const CUBIC: usize = 10;
+const QUADRIC: usize = 6;
+
+/// Fit a height function over the tangent plane of `normal` at `v` and return the
+/// curvature of its graph at the vertex, the graph's normal, and whether a fit
+/// was possible.
+fn fit_vertex(
+    mesh: &Mesh,
+    v: VertexId,
+    normal: &Vector,
+    points: &[VertexId],
+) -> (super::PrincipalCurvatures, Vector, bool) {
+    let origin = mesh.position(v);
+    let (t1, t2) = tangent_basis(normal);
+    let local: Vec<Vector> = points
+        .iter()
+        .map(|&w| {
+            let d = mesh.position(w) - origin;
+            Vector::new(d.dot(&t1), d.dot(&t2), d.dot(normal))
+        })
+        .collect();
+    // Scale to unit radius so the normal equations are well conditioned.
+    let scale = local.iter().map(|p| p.xy().norm()).fold(0.0, f64::max);
+    let derivatives = if scale > 0.0 {
+        let scaled: Vec<Vector> = local.iter().map(|p| p / scale).collect();
+        fit::<QUARTIC>(&scaled)
+            .or_else(|| fit::<CUBIC>(&scaled))
+            .or_else(|| fit::<QUADRIC>(&scaled))
+    } else {
+        None
+    };
+    let Some([fx, fy, fxx, fxy, fyy]) = derivatives else {
+        let flat = super::PrincipalCurvatures::from_tangent_operator(&Matrix3::zeros(), normal);
+        return (flat, *normal, false);
+    };
+    // Back to unscaled units: first derivatives keep, second divide by the scale.
+    let (fxx, fxy, fyy) = (fxx / scale, fxy / scale, fyy / scale);
+    // The graph z = f(x, y) is the implicit surface F = z − f = 0, normal upwards.
+    let gradient = Vector::new(-fx, -fy, 1.0);
+    let hessian = -Matrix3::new(fxx, fxy, 0.0, fxy, fyy, 0.0, 0.0, 0.0, 0.0);
+    let (k, n) = implicit_curvature(&gradient, &hessian);
+    let to_world = |d: Vector| t1 * d.x + t2 * d.y + normal * d.z;
+    let curvature = super::PrincipalCurvatures {
+        d_max: to_world(k.d_max),
+        d_min: to_world(k.d_min),
+        ..k
+    };
+    (curvature, to_world(n), true)
+}
+
+/// Least-squares fit of z over the first `N` monomials 1, x, y, x², xy, y², x³,
+/// x²y, xy², y³, x⁴, x³y, x²y², xy³, y⁴; returns (f_x, f_y, f_xx, f_xy, f_yy) at the origin, or `None` if
+/// the points do not determine the fit.
+fn fit<const N: usize>(points: &[Vector]) -> Option<[f64; 5]> {
+    if points.len() < N {
+        return None;
+    }
+    let mut normal_matrix = SMatrix::<f64, N, N>::zeros();
+    let mut rhs = SVector::<f64, N>::zeros();
+    for p in points {
+        let (x, y) = (p.x, p.y);
+        let (xx, xy, yy) = (x * x, x * y, y * y);
+        let all = [
+            1.0,
+            x,
+            y,
+            xx,
+            xy,
+            yy,
+            xx * x,
+            xx * y,
+            x * yy,
+            yy * y,
+            xx * xx,
+            xx * xy,
+            xx * yy,
+            xy * yy,
+            yy * yy,
+        ];
+        let row = SVector::<f64, N>::from_fn(|i, _| all[i]);
+        normal_matrix += row * row.transpose();
+        rhs += row * p.z;
+    }
+    let c = normal_matrix.cholesky()?.solve(&rhs);
+    // Reject near-singular systems (points on a curve, not spread over the plane).
+    if !c.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    Some([c[1], c[2], 2.0 * c[3], c[4], 2.0 * c[5]])
+}
