@@ -2,8 +2,9 @@
 
 use std::path::PathBuf;
 
-use crestline::curvature::{CurvatureEstimator, JetFit, ShapeOperator};
-use crestline::io::{write_ply, VertexAttribute};
+use crestline::curvature::{
+    estimate_curvature, write_curvature_ply, CurvatureEstimator, JetFit, ShapeOperator,
+};
 use crestline::report::Report;
 use crestline::{Error, Result};
 
@@ -65,49 +66,10 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     super::load::warn_repairs(&args.mesh, &repairs);
     let estimator = args.estimator.estimator();
-    let field = report.stage("estimate", || estimator.estimate(&mesh))?;
-    field.check(&mesh).map_err(|e| e.in_file(&args.mesh))?;
-    let (mean, gauss) = (field.mean(), field.gauss());
-    let unreliable: Vec<f64> = field
-        .unreliable
-        .iter()
-        .map(|&u| f64::from(u8::from(u)))
-        .collect();
-    let attributes = [
-        VertexAttribute::Scalar {
-            name: "k_max",
-            values: &field.k_max,
-        },
-        VertexAttribute::Scalar {
-            name: "k_min",
-            values: &field.k_min,
-        },
-        VertexAttribute::Scalar {
-            name: "mean",
-            values: &mean,
-        },
-        VertexAttribute::Scalar {
-            name: "gauss",
-            values: &gauss,
-        },
-        VertexAttribute::Vector {
-            name: "dmax",
-            values: &field.d_max,
-        },
-        VertexAttribute::Vector {
-            name: "dmin",
-            values: &field.d_min,
-        },
-        VertexAttribute::Vector {
-            name: "n",
-            values: &field.normal,
-        },
-        VertexAttribute::Scalar {
-            name: "unreliable",
-            values: &unreliable,
-        },
-    ];
-    report.stage("write", || write_ply(&args.output, &mesh, &attributes))?;
+    let field = report
+        .stage("estimate", || estimate_curvature(&mesh, estimator.as_ref()))
+        .map_err(|e| e.in_file(&args.mesh))?;
+    report.stage("write", || write_curvature_ply(&args.output, &mesh, &field))?;
     if let Some(path) = &args.report.report {
         report.count("vertices", mesh.vertex_count());
         report.count("faces", mesh.face_count());

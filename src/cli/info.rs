@@ -23,7 +23,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     let mut report = Report::new("info", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     let components = report.stage("topology", || mesh.components());
-    print!("{}", summary(&args.mesh, &mesh, &components, &repairs));
+    super::print_stdout(&summary(&args.mesh, &mesh, &components, &repairs));
     if let Some(path) = &args.report.report {
         fill_counts(&mut report, &mesh, &components);
         report.section("repairs", &repairs);

@@ -49,3 +49,9 @@ pub fn run() -> ExitCode {
         }
     }
 }
+
+/// Print `text` to stdout; a closed pipe (e.g. `| head`) is not an error.
+pub fn print_stdout(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}

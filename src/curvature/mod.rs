@@ -16,11 +16,13 @@
 mod accuracy;
 mod field;
 mod jet;
+mod output;
 mod shape_operator;
 
 pub use accuracy::relative_rms_error;
 pub use field::{CurvatureEstimator, CurvatureField};
 pub use jet::JetFit;
+pub use output::{estimate_curvature, write_curvature_ply};
 pub use shape_operator::ShapeOperator;
 
 use nalgebra::Matrix3;

@@ -1,0 +1,67 @@
+//! Saving a curvature field with its mesh.
+
+use std::path::Path;
+
+use crate::io::{write_ply, VertexAttribute};
+use crate::mesh::Mesh;
+use crate::Result;
+
+use super::{CurvatureEstimator, CurvatureField};
+
+/// Run `estimator` on `mesh` and check its output fits the mesh and is finite: the
+/// one entry point through which every stage gets curvature, so a custom estimator
+/// is held to the same contract as the built-in ones.
+pub fn estimate_curvature(
+    mesh: &Mesh,
+    estimator: &dyn CurvatureEstimator,
+) -> Result<CurvatureField> {
+    let field = estimator.estimate(mesh)?;
+    field.check(mesh)?;
+    Ok(field)
+}
+
+/// Write `mesh` as binary PLY with the float vertex properties `k_max`, `k_min`,
+/// `mean`, `gauss`, `dmax_x/y/z`, `dmin_x/y/z`, `n_x/y/z` and `unreliable` (1 or 0).
+pub fn write_curvature_ply(path: &Path, mesh: &Mesh, field: &CurvatureField) -> Result<()> {
+    let (mean, gauss) = (field.mean(), field.gauss());
+    let unreliable: Vec<f64> = field
+        .unreliable
+        .iter()
+        .map(|&u| f64::from(u8::from(u)))
+        .collect();
+    let attributes = [
+        VertexAttribute::Scalar {
+            name: "k_max",
+            values: &field.k_max,
+        },
+        VertexAttribute::Scalar {
+            name: "k_min",
+            values: &field.k_min,
+        },
+        VertexAttribute::Scalar {
+            name: "mean",
+            values: &mean,
+        },
+        VertexAttribute::Scalar {
+            name: "gauss",
+            values: &gauss,
+        },
+        VertexAttribute::Vector {
+            name: "dmax",
+            values: &field.d_max,
+        },
+        VertexAttribute::Vector {
+            name: "dmin",
+            values: &field.d_min,
+        },
+        VertexAttribute::Vector {
+            name: "n",
+            values: &field.normal,
+        },
+        VertexAttribute::Scalar {
+            name: "unreliable",
+            values: &unreliable,
+        },
+    ];
+    write_ply(path, mesh, &attributes)
+}
