@@ -243,3 +243,36 @@ fn vertex_rotation_visits_every_neighbour_once() {
         assert_eq!(mesh.vertex_faces(v).count(), 3);
     }
 }
+
+#[test]
+fn exploded_sphere_welds_back_to_the_same_closed_mesh() {
+    // Every face with its own three vertices, as an STL file stores a mesh.
+    let sphere = crestline::mesh::generate::sphere(
+        1.0,
+        3000,
+        crestline::mesh::generate::Sampling::jittered(4),
+    )
+    .unwrap()
+    .mesh;
+    let mut soup = crestline::mesh::TriangleSoup::default();
+    for f in sphere.faces() {
+        let first = soup.positions.len() as u32;
+        soup.positions.extend(sphere.face_points(f));
+        soup.triangles.push([first, first + 1, first + 2]);
+    }
+    let (mesh, report) = Mesh::from_soup(soup).unwrap();
+    mesh.check_connectivity().unwrap();
+    assert_eq!(
+        report.welded_vertices,
+        3 * sphere.face_count() - sphere.vertex_count()
+    );
+    assert_eq!(
+        (mesh.vertex_count(), mesh.face_count()),
+        (sphere.vertex_count(), sphere.face_count())
+    );
+    assert_eq!(mesh.euler_characteristic(), 2);
+    // Faces keep their order and corners: the same geometry, now connected.
+    assert!(mesh
+        .faces()
+        .all(|f| mesh.face_points(f) == sphere.face_points(f)));
+}

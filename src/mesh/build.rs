@@ -19,6 +19,7 @@ use std::fmt;
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
+use super::buckets::Buckets;
 use super::{FaceId, HalfedgeId, Mesh, ScalarProperty, TriangleSoup, VertexId};
 use crate::{Error, Point, Result};
 
@@ -115,14 +116,14 @@ impl Mesh {
             .iter()
             .map(|t| t.map(|v| weld.representative[v as usize]))
             .collect();
-        let mut tris = drop_bad_faces(&positions, welded, &mut report);
+        let mut tris = drop_bad_faces(&positions, positions.len(), welded, &mut report);
         if tris.is_empty() {
             return Err(Error::Mesh(
                 "no faces (after dropping degenerate and repeated faces)".into(),
             ));
         }
 
-        let mut partner = pair_edges(&tris, &mut report);
+        let mut partner = pair_edges(&tris, positions.len(), &mut report);
         orient(&positions, &mut tris, &mut partner, &mut report)?;
         let mut positions = positions;
         let mut scalars = vertex_scalars;
@@ -187,24 +188,35 @@ struct Weld {
     distinct: usize,
 }
 
-/// Find vertices at exactly the same position (`-0.0` equals `0.0`).
+/// Find vertices at exactly the same position (`-0.0` equals `0.0`), in linear
+/// time: vertices are bucketed by a hash of their coordinates and compared exactly
+/// within a bucket. The representative is the lowest-numbered vertex of a position.
 fn weld_coincident(positions: &[Point]) -> Weld {
-    let key = |i: u32| {
-        let p = positions[i as usize];
-        // Adding 0.0 turns -0.0 into +0.0, so both get the same bits.
-        [p.x + 0.0, p.y + 0.0, p.z + 0.0].map(f64::to_bits)
-    };
-    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&i| (key(i), i));
-    let mut representative = vec![0u32; positions.len()];
-    let mut distinct = 0;
-    let mut run_start = 0;
-    for (k, &i) in order.iter().enumerate() {
-        if k == 0 || key(i) != key(order[run_start]) {
-            run_start = k;
-            distinct += 1;
+    // Adding 0.0 turns -0.0 into +0.0, so both get the same bits.
+    let key = |p: &Point| [p.x + 0.0, p.y + 0.0, p.z + 0.0].map(f64::to_bits);
+    let n = positions.len();
+    let hashes: Vec<u32> = positions
+        .par_iter()
+        .map(|p| {
+            let [x, y, z] = key(p);
+            let mixed =
+                (x ^ y.rotate_left(21) ^ z.rotate_left(42)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+            ((mixed >> 32) % n.max(1) as u64) as u32
+        })
+        .collect();
+    let mut representative: Vec<u32> = (0..n as u32).collect();
+    let mut distinct = n;
+    for bucket in Buckets::new(n, &hashes).iter() {
+        for (k, &i) in bucket.iter().enumerate() {
+            let same = bucket[..k].iter().find(|&&j| {
+                representative[j as usize] == j
+                    && key(&positions[j as usize]) == key(&positions[i as usize])
+            });
+            if let Some(&j) = same {
+                representative[i as usize] = j;
+                distinct -= 1;
+            }
         }
-        representative[i as usize] = order[run_start];
     }
     Weld {
         representative,
@@ -216,6 +228,7 @@ fn weld_coincident(positions: &[Point]) -> Weld {
 /// repeats an earlier face (whatever its orientation).
 fn drop_bad_faces(
     positions: &[Point],
+    vertex_count: usize,
     tris: Vec<[u32; 3]>,
     report: &mut RepairReport,
 ) -> Vec<[u32; 3]> {
@@ -226,17 +239,23 @@ fn drop_bad_faces(
         .collect();
     report.degenerate_faces = before - tris.len();
 
-    let sorted_key = |t: &[u32; 3]| {
-        let mut k = *t;
+    let sorted_key = |f: u32| {
+        let mut k = tris[f as usize];
         k.sort_unstable();
         k
     };
-    let mut order: Vec<u32> = (0..tris.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&f| (sorted_key(&tris[f as usize]), f));
+    // Faces with the same corners share their lowest corner: compare within buckets.
+    let lowest: Vec<u32> = tris.iter().map(|t| t[0].min(t[1]).min(t[2])).collect();
     let mut keep = vec![true; tris.len()];
-    for w in order.windows(2) {
-        if sorted_key(&tris[w[0] as usize]) == sorted_key(&tris[w[1] as usize]) {
-            keep[w[1] as usize] = false;
+    let mut group = Vec::new();
+    for bucket in Buckets::new(vertex_count, &lowest).iter() {
+        group.clear();
+        group.extend(bucket.iter().map(|&f| (sorted_key(f), f)));
+        group.sort_unstable();
+        for w in group.windows(2) {
+            if w[0].0 == w[1].0 {
+                keep[w[1].1 as usize] = false;
+            }
         }
     }
     let kept: Vec<[u32; 3]> = tris
@@ -274,29 +293,37 @@ fn corner_edge(tris: &[[u32; 3]], c: usize) -> (u32, u32) {
 /// `partner[c]` is the corner across the edge, or [`NONE`] on the boundary. Edges
 /// with three or more faces are split: faces traversing the edge in opposite
 /// directions are paired first, the rest become boundary.
-fn pair_edges(tris: &[[u32; 3]], report: &mut RepairReport) -> Vec<u32> {
+fn pair_edges(tris: &[[u32; 3]], vertex_count: usize, report: &mut RepairReport) -> Vec<u32> {
     let corner_count = tris.len() * 3;
-    let undirected = |c: usize| {
-        let (a, b) = corner_edge(tris, c);
-        (u64::from(a.min(b)) << 32) | u64::from(a.max(b))
-    };
-    let mut keyed: Vec<(u64, u32)> = (0..corner_count)
-        .into_par_iter()
-        .map(|c| (undirected(c), c as u32))
+    // Corners on the same edge share the edge's lower vertex: bucket by it, then
+    // group each (small) bucket by the upper vertex.
+    let lower: Vec<u32> = (0..corner_count)
+        .map(|c| {
+            let (a, b) = corner_edge(tris, c);
+            a.min(b)
+        })
         .collect();
-    keyed.par_sort_unstable();
-
+    let upper = |c: u32| {
+        let (a, b) = corner_edge(tris, c as usize);
+        a.max(b)
+    };
     let mut partner = vec![NONE; corner_count];
-    for group in keyed.chunk_by(|x, y| x.0 == y.0) {
-        match group {
-            [_] => {}
-            [(_, c), (_, d)] => {
-                partner[*c as usize] = *d;
-                partner[*d as usize] = *c;
-            }
-            _ => {
-                report.non_manifold_edges += 1;
-                pair_non_manifold(tris, group, &mut partner);
+    let mut group = Vec::new();
+    for bucket in Buckets::new(vertex_count, &lower).iter() {
+        group.clear();
+        group.extend(bucket.iter().map(|&c| (upper(c), c)));
+        group.sort_unstable();
+        for edge in group.chunk_by(|x, y| x.0 == y.0) {
+            match edge {
+                [_] => {}
+                [(_, c), (_, d)] => {
+                    partner[*c as usize] = *d;
+                    partner[*d as usize] = *c;
+                }
+                _ => {
+                    report.non_manifold_edges += 1;
+                    pair_non_manifold(tris, edge, &mut partner);
+                }
             }
         }
     }
@@ -305,7 +332,7 @@ fn pair_edges(tris: &[[u32; 3]], report: &mut RepairReport) -> Vec<u32> {
 
 /// Pair the faces around one edge with three or more faces: each face that runs
 /// along the edge forwards with one that runs backwards, in input order.
-fn pair_non_manifold(tris: &[[u32; 3]], group: &[(u64, u32)], partner: &mut [u32]) {
+fn pair_non_manifold(tris: &[[u32; 3]], group: &[(u32, u32)], partner: &mut [u32]) {
     let (forward, backward): (Vec<u32>, Vec<u32>) = group.iter().map(|&(_, c)| c).partition(|&c| {
         let (a, b) = corner_edge(tris, c as usize);
         a < b
