@@ -22,9 +22,11 @@
 pub mod curvature;
 pub mod error;
 pub mod io;
+pub mod linalg;
 pub mod lines;
 pub mod mesh;
 pub mod report;
+pub mod ridges;
 
 pub use error::{Error, Result};
 

@@ -1,6 +1,7 @@
 //! `crestline curvature`: principal curvatures per vertex, written as PLY properties.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use crestline::curvature::{
     estimate_curvature, write_curvature_ply, CurvatureEstimator, JetFit, ShapeOperator,
@@ -25,10 +26,10 @@ pub enum EstimatorChoice {
 
 impl EstimatorChoice {
     /// The estimator this choice names, with its default settings.
-    pub fn estimator(self) -> Box<dyn CurvatureEstimator + Sync> {
+    pub fn estimator(self) -> Arc<dyn CurvatureEstimator + Send + Sync> {
         match self {
-            EstimatorChoice::ShapeOperator => Box::new(ShapeOperator),
-            EstimatorChoice::JetFit => Box::new(JetFit::default()),
+            EstimatorChoice::ShapeOperator => Arc::new(ShapeOperator),
+            EstimatorChoice::JetFit => Arc::new(JetFit::default()),
         }
     }
 }

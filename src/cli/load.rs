@@ -4,15 +4,26 @@ use std::io::IsTerminal;
 use std::path::Path;
 
 use crestline::io::read_mesh_with_progress;
-use crestline::mesh::{Mesh, RepairReport};
+use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
 use crestline::report::Report;
-use crestline::Result;
+use crestline::{Error, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Read `path` and build the repaired halfedge mesh, recording the stages `read`
 /// and `build` in `report`. A byte progress bar is drawn on stderr when it is a
 /// terminal and the file is large enough for the wait to be noticeable.
 pub fn load_mesh(path: &Path, report: &mut Report) -> Result<(Mesh, RepairReport)> {
+    load_mesh_with_scalars(path, report, &[])
+}
+
+/// [`load_mesh`], attaching per-vertex scalars `(name, file)` read from text files
+/// (one value per line, in the mesh file's vertex order) before the repairs, so the
+/// values follow welding and splitting of vertices.
+pub fn load_mesh_with_scalars(
+    path: &Path,
+    report: &mut Report,
+    scalars: &[(&str, &Path)],
+) -> Result<(Mesh, RepairReport)> {
     let bar = progress_bar(path);
     let update = |done: u64, total: u64| {
         bar.set_length(total);
@@ -20,10 +31,43 @@ pub fn load_mesh(path: &Path, report: &mut Report) -> Result<(Mesh, RepairReport
     };
     let soup = report.stage("read", || read_mesh_with_progress(path, &update));
     bar.finish_and_clear();
-    let soup = soup?;
+    let mut soup = soup?;
+    for &(name, file) in scalars {
+        let values = read_values(file)?;
+        if values.len() != soup.positions.len() {
+            return Err(Error::File {
+                path: file.to_path_buf(),
+                message: format!(
+                    "{} values for the {} vertices of {}",
+                    values.len(),
+                    soup.positions.len(),
+                    path.display()
+                ),
+            });
+        }
+        soup.vertex_scalars.push(ScalarProperty {
+            name: name.to_string(),
+            values,
+        });
+    }
     report
         .stage("build", || Mesh::from_soup(soup))
         .map_err(|e| e.in_file(path))
+}
+
+/// One number per non-empty line.
+fn read_values(file: &Path) -> Result<Vec<f64>> {
+    let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, line)| !line.trim().is_empty())
+        .map(|(i, line)| {
+            line.trim().parse::<f64>().map_err(|_| Error::File {
+                path: file.to_path_buf(),
+                message: format!("line {}: '{}' is not a number", i + 1, line.trim()),
+            })
+        })
+        .collect()
 }
 
 fn progress_bar(path: &Path) -> ProgressBar {

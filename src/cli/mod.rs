@@ -4,6 +4,7 @@
 mod curvature;
 mod info;
 mod load;
+mod ridges;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -24,6 +25,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Estimate principal curvatures and directions per vertex; write them as PLY properties.
     Curvature(curvature::CurvatureArgs),
+    /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
+    Ridges(ridges::RidgesArgs),
 }
 
 /// Options every computing command accepts.
@@ -40,6 +43,7 @@ pub fn run() -> ExitCode {
     let outcome = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
+        Command::Ridges(args) => ridges::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

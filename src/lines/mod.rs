@@ -16,6 +16,7 @@
 //! temporary name and renames on success
 //! ([`write_atomically`]).
 
+mod extractor;
 mod indexing;
 mod json;
 mod obj;
@@ -32,6 +33,7 @@ use serde::{Deserialize, Serialize};
 use crate::io::atomic::write_atomically;
 use crate::{Error, Point, Result};
 
+pub use extractor::LineExtractor;
 pub use json::{read_json, write_json, FORMAT};
 pub use obj::write_obj;
 pub use ply::write_ply;

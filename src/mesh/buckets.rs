@@ -26,6 +26,11 @@ impl Buckets {
         Buckets { start, items }
     }
 
+    /// The items with key `k`.
+    pub(crate) fn get(&self, k: usize) -> &[u32] {
+        &self.items[self.start[k] as usize..self.start[k + 1] as usize]
+    }
+
     /// The non-empty buckets, in key order.
     pub(crate) fn iter(&self) -> impl Iterator<Item = &[u32]> + '_ {
         self.start

@@ -11,7 +11,7 @@
 //! `h ^ 1`. A boundary halfedge has no face ([`FaceId::INVALID`]); every boundary
 //! vertex's outgoing halfedge is its boundary halfedge.
 
-mod buckets;
+pub(crate) mod buckets;
 mod build;
 pub mod generate;
 pub mod geometry;

@@ -1,0 +1,140 @@
+//! `crestline ridges`: ridge and valley lines by extremality tracing.
+
+use std::path::{Path, PathBuf};
+
+use crestline::lines::{write_lines, LineFormat};
+use crestline::report::Report;
+use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
+use crestline::{Error, Result};
+
+use super::curvature::EstimatorChoice;
+use super::load::{load_mesh_with_scalars, warn_repairs};
+use super::ReportArg;
+
+/// Which lines to extract.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
+pub enum KindChoice {
+    /// Ridges only (maxima of k_max: convex crests).
+    Ridges,
+    /// Valleys only (minima of k_min: concave creases).
+    Valleys,
+    /// Both.
+    #[default]
+    Both,
+}
+
+/// Options of extremality tracing, shared by every command that traces ridges.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TracerArgs {
+    /// Which lines to extract.
+    #[arg(long, value_enum, default_value_t)]
+    pub kind: KindChoice,
+    /// Curvature estimator.
+    #[arg(long, value_enum, default_value_t)]
+    pub estimator: EstimatorChoice,
+    /// Implicit smoothing steps of the extremalities.
+    #[arg(long, default_value_t = 3, value_name = "N")]
+    pub smooth_steps: usize,
+    /// Smoothing time step, in units of the mean edge length squared.
+    #[arg(long, default_value_t = 2.0, value_name = "TAU")]
+    pub smooth_time: f64,
+    /// Keep connected lines whose strength ∫|k| ds (dimensionless) is at least this.
+    #[arg(long, default_value_t = 2.0, value_name = "T")]
+    pub threshold: f64,
+    /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub presmooth: usize,
+    /// Fair the lines as space curves (each point moves at most half a mean edge length).
+    #[arg(long)]
+    pub fair: bool,
+    /// Trace every extremal line, maxima and minima of both curvatures, without the
+    /// feature conditions of the paper (eqs. 5, 6).
+    #[arg(long)]
+    pub all_extrema: bool,
+    /// Per-vertex factors for inhomogeneous extremality smoothing: the name of a PLY
+    /// vertex property, or a text file with one value per vertex.
+    #[arg(long, value_name = "PROPERTY|FILE")]
+    pub smoothing_weights: Option<String>,
+}
+
+/// Arguments of `crestline ridges`.
+#[derive(clap::Args, Debug)]
+pub struct RidgesArgs {
+    /// The mesh file (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output lines: .json, .obj, .ply or .vtk.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// The name under which smoothing weights read from a text file are attached.
+const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
+
+/// Load `mesh_path` and trace its lines with `args`, recording in `report`.
+pub fn trace_mesh(
+    mesh_path: &Path,
+    args: &TracerArgs,
+    report: &mut Report,
+) -> Result<crestline::lines::FeatureLines> {
+    let weights_file = args
+        .smoothing_weights
+        .as_deref()
+        .map(Path::new)
+        .filter(|p| p.is_file());
+    let extra: Vec<(&str, &Path)> = weights_file
+        .map(|f| (WEIGHTS_FROM_FILE, f))
+        .into_iter()
+        .collect();
+    let (mesh, repairs) = load_mesh_with_scalars(mesh_path, report, &extra)?;
+    warn_repairs(mesh_path, &repairs);
+    let smoothing_weights = match (&args.smoothing_weights, weights_file) {
+        (None, _) => None,
+        (Some(_), Some(_)) => mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec),
+        (Some(name), None) => Some(
+            mesh.vertex_scalar(name)
+                .ok_or_else(|| Error::File {
+                    path: mesh_path.to_path_buf(),
+                    message: format!("no vertex property '{name}' (and no file of that name) for --smoothing-weights"),
+                })?
+                .to_vec(),
+        ),
+    };
+    let tracer = ExtremalityTracer {
+        estimator: args.estimator.estimator(),
+        kinds: match args.kind {
+            KindChoice::Ridges => Kinds::Ridges,
+            KindChoice::Valleys => Kinds::Valleys,
+            KindChoice::Both => Kinds::Both,
+        },
+        smooth_steps: args.smooth_steps,
+        smooth_time: args.smooth_time,
+        threshold: args.threshold,
+        presmooth_steps: args.presmooth,
+        fairing: args.fair.then(Fairing::default),
+        smoothing_weights,
+        feature_conditions: !args.all_extrema,
+    };
+    report.count("vertices", mesh.vertex_count());
+    report.count("faces", mesh.face_count());
+    let mut lines = tracer
+        .trace(&mesh, report)
+        .map_err(|e| e.in_file(mesh_path))?;
+    lines.source = mesh_path.display().to_string();
+    Ok(lines)
+}
+
+/// Trace the lines and write them.
+pub fn run(args: &RidgesArgs) -> Result<()> {
+    LineFormat::from_path(&args.output)?;
+    let mut report = Report::new("ridges", &args.mesh);
+    let lines = trace_mesh(&args.mesh, &args.tracer, &mut report)?;
+    report.stage("write", || write_lines(&args.output, &lines))?;
+    if let Some(path) = &args.report.report {
+        report.write(path)?;
+    }
+    Ok(())
+}

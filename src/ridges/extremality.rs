@@ -1,0 +1,95 @@
+//! Extremality coefficients and regular triangles (Hildebrandt, Polthier,
+//! Wardetzky 2005, §3, eq. 4 and Definition 1).
+
+use rayon::prelude::*;
+
+use crate::curvature::CurvatureField;
+use crate::mesh::{FaceId, Mesh};
+use crate::Vector;
+
+/// Which principal curvature a quantity belongs to: ridges come from `Max`,
+/// valleys from `Min`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Principal {
+    Max,
+    Min,
+}
+
+impl Principal {
+    /// The curvature values of this field.
+    pub fn curvature(self, field: &CurvatureField) -> &[f64] {
+        match self {
+            Principal::Max => &field.k_max,
+            Principal::Min => &field.k_min,
+        }
+    }
+
+    /// The (sign-ambiguous) directions of this field.
+    pub fn directions(self, field: &CurvatureField) -> &[Vector] {
+        match self {
+            Principal::Max => &field.d_max,
+            Principal::Min => &field.d_min,
+        }
+    }
+}
+
+/// Gradient of the piecewise linear function with corner values `values` on face
+/// `f`: ∇f = Σ_i f_i (N × e_i) / (2A), e_i the edge opposite corner i, counter-clockwise.
+pub fn face_gradient(mesh: &Mesh, f: FaceId, values: [f64; 3]) -> Vector {
+    let [a, b, c] = mesh.face_points(f);
+    let area_vector = (b - a).cross(&(c - a));
+    let twice_area = area_vector.norm();
+    let n = area_vector / twice_area;
+    let opposite = [c - b, a - c, b - a];
+    let sum: Vector = (0..3).map(|i| n.cross(&opposite[i]) * values[i]).sum();
+    sum / twice_area
+}
+
+/// The extremality e_i(p) = Σ_{T∋p} area(T) ⟨∇k_i(T), d_i(p)⟩ / area(star p) at every
+/// vertex (eq. 4), for the arbitrary but fixed sign of d_i(p) stored in `field`.
+pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec<f64> {
+    let k = which.curvature(field);
+    let d = which.directions(field);
+    // Per face: area × ∇k (the area cancels the 1/(2A) of the gradient up to ½).
+    let weighted_gradients: Vec<Vector> = mesh
+        .par_faces()
+        .map(|f| {
+            let values = mesh.face_vertices(f).map(|v| k[v.idx()]);
+            face_gradient(mesh, f, values) * mesh.face_area(f)
+        })
+        .collect();
+    let areas = mesh.face_areas();
+    mesh.par_vertices()
+        .map(|v| {
+            let (mut sum, mut star) = (Vector::zeros(), 0.0);
+            for f in mesh.vertex_faces(v) {
+                sum += weighted_gradients[f.idx()];
+                star += areas[f.idx()];
+            }
+            sum.dot(&d[v.idx()]) / star
+        })
+        .collect()
+}
+
+/// σ_pq = sign⟨d(p), d(q)⟩ as ±1 (a zero product counts as +1).
+#[inline]
+pub fn direction_sign(d: &[Vector], p: usize, q: usize) -> f64 {
+    if d[p].dot(&d[q]) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// Whether face `f` is regular for the direction field `d` (Definition 1): the
+/// directions at its corners can be signed so that all pairs have positive inner
+/// products, i.e. σ12 σ23 σ31 = +1.
+pub fn is_regular(mesh: &Mesh, d: &[Vector], f: FaceId) -> bool {
+    let [a, b, c] = mesh.face_vertices(f).map(|v| v.idx());
+    direction_sign(d, a, b) * direction_sign(d, b, c) * direction_sign(d, c, a) > 0.0
+}
+
+/// Regularity of every face for the direction field `d`.
+pub fn regular_faces(mesh: &Mesh, d: &[Vector]) -> Vec<bool> {
+    mesh.par_faces().map(|f| is_regular(mesh, d, f)).collect()
+}

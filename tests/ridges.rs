@@ -1,0 +1,367 @@
+//! Ridge and valley lines by extremality tracing, on an ellipsoid whose ridges are
+//! known exactly (its principal ellipses), under rigid motion, scaling, arbitrary
+//! direction signs and noise, and on real meshes.
+
+use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
+use crestline::lines::{FeatureLines, LineExtractor, LineKind};
+use crestline::mesh::generate::{self, Sampling};
+use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::ridges::extremality::{extremality, regular_faces, Principal};
+use crestline::ridges::smoothing::smooth_extremality;
+use crestline::ridges::trace::{trace, Extremality};
+use crestline::ridges::{chain, ExtremalityTracer};
+use crestline::{Point, Vector};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use std::sync::Arc;
+
+const AXES: [f64; 3] = [1.0, 0.7, 0.45];
+
+fn ellipsoid() -> Mesh {
+    generate::ellipsoid(AXES, 30_000, Sampling::jittered(1))
+        .unwrap()
+        .mesh
+}
+
+fn moved(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
+    let soup = TriangleSoup {
+        positions: mesh.positions().iter().map(map).collect(),
+        triangles: mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    };
+    Mesh::from_soup(soup).unwrap().0
+}
+
+fn motion() -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(5.0, -2.0, 9.0),
+        UnitQuaternion::from_euler_angles(0.7, 0.4, -1.2),
+    )
+}
+
+/// Distance of `p` (in the ellipsoid's own frame) to the nearest principal plane.
+fn plane_distance(p: &Point) -> f64 {
+    p.x.abs().min(p.y.abs()).min(p.z.abs())
+}
+
+fn all_points(lines: &FeatureLines) -> Vec<Point> {
+    lines
+        .iter()
+        .flat_map(|l| l.points.iter().copied())
+        .collect()
+}
+
+fn mean_plane_distance(points: &[Point]) -> f64 {
+    points.iter().map(plane_distance).sum::<f64>() / points.len() as f64
+}
+
+fn diagonal() -> f64 {
+    2.0 * Vector::from(AXES).norm()
+}
+
+/// Share of the principal ellipse in the plane `axis` = 0 that lies within
+/// `radius` of a line point, sampled away from the umbilics (which lie in y = 0).
+fn coverage(points: &[Point], axis: usize, radius: f64) -> f64 {
+    let [a, b, c] = AXES;
+    let umbilic = Point::new(
+        a * ((a * a - b * b) / (a * a - c * c)).sqrt(),
+        0.0,
+        c * ((b * b - c * c) / (a * a - c * c)).sqrt(),
+    );
+    let (u, v) = match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let samples: Vec<Point> = (0..720)
+        .map(|i| {
+            let angle = std::f64::consts::TAU * i as f64 / 720.0;
+            let mut p = Point::origin();
+            p[u] = AXES[u] * angle.cos();
+            p[v] = AXES[v] * angle.sin();
+            p
+        })
+        .filter(|p| {
+            let mirrored = Point::new(p.x.abs(), p.y.abs(), p.z.abs());
+            (mirrored - umbilic).norm() > 0.15
+        })
+        .collect();
+    let covered = samples
+        .iter()
+        .filter(|s| points.iter().any(|p| (p - *s).norm() < radius))
+        .count();
+    covered as f64 / samples.len() as f64
+}
+
+#[test]
+fn default_ridge_of_a_rotated_ellipsoid_is_its_sharpest_principal_ellipse() {
+    let motion = motion();
+    let mesh = moved(&ellipsoid(), |p| motion * p);
+    let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+    // Back to the ellipsoid's frame.
+    let points: Vec<Point> = all_points(&lines)
+        .iter()
+        .map(|p| motion.inverse_transform_point(p))
+        .collect();
+    let mean = mean_plane_distance(&points) / diagonal();
+    eprintln!(
+        "default: {} lines, mean plane distance {:.4}% of the diagonal",
+        lines.len(),
+        100.0 * mean
+    );
+    assert!(mean < 0.005, "{mean}");
+    // On a convex surface only maxima of k_max qualify (eqs. 5, 6): the ellipse
+    // through the two longer axes, as one closed ridge; nothing else is strong.
+    assert_eq!(
+        lines.len(),
+        1,
+        "{:?}",
+        lines.iter().map(|l| l.strength).collect::<Vec<_>>()
+    );
+    let ridge = &lines.lines[0];
+    assert!(ridge.closed && ridge.kind == LineKind::Ridge);
+    assert!(ridge.strength > 15.0, "{}", ridge.strength);
+    let h = mesh.mean_edge_length();
+    assert!(coverage(&points, 2, 2.0 * h) > 0.98);
+}
+
+#[test]
+fn all_extremal_lines_of_an_ellipsoid_cover_its_three_principal_ellipses() {
+    let tracer = ExtremalityTracer {
+        feature_conditions: false,
+        threshold: 0.5,
+        ..Default::default()
+    };
+    let mesh = ellipsoid();
+    let lines = tracer.extract(&mesh).unwrap();
+    let points = all_points(&lines);
+    let mean = mean_plane_distance(&points) / diagonal();
+    let h = mesh.mean_edge_length();
+    let covered = [0, 1, 2].map(|axis| coverage(&points, axis, 2.0 * h));
+    eprintln!(
+        "all extrema: {} lines, mean plane distance {:.4}%, coverage {covered:.3?}",
+        lines.len(),
+        100.0 * mean
+    );
+    assert!(mean < 0.005, "{mean}");
+    assert!(covered.iter().all(|&c| c > 0.9), "{covered:?}");
+}
+
+#[test]
+fn scaling_by_1000_gives_the_same_lines() {
+    let mesh = ellipsoid();
+    let big = moved(&mesh, |p| p * 1000.0);
+    let tracer = ExtremalityTracer {
+        feature_conditions: false,
+        threshold: 0.5,
+        ..Default::default()
+    };
+    let small_lines = tracer.extract(&mesh).unwrap();
+    let big_lines = tracer.extract(&big).unwrap();
+    assert_eq!(small_lines.len(), big_lines.len());
+    for (s, b) in small_lines.iter().zip(big_lines.iter()) {
+        assert_eq!(s.points.len(), b.points.len());
+        assert!((s.strength - b.strength).abs() < 1e-9 * s.strength.max(1.0));
+        for (p, q) in s.points.iter().zip(&b.points) {
+            assert!((p - q / 1000.0).norm() < 1e-9, "{p} vs {q}");
+        }
+    }
+}
+
+/// The shape operator with the direction signs flipped at a random half of the
+/// vertices: a legitimate, equally valid output.
+struct RandomSigns;
+
+impl CurvatureEstimator for RandomSigns {
+    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
+        let mut field = ShapeOperator.estimate(mesh)?;
+        let mut rng = StdRng::seed_from_u64(99);
+        for v in 0..field.len() {
+            if rng.random_bool(0.5) {
+                field.d_max[v] = -field.d_max[v];
+            }
+            if rng.random_bool(0.5) {
+                field.d_min[v] = -field.d_min[v];
+            }
+        }
+        Ok(field)
+    }
+}
+
+#[test]
+fn smoothing_and_lines_do_not_depend_on_direction_signs() {
+    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(6))
+        .unwrap()
+        .mesh;
+    let reference = ShapeOperator.estimate(&mesh).unwrap();
+    let flipped = RandomSigns.estimate(&mesh).unwrap();
+    let flips = (0..reference.len())
+        .filter(|&v| reference.d_max[v] != flipped.d_max[v])
+        .count();
+    assert!(flips > reference.len() / 3);
+    let smoothed = |field: &CurvatureField| {
+        let mut e = extremality(&mesh, field, Principal::Max);
+        smooth_extremality(&mesh, &field.d_max, &mut e, 3, 2.0, None).unwrap();
+        e
+    };
+    let (a, b) = (smoothed(&reference), smoothed(&flipped));
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for v in 0..a.len() {
+        assert!(
+            (a[v].abs() - b[v].abs()).abs() <= 1e-12 * scale,
+            "|e| differs at {v}"
+        );
+    }
+    let tracer = |estimator: Arc<dyn CurvatureEstimator + Send + Sync>| ExtremalityTracer {
+        estimator,
+        threshold: 0.0,
+        ..Default::default()
+    };
+    let lines_a = tracer(Arc::new(ShapeOperator)).extract(&mesh).unwrap();
+    let lines_b = tracer(Arc::new(RandomSigns)).extract(&mesh).unwrap();
+    assert!(!lines_a.is_empty());
+    assert_eq!(lines_a.len(), lines_b.len());
+    for (x, y) in lines_a.iter().zip(lines_b.iter()) {
+        assert_eq!(x.points.len(), y.points.len());
+        assert!(x
+            .points
+            .iter()
+            .zip(&y.points)
+            .all(|(p, q)| (p - q).norm() < 1e-12));
+    }
+}
+
+#[test]
+fn smoothing_recovers_the_ridge_of_a_noisy_ellipsoid() {
+    let mesh = ellipsoid();
+    let h = mesh.mean_edge_length();
+    let normals = mesh.vertex_normals();
+    let mut rng = StdRng::seed_from_u64(5);
+    let mut soup = TriangleSoup {
+        positions: Vec::new(),
+        triangles: mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    };
+    for (p, n) in mesh.positions().iter().zip(&normals) {
+        // Box-Muller: a standard normal sample from two uniform ones.
+        let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
+        let gaussian = (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos();
+        soup.positions.push(p + n * (0.2 * h * gaussian));
+    }
+    let noisy = Mesh::from_soup(soup).unwrap().0;
+    let unsmoothed = ExtremalityTracer {
+        smooth_steps: 0,
+        ..Default::default()
+    }
+    .extract(&noisy)
+    .unwrap();
+    let smoothed = ExtremalityTracer {
+        presmooth_steps: 3,
+        smooth_steps: 5,
+        ..Default::default()
+    }
+    .extract(&noisy)
+    .unwrap();
+    let points = all_points(&smoothed);
+    let mean = mean_plane_distance(&points) / diagonal();
+    let covered = coverage(&points, 2, 2.0 * h);
+    let unsmoothed_mean = mean_plane_distance(&all_points(&unsmoothed)) / diagonal();
+    eprintln!(
+        "noise 0.2 h: unsmoothed {} lines, mean distance {:.3}%; presmooth 3 + 5 steps: {} lines, mean distance {:.3}%, coverage {:.3}",
+        unsmoothed.len(),
+        100.0 * unsmoothed_mean,
+        smoothed.len(),
+        100.0 * mean,
+        covered
+    );
+    assert!(mean < 0.005, "{mean}");
+    assert!(covered > 0.9, "{covered}");
+    // Without smoothing the noise scatters lines all over the surface.
+    assert!(
+        unsmoothed.len() > 100 && unsmoothed_mean > 0.02,
+        "{unsmoothed_mean}"
+    );
+}
+
+#[test]
+fn chained_lines_have_no_gaps() {
+    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(2))
+        .unwrap()
+        .mesh;
+    let field = ShapeOperator.estimate(&mesh).unwrap();
+    for which in [Principal::Max, Principal::Min] {
+        let directions = which.directions(&field);
+        let mut e = extremality(&mesh, &field, which);
+        smooth_extremality(&mesh, directions, &mut e, 3, 2.0, None).unwrap();
+        let regular = regular_faces(&mesh, directions);
+        let ext = Extremality::new(which, e, &field, &regular, false);
+        let segments = trace(&mesh, &field, &ext);
+        assert!(segments.len() > 100);
+        let chains = chain::chain(&segments, |_| (Point::origin(), 0.0), 0.0);
+        // Every segment appears exactly once as a pair of consecutive points.
+        let mut from_chains: Vec<[_; 2]> = Vec::new();
+        for c in &chains {
+            let n = c.points.len();
+            let pairs = if c.closed { n } else { n - 1 };
+            for i in 0..pairs {
+                let mut pair = [c.points[i], c.points[(i + 1) % n]];
+                pair.sort();
+                from_chains.push(pair);
+            }
+        }
+        let mut expected: Vec<[_; 2]> = segments
+            .iter()
+            .map(|s| {
+                let mut s = *s;
+                s.sort();
+                s
+            })
+            .collect();
+        from_chains.sort();
+        expected.sort();
+        assert_eq!(from_chains, expected);
+        // Interior points of a polyline are shared by exactly two segments.
+        let degree = |p| expected.iter().filter(|s| s.contains(p)).count();
+        for c in &chains {
+            let interior = if c.closed {
+                &c.points[..]
+            } else {
+                &c.points[1..c.points.len() - 1]
+            };
+            assert!(interior.iter().all(|p| degree(p) == 2));
+            if !c.closed {
+                assert!(degree(&c.points[0]) != 2 && degree(c.points.last().unwrap()) != 2);
+            }
+        }
+    }
+}
+
+#[test]
+fn real_meshes_give_lines() {
+    for name in [
+        "bunny.obj",
+        "cow.obj",
+        "fsaverage5_pial_left.obj",
+        "airplane.obj",
+    ] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("meshes")
+            .join(name);
+        let soup = crestline::io::read_mesh(&path).unwrap();
+        let mesh = Mesh::from_soup(soup).unwrap().0;
+        let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+        let ridges = lines.of_kind(LineKind::Ridge).count();
+        let valleys = lines.of_kind(LineKind::Valley).count();
+        eprintln!(
+            "{name}: {ridges} ridges, {valleys} valleys, length {:.3}",
+            lines.total_length()
+        );
+        assert!(ridges > 0 && valleys > 0, "{name}");
+        let bbox = mesh.bounding_box();
+        let slack = 1e-9 * bbox.diagonal();
+        for p in all_points(&lines) {
+            assert!((0..3).all(|i| p[i] >= bbox.min[i] - slack && p[i] <= bbox.max[i] + slack));
+        }
+    }
+}
