@@ -143,3 +143,107 @@ fn every_subcommand_has_help() {
         assert!(String::from_utf8_lossy(&out.stdout).contains("Usage:"));
     }
 }
+
+#[test]
+fn ridges_writes_every_line_format_and_reports_its_stages() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("r.json");
+    for ext in ["json", "obj", "ply", "vtk"] {
+        let out = dir.path().join(format!("lines.{ext}"));
+        let run = crestline(&[
+            "ridges",
+            "meshes/cow.obj",
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        assert!(std::fs::metadata(&out).unwrap().len() > 100, "{ext}");
+    }
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    assert_eq!(json["command"], "ridges");
+    let stages: Vec<&str> = json["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    for stage in [
+        "read",
+        "build",
+        "curvature",
+        "ridges: smoothing",
+        "ridges: tracing",
+        "valleys: tracing",
+        "write",
+    ] {
+        assert!(stages.contains(&stage), "{stage} missing from {stages:?}");
+    }
+    let counts = &json["counts"];
+    let share = counts["ridges_singular_share"].as_f64().unwrap();
+    assert!(share > 0.0 && share < 0.5, "{share}");
+    assert!(counts["lines"].as_u64().unwrap() > 0);
+    assert!(counts["total_length"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn ridges_rejects_absurd_parameters_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.json");
+    let out_str = out.to_str().unwrap();
+    for arg in [
+        "--smooth-time=-1",
+        "--threshold=nan",
+        "--smooth-steps=100000",
+        "--smooth-time=inf",
+    ] {
+        let run = crestline(&["ridges", "meshes/bunny_small.obj", "-o", out_str, arg]);
+        assert_eq!(run.status.code(), Some(1), "{arg}: {}", stderr(&run));
+        assert!(
+            stderr(&run).starts_with("error: invalid argument: "),
+            "{}",
+            stderr(&run)
+        );
+        assert!(!out.exists());
+    }
+    let run = crestline(&["ridges", "meshes/bunny_small.obj", "-o", "lines.xyz"]);
+    assert_one_line_error(&run, "lines.xyz", ".json");
+}
+
+#[test]
+fn smoothing_weights_come_from_a_text_file_or_a_property() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.json");
+    let weights = dir.path().join("weights.txt");
+    let vertices = 1839; // bunny_small.obj
+    std::fs::write(&weights, "1.0\n".repeat(vertices)).unwrap();
+    let run = |w: &str| {
+        crestline(&[
+            "ridges",
+            "meshes/bunny_small.obj",
+            "-o",
+            out.to_str().unwrap(),
+            "--smoothing-weights",
+            w,
+        ])
+    };
+    let ok = run(weights.to_str().unwrap());
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    std::fs::write(&weights, "1.0\n".repeat(vertices - 1)).unwrap();
+    let short = run(weights.to_str().unwrap());
+    assert_one_line_error(
+        &short,
+        weights.to_str().unwrap(),
+        "1838 values for the 1839 vertices",
+    );
+    std::fs::write(&weights, "1.0\nabc\n").unwrap();
+    let garbage = run(weights.to_str().unwrap());
+    assert_one_line_error(&garbage, weights.to_str().unwrap(), "line 2");
+    let missing = run("no_such_property");
+    assert_one_line_error(
+        &missing,
+        "meshes/bunny_small.obj",
+        "no vertex property 'no_such_property'",
+    );
+}
