@@ -2,9 +2,9 @@
 //! (Hildebrandt, Polthier, Wardetzky 2005, §5.1) and of the surface itself (step 1
 //! of their Table 1, implicit fairing after Desbrun et al. 1999).
 
-use sprs::{CsMat, TriMat};
+use sprs::CsMat;
 
-use crate::linalg::CholeskyFactor;
+use crate::linalg::{CholeskyFactor, SymmetricBuilder};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Point, Result, Vector};
 
@@ -21,22 +21,20 @@ fn implicit_system(
 ) -> (CsMat<f64>, Vec<f64>) {
     let n = mesh.vertex_count();
     let mass = mesh.vertex_areas();
-    let mut triplets = TriMat::with_capacity((n, n), n + 4 * mesh.edge_count());
+    let mut system = SymmetricBuilder::with_capacity(n, n + 4 * mesh.edge_count());
     for (v, &m) in mass.iter().enumerate() {
-        triplets.add_triplet(v, v, m);
+        system.add_diagonal(v, m);
     }
     for (e, w) in mesh.cotan_weights().into_iter().enumerate() {
         let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
         let (sigma, scale) = edge_terms(p, q);
         let weight = time * scale * w.max(0.0);
-        if weight > 0.0 {
-            triplets.add_triplet(p, p, weight);
-            triplets.add_triplet(q, q, weight);
-            triplets.add_triplet(p, q, -weight * sigma);
-            triplets.add_triplet(q, p, -weight * sigma);
-        }
+        // Zero weights are stored too, so the sparsity pattern is the mesh's edges.
+        system.add_diagonal(p, weight);
+        system.add_diagonal(q, weight);
+        system.add(p, q, -weight * sigma);
     }
-    (triplets.to_csc(), mass)
+    (system.build(), mass)
 }
 
 /// `steps` implicit steps (M + tK) e' = M e of the extremality `e`, with the
@@ -96,9 +94,17 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Vec<Point>> {
     let h = mesh.mean_edge_length();
     let mut current = mesh.clone();
+    let mut factor: Option<CholeskyFactor> = None;
     for _ in 0..steps {
         let (system, mass) = implicit_system(&current, h * h, |_, _| (1.0, 1.0));
-        let factor = CholeskyFactor::new(&system)?;
+        // The pattern never changes: later steps reuse the symbolic analysis.
+        let factor = match factor.as_mut() {
+            Some(f) => {
+                f.refactor(&system)?;
+                f
+            }
+            None => factor.insert(CholeskyFactor::new(&system)?),
+        };
         let mut next = current.positions().to_vec();
         for axis in 0..3 {
             let rhs: Vec<f64> = current
