@@ -25,6 +25,7 @@ pub mod io;
 pub mod linalg;
 pub mod lines;
 pub mod mesh;
+pub mod morse;
 pub mod report;
 pub mod ridges;
 

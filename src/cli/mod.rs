@@ -4,6 +4,7 @@
 mod curvature;
 mod info;
 mod load;
+mod morse;
 mod ridges;
 
 use std::path::PathBuf;
@@ -27,6 +28,8 @@ enum Command {
     Curvature(curvature::CurvatureArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
+    /// Feature lines from the Morse-Smale complex of a curvature indicator (Sahner et al. 2008).
+    Morse(morse::MorseCommand),
 }
 
 /// Options every computing command accepts.
@@ -44,6 +47,7 @@ pub fn run() -> ExitCode {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
         Command::Ridges(args) => ridges::run(&args),
+        Command::Morse(args) => morse::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

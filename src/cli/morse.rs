@@ -1,0 +1,154 @@
+//! `crestline morse`: feature lines from the Morse-Smale complex of a curvature
+//! indicator (Sahner et al. 2008).
+
+use std::path::{Path, PathBuf};
+
+use crestline::lines::{write_lines, FeatureLines, LineFormat};
+use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, Simplification};
+use crestline::report::Report;
+use crestline::Result;
+
+use super::curvature::EstimatorChoice;
+use super::load::{load_mesh, warn_repairs};
+use super::ReportArg;
+
+/// Cancellation criterion.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
+pub enum CriterionChoice {
+    /// The paper's feature-line-preserving significance.
+    #[default]
+    Feature,
+    /// Plain persistence (function difference).
+    Persistence,
+}
+
+/// Which 1-cells to output.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
+pub enum CellsChoice {
+    /// Saddle-to-maximum lines (crests of the indicator).
+    #[default]
+    Ascending,
+    /// Saddle-to-minimum lines (troughs of the indicator).
+    Descending,
+    Both,
+}
+
+/// Options of the Morse-Smale extractor, shared by every command that uses it.
+#[derive(clap::Args, Debug, Clone)]
+pub struct MorseArgs {
+    /// Indicator: curvedness, kmax, kmin, or the name of a PLY vertex property.
+    #[arg(long, default_value = "curvedness", value_name = "NAME")]
+    pub indicator: String,
+    /// Curvature estimator for curvature indicators (jet-fit is steadier on
+    /// irregular meshes, where the shape operator's spikes become maxima).
+    #[arg(long = "morse-estimator", value_enum, default_value_t)]
+    pub estimator: EstimatorChoice,
+    /// Cancellation criterion.
+    #[arg(long, value_enum, default_value_t)]
+    pub criterion: CriterionChoice,
+    /// Number of cancellations to make.
+    #[arg(long, value_name = "N", conflicts_with = "keep_saddles")]
+    pub cancel: Option<usize>,
+    /// Cancel until at most this many saddles remain (default 100).
+    #[arg(long, value_name = "N")]
+    pub keep_saddles: Option<usize>,
+    /// Which 1-cells to output.
+    #[arg(long, value_enum, default_value_t)]
+    pub cells: CellsChoice,
+    /// Keep lines forced by topology (no valid cancellation, low significance).
+    #[arg(long)]
+    pub keep_forced: bool,
+    /// Fairing iterations of the output lines.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub smooth: usize,
+}
+
+impl MorseArgs {
+    /// The extractor these options describe.
+    pub fn extractor(&self) -> MorseSmale {
+        let indicator = match self.indicator.as_str() {
+            "curvedness" => Indicator::Curvedness,
+            "kmax" => Indicator::KMax,
+            "kmin" => Indicator::KMin,
+            name => Indicator::Property(name.to_string()),
+        };
+        MorseSmale {
+            estimator: self.estimator.estimator(),
+            indicator,
+            criterion: match self.criterion {
+                CriterionChoice::Feature => Criterion::Feature,
+                CriterionChoice::Persistence => Criterion::Persistence,
+            },
+            simplification: match self.cancel {
+                Some(n) => Simplification::Cancel(n),
+                None => Simplification::KeepSaddles(self.keep_saddles.unwrap_or(100)),
+            },
+            cells: match self.cells {
+                CellsChoice::Ascending => Cells::Ascending,
+                CellsChoice::Descending => Cells::Descending,
+                CellsChoice::Both => Cells::Both,
+            },
+            hide_forced: !self.keep_forced,
+            smooth_iterations: self.smooth,
+        }
+    }
+}
+
+/// Arguments of `crestline morse`.
+#[derive(clap::Args, Debug)]
+pub struct MorseCommand {
+    /// The mesh file (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output lines: .json, .obj, .ply or .vtk.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub morse: MorseArgs,
+    /// Write the cancellation sequence (saddle, extremum, t) as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub hierarchy: Option<PathBuf>,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// Load `mesh_path` and extract its Morse-Smale lines, recording in `report`.
+pub fn extract(
+    mesh_path: &Path,
+    args: &MorseArgs,
+    report: &mut Report,
+) -> Result<(FeatureLines, crestline::morse::MorseSummary)> {
+    let (mesh, repairs) = load_mesh(mesh_path, report)?;
+    warn_repairs(mesh_path, &repairs);
+    let (mut lines, summary) = args
+        .extractor()
+        .run(&mesh, report)
+        .map_err(|e| e.in_file(mesh_path))?;
+    lines.source = mesh_path.display().to_string();
+    report.section("counts_after", summary.after);
+    report.count("minima", summary.initial.minima);
+    report.count("saddles", summary.initial.saddles);
+    report.count("maxima", summary.initial.maxima);
+    report.count("lines", lines.len());
+    Ok((lines, summary))
+}
+
+/// Extract and write the lines (and the hierarchy).
+pub fn run(args: &MorseCommand) -> Result<()> {
+    LineFormat::from_path(&args.output)?;
+    let mut report = Report::new("morse", &args.mesh);
+    let (lines, summary) = extract(&args.mesh, &args.morse, &mut report)?;
+    report.stage("write", || write_lines(&args.output, &lines))?;
+    if let Some(path) = &args.hierarchy {
+        crestline::io::atomic::write_atomically(path, |w| {
+            serde_json::to_writer_pretty(
+                &mut *w,
+                &serde_json::json!({ "cancellations": summary.hierarchy }),
+            )?;
+            std::io::Write::write_all(w, b"\n")
+        })?;
+    }
+    if let Some(path) = &args.report.report {
+        report.write(path)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,363 @@
+//! Forman's discrete gradient of a vertex function as two spanning forests (Sahner
+//! et al. 2008, §2.2): a primal forest of vertices and edges whose trees descend to
+//! the minima, and a dual forest of triangles and edges whose trees ascend to the
+//! maxima. Edges in neither forest are the saddles.
+//!
+//! Any two edge-disjoint spanning forests give a valid, acyclic gradient. Built by
+//! Kruskal's algorithm, the tree paths need not be monotone; here every element is
+//! paired with a strictly lower (vertex) or higher (face) neighbour, so every
+//! descending 1-cell falls and every ascending 1-cell climbs.
+
+use std::cmp::Ordering;
+
+use rayon::prelude::*;
+
+use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
+
+/// Function values on vertices, edges and faces. An edge's value is the mean of its
+/// two vertices', a face's the mean of its three, each computed once in a fixed
+/// order; ties are broken by element id (simulation of simplicity).
+pub struct Keys {
+    pub vertex: Vec<f64>,
+    pub edge: Vec<f64>,
+    pub face: Vec<f64>,
+}
+
+/// Compare two (value, id) keys: by value, then by id.
+#[inline]
+pub fn compare(a: (f64, u32), b: (f64, u32)) -> Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
+impl Keys {
+    /// The keys of `values` (one per vertex) on `mesh`.
+    pub fn new(mesh: &Mesh, values: Vec<f64>) -> Keys {
+        let edge = (0..mesh.edge_count() as u32)
+            .into_par_iter()
+            .map(|e| {
+                let [a, b] = mesh.edge_vertices(EdgeId(e));
+                0.5 * (values[a.idx()] + values[b.idx()])
+            })
+            .collect();
+        let face = mesh
+            .par_faces()
+            .map(|f| {
+                let [a, b, c] = mesh.face_vertices(f);
+                (values[a.idx()] + values[b.idx()] + values[c.idx()]) / 3.0
+            })
+            .collect();
+        Keys {
+            vertex: values,
+            edge,
+            face,
+        }
+    }
+
+    pub fn vertex_key(&self, v: VertexId) -> (f64, u32) {
+        (self.vertex[v.idx()], v.0)
+    }
+
+    pub fn edge_key(&self, e: EdgeId) -> (f64, u32) {
+        (self.edge[e.idx()], e.0)
+    }
+
+    pub fn face_key(&self, f: FaceId) -> (f64, u32) {
+        (self.face[f.idx()], f.0)
+    }
+}
+
+/// What an edge is in the gradient.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeRole {
+    /// Paired with a vertex: part of the primal (descending) forest.
+    Primal,
+    /// Paired with a triangle: part of the dual (ascending) forest.
+    Dual,
+    /// Critical: a saddle.
+    Saddle,
+}
+
+/// The discrete gradient: both forests, oriented towards their roots.
+#[derive(Clone, Debug)]
+pub struct Gradient {
+    pub edge_role: Vec<EdgeRole>,
+    /// The edge from each vertex towards its minimum ([`EdgeId::INVALID`] at minima).
+    pub vertex_parent: Vec<EdgeId>,
+    /// The edge from each face towards its maximum ([`EdgeId::INVALID`] at maxima).
+    pub face_parent: Vec<EdgeId>,
+    /// The minimum whose tree holds each vertex.
+    pub vertex_root: Vec<VertexId>,
+    /// The maximum whose tree holds each face.
+    pub face_root: Vec<FaceId>,
+    pub minima: Vec<VertexId>,
+    pub maxima: Vec<FaceId>,
+    pub saddles: Vec<EdgeId>,
+}
+
+impl Gradient {
+    /// Build a gradient of `keys` on `mesh` whose 1-cells are monotone. Every vertex
+    /// that is not a local minimum is paired with an edge to a lower neighbour, and
+    /// every face that is not a local maximum with an edge to a higher neighbour
+    /// face, each edge used at most once: a bipartite matching of elements to edges,
+    /// found greedily (steepest neighbour first) and completed by augmenting paths.
+    /// The pairs form two spanning forests (primal, descending to the minima; dual,
+    /// ascending to the maxima) because every parent is strictly lower or higher;
+    /// the roots are exactly the local extrema of the data (plus, should an element
+    /// find no augmenting path, that element). Edges in neither forest are saddles.
+    pub fn new(mesh: &Mesh, keys: &Keys) -> Gradient {
+        let vertex_roots = local_minimum_vertices(mesh, keys);
+        let face_roots = local_maximum_faces(mesh, keys);
+        let mut matching = Matching::new(mesh, keys);
+        let mut order: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+        order.sort_by(|&a, &b| compare(keys.vertex_key(VertexId(a)), keys.vertex_key(VertexId(b))));
+        let vertices = order.iter().copied().filter(|&v| !vertex_roots[v as usize]);
+        let faces = (0..mesh.face_count() as u32).filter(|&f| !face_roots[f as usize]);
+        let nodes: Vec<u32> = vertices
+            .chain(faces.map(|f| f + mesh.vertex_count() as u32))
+            .collect();
+        for &node in &nodes {
+            matching.take_free(node);
+        }
+        for &node in &nodes {
+            if !matching.paired(node) {
+                matching.augment(node);
+            }
+        }
+        matching.into_gradient(vertex_roots, face_roots)
+    }
+}
+
+/// The pairing of elements with edges under construction. Nodes are numbered
+/// vertices first, then faces (offset by the vertex count).
+struct Matching<'a> {
+    mesh: &'a Mesh,
+    keys: &'a Keys,
+    /// The node each edge is paired with, or `u32::MAX`.
+    owner: Vec<u32>,
+    /// The edge each node is paired with.
+    pair: Vec<EdgeId>,
+    /// Per-edge stamp of the augmenting search that last visited it.
+    visited: Vec<u32>,
+    /// The node from which the current search reached each edge.
+    came_from: Vec<u32>,
+    stamp: u32,
+}
+
+const FREE: u32 = u32::MAX;
+/// Edges an augmenting search may visit before giving up on a node.
+const SEARCH_LIMIT: usize = 20_000;
+
+impl<'a> Matching<'a> {
+    fn new(mesh: &'a Mesh, keys: &'a Keys) -> Matching<'a> {
+        Matching {
+            mesh,
+            keys,
+            owner: vec![FREE; mesh.edge_count()],
+            pair: vec![EdgeId::INVALID; mesh.vertex_count() + mesh.face_count()],
+            visited: vec![0; mesh.edge_count()],
+            came_from: vec![FREE; mesh.edge_count()],
+            stamp: 0,
+        }
+    }
+
+    fn paired(&self, node: u32) -> bool {
+        self.pair[node as usize].is_valid()
+    }
+
+    /// The edges `node` may pair with, steepest first: for a vertex the edges to
+    /// lower neighbours, for a face the interior edges to higher faces.
+    fn eligible(&self, node: u32) -> Vec<EdgeId> {
+        let (mesh, keys) = (self.mesh, self.keys);
+        let vertex_count = mesh.vertex_count() as u32;
+        let mut options: Vec<((f64, u32), EdgeId)> = if node < vertex_count {
+            let v = VertexId(node);
+            mesh.outgoing(v)
+                .map(|h| (keys.vertex_key(mesh.target(h)), mesh.edge(h)))
+                .filter(|(k, _)| compare(*k, keys.vertex_key(v)) == Ordering::Less)
+                .collect()
+        } else {
+            let f = FaceId(node - vertex_count);
+            mesh.face_halfedges(f)
+                .into_iter()
+                .map(|h| (mesh.face(mesh.twin(h)), mesh.edge(h)))
+                .filter(|(g, _)| {
+                    g.is_valid()
+                        && compare(keys.face_key(*g), keys.face_key(f)) == Ordering::Greater
+                })
+                .map(|(g, e)| (keys.face_key(g), e))
+                .collect()
+        };
+        if node < vertex_count {
+            options.sort_by(|a, b| compare(a.0, b.0));
+        } else {
+            options.sort_by(|a, b| compare(b.0, a.0));
+        }
+        options.into_iter().map(|(_, e)| e).collect()
+    }
+
+    fn assign(&mut self, node: u32, e: EdgeId) {
+        self.owner[e.idx()] = node;
+        self.pair[node as usize] = e;
+    }
+
+    /// Pair `node` with its steepest free edge, if any.
+    fn take_free(&mut self, node: u32) {
+        if let Some(e) = self
+            .eligible(node)
+            .into_iter()
+            .find(|e| self.owner[e.idx()] == FREE)
+        {
+            self.assign(node, e);
+        }
+    }
+
+    /// Breadth-first search for an augmenting path from the unpaired `start`: a
+    /// chain of paired nodes each of which can move to another eligible edge, ending
+    /// at a free edge. Shifts the pairs along it; returns whether one was found.
+    fn augment(&mut self, start: u32) -> bool {
+        self.stamp += 1;
+        let mut queue = std::collections::VecDeque::from([start]);
+        let mut explored = 0;
+        while let Some(node) = queue.pop_front() {
+            for e in self.eligible(node) {
+                if self.visited[e.idx()] == self.stamp {
+                    continue;
+                }
+                self.visited[e.idx()] = self.stamp;
+                self.came_from[e.idx()] = node;
+                explored += 1;
+                match self.owner[e.idx()] {
+                    FREE => {
+                        self.shift(start, node, e);
+                        return true;
+                    }
+                    other => queue.push_back(other),
+                }
+                if explored > SEARCH_LIMIT {
+                    return false;
+                }
+            }
+        }
+        false
+    }
+
+    /// Give `e` to `node`, whose old edge goes to the node that reached it, and so
+    /// on back to `start`.
+    fn shift(&mut self, start: u32, mut node: u32, mut e: EdgeId) {
+        loop {
+            let old = self.pair[node as usize];
+            self.assign(node, e);
+            if node == start {
+                return;
+            }
+            e = old;
+            node = self.came_from[old.idx()];
+        }
+    }
+
+    /// The forests the pairs define, with root labels.
+    fn into_gradient(self, mut vertex_roots: Vec<bool>, mut face_roots: Vec<bool>) -> Gradient {
+        let (mesh, vertex_count) = (self.mesh, self.mesh.vertex_count());
+        let mut edge_role = vec![EdgeRole::Saddle; mesh.edge_count()];
+        for (e, &node) in self.owner.iter().enumerate() {
+            if node != FREE {
+                edge_role[e] = if (node as usize) < vertex_count {
+                    EdgeRole::Primal
+                } else {
+                    EdgeRole::Dual
+                };
+            }
+        }
+        let (vertex_pairs, face_pairs) = self.pair.split_at(vertex_count);
+        // Elements left unpaired (no augmenting path) are extra extrema.
+        for (v, pair) in vertex_pairs.iter().enumerate() {
+            vertex_roots[v] |= !pair.is_valid();
+        }
+        for (f, pair) in face_pairs.iter().enumerate() {
+            face_roots[f] |= !pair.is_valid();
+        }
+        let vertex_parent = vertex_pairs.to_vec();
+        let face_parent = face_pairs.to_vec();
+        let vertex_root = roots_of(vertex_count, &vertex_parent, |v, e| {
+            let [a, b] = mesh.edge_vertices(e);
+            if a.0 == v {
+                b.0
+            } else {
+                a.0
+            }
+        });
+        let face_root = roots_of(mesh.face_count(), &face_parent, |f, e| {
+            let h = mesh.edge_halfedge(e, 0);
+            let (g0, g1) = (mesh.face(h).0, mesh.face(mesh.twin(h)).0);
+            if g0 == f {
+                g1
+            } else {
+                g0
+            }
+        });
+        let flagged = |flags: &[bool]| -> Vec<u32> {
+            (0..flags.len() as u32)
+                .filter(|&i| flags[i as usize])
+                .collect()
+        };
+        Gradient {
+            minima: flagged(&vertex_roots).into_iter().map(VertexId).collect(),
+            maxima: flagged(&face_roots).into_iter().map(FaceId).collect(),
+            saddles: mesh
+                .edges()
+                .filter(|e| edge_role[e.idx()] == EdgeRole::Saddle)
+                .collect(),
+            edge_role,
+            vertex_parent,
+            face_parent,
+            vertex_root: vertex_root.into_iter().map(VertexId).collect(),
+            face_root: face_root.into_iter().map(FaceId).collect(),
+        }
+    }
+}
+
+/// The root of every node of a forest given by parent edges (`step(node, edge)` is
+/// the node across `edge`), following each path once with memoisation.
+fn roots_of(n: usize, parent: &[EdgeId], step: impl Fn(u32, EdgeId) -> u32) -> Vec<u32> {
+    let mut root = vec![FREE; n];
+    let mut path = Vec::new();
+    for start in 0..n as u32 {
+        let mut node = start;
+        while root[node as usize] == FREE && parent[node as usize].is_valid() {
+            path.push(node);
+            node = step(node, parent[node as usize]);
+        }
+        let top = if root[node as usize] == FREE {
+            node
+        } else {
+            root[node as usize]
+        };
+        root[node as usize] = top;
+        for p in path.drain(..) {
+            root[p as usize] = top;
+        }
+    }
+    root
+}
+
+/// Faces whose key is above every edge-adjacent face's.
+pub fn local_maximum_faces(mesh: &Mesh, keys: &Keys) -> Vec<bool> {
+    mesh.par_faces()
+        .map(|f| {
+            mesh.face_halfedges(f).iter().all(|&h| {
+                let g = mesh.face(mesh.twin(h));
+                !g.is_valid() || compare(keys.face_key(f), keys.face_key(g)) == Ordering::Greater
+            })
+        })
+        .collect()
+}
+
+/// Vertices whose key is below every neighbour's.
+pub fn local_minimum_vertices(mesh: &Mesh, keys: &Keys) -> Vec<bool> {
+    mesh.par_vertices()
+        .map(|v| {
+            mesh.neighbors(v)
+                .all(|w| compare(keys.vertex_key(v), keys.vertex_key(w)) == Ordering::Less)
+        })
+        .collect()
+}

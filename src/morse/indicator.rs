@@ -1,0 +1,61 @@
+//! The scalar field whose Morse-Smale complex gives the feature lines (Sahner et
+//! al. 2008, §3.1).
+
+use crate::curvature::{estimate_curvature, CurvatureEstimator};
+use crate::mesh::Mesh;
+use crate::{Error, Result};
+
+/// Which per-vertex scalar to analyse.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Indicator {
+    /// Curvedness √((k_max² + k_min²) / 2), the paper's C: ascending lines are
+    /// crests of strong bending of either sign.
+    Curvedness,
+    /// k_max: ascending lines are ridges.
+    KMax,
+    /// k_min: descending lines are valleys.
+    KMin,
+    /// A per-vertex property of the input (e.g. a PLY vertex property).
+    Property(String),
+}
+
+impl Indicator {
+    /// The indicator's value at every vertex, estimating curvature with `estimator`
+    /// where needed. Errors if a named property is missing or not finite.
+    pub fn values(&self, mesh: &Mesh, estimator: &dyn CurvatureEstimator) -> Result<Vec<f64>> {
+        let values = match self {
+            Indicator::Property(name) => mesh
+                .vertex_scalar(name)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = mesh
+                        .vertex_scalars()
+                        .iter()
+                        .map(|p| p.name.as_str())
+                        .collect();
+                    Error::Mesh(format!(
+                        "no vertex property '{name}' (the mesh has: {})",
+                        if known.is_empty() {
+                            "none".to_string()
+                        } else {
+                            known.join(", ")
+                        }
+                    ))
+                })?
+                .to_vec(),
+            curvature => {
+                let field = estimate_curvature(mesh, estimator)?;
+                match curvature {
+                    Indicator::KMax => field.k_max,
+                    Indicator::KMin => field.k_min,
+                    _ => field.curvedness(),
+                }
+            }
+        };
+        match values.iter().position(|x| !x.is_finite()) {
+            Some(v) => Err(Error::Mesh(format!(
+                "the indicator is not finite at vertex {v}"
+            ))),
+            None => Ok(values),
+        }
+    }
+}

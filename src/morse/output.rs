@@ -1,0 +1,144 @@
+//! The 1-cells of the simplified complex as feature lines.
+
+use crate::lines::{FeatureLines, LineKind, Polyline};
+use crate::mesh::{FaceId, Mesh, VertexId};
+use crate::ridges::fair::fair_polyline;
+use crate::Point;
+
+use super::cancel::Hierarchy;
+use super::MorseSmale;
+
+/// Which 1-cells to output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Cells {
+    /// Saddle-to-maximum lines: crests of the indicator.
+    #[default]
+    Ascending,
+    /// Saddle-to-minimum lines: troughs of the indicator.
+    Descending,
+    Both,
+}
+
+/// The live saddles' 1-cells, strongest first; each branch stops where it joins a
+/// line already drawn (including that point), so shared tails appear once. The
+/// strength of a line is its saddle's significance. Ascending lines pass through
+/// triangle centroids and the midpoints of the edges between them.
+pub fn lines(mesh: &Mesh, hierarchy: &Hierarchy<'_>, config: &MorseSmale) -> FeatureLines {
+    let last_t = hierarchy
+        .cancelled
+        .last()
+        .map_or(f64::NEG_INFINITY, |c| c.t);
+    let mut shown: Vec<(usize, f64)> = (0..hierarchy.saddles.len())
+        .filter(|&s| hierarchy.alive[s])
+        .filter_map(|s| {
+            let best = hierarchy.best(s).map(|(t, _)| t);
+            let significance = best.unwrap_or_else(|| hierarchy.significance(s));
+            let forced = best.is_none() && significance < last_t;
+            (!(config.hide_forced && forced)).then_some((s, significance))
+        })
+        .collect();
+    shown.sort_by(|a, b| b.1.total_cmp(&a.1));
+
+    let h = mesh.mean_edge_length();
+    let mut drawn_faces = vec![false; mesh.face_count()];
+    let mut drawn_vertices = vec![false; mesh.vertex_count()];
+    let mut lines = FeatureLines::new(String::new());
+    for (s, strength) in shown {
+        let saddle = &hierarchy.saddles[s];
+        let mut polylines = Vec::new();
+        if config.cells != Cells::Descending {
+            let points =
+                ascending_points(mesh, hierarchy, saddle.faces, saddle.edge, &mut drawn_faces);
+            polylines.push((LineKind::Ascending, points));
+        }
+        if config.cells != Cells::Ascending {
+            let points = descending_points(mesh, hierarchy, saddle.vertices, &mut drawn_vertices);
+            polylines.push((LineKind::Descending, points));
+        }
+        for (kind, mut points) in polylines {
+            fair_polyline(&mut points, false, config.smooth_iterations, h);
+            lines.push(Polyline::new(kind, false, strength, points));
+        }
+    }
+    lines
+}
+
+fn centroid(mesh: &Mesh, f: FaceId) -> Point {
+    let [a, b, c] = mesh.face_points(f).map(|p| p.coords);
+    Point::from((a + b + c) / 3.0)
+}
+
+fn midpoint(mesh: &Mesh, e: crate::mesh::EdgeId) -> Point {
+    let [a, b] = mesh.edge_vertices(e).map(|v| mesh.position(v));
+    nalgebra::center(&a, &b)
+}
+
+/// Centroids and crossed-edge midpoints from `start` up to its maximum, stopping
+/// after the first face already drawn.
+fn strip(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: FaceId, drawn: &mut [bool]) -> Vec<Point> {
+    let mut points = Vec::new();
+    let mut current = start;
+    loop {
+        points.push(centroid(mesh, current));
+        if std::mem::replace(&mut drawn[current.idx()], true) {
+            break;
+        }
+        let Some((e, next)) = hierarchy.gradient.face_step(mesh, current) else {
+            break;
+        };
+        points.push(midpoint(mesh, e));
+        current = next;
+    }
+    points
+}
+
+/// The ascending line of a saddle: one strip reversed, the saddle edge's midpoint,
+/// the other strip.
+fn ascending_points(
+    mesh: &Mesh,
+    hierarchy: &Hierarchy<'_>,
+    faces: [FaceId; 2],
+    edge: crate::mesh::EdgeId,
+    drawn: &mut [bool],
+) -> Vec<Point> {
+    let [first, second] = faces.map(|f| {
+        if f.is_valid() {
+            strip(mesh, hierarchy, f, drawn)
+        } else {
+            Vec::new()
+        }
+    });
+    let mut points: Vec<Point> = first.into_iter().rev().collect();
+    points.push(midpoint(mesh, edge));
+    points.extend(second);
+    points
+}
+
+/// The vertex path from `start` down to its minimum, stopping at the first vertex
+/// already drawn.
+fn path(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: VertexId, drawn: &mut [bool]) -> Vec<Point> {
+    let mut points = Vec::new();
+    let mut current = start;
+    loop {
+        points.push(mesh.position(current));
+        if std::mem::replace(&mut drawn[current.idx()], true) {
+            break;
+        }
+        let Some((_, next)) = hierarchy.gradient.vertex_step(mesh, current) else {
+            break;
+        };
+        current = next;
+    }
+    points
+}
+
+/// The descending line of a saddle: one path reversed, then the other.
+fn descending_points(
+    mesh: &Mesh,
+    hierarchy: &Hierarchy<'_>,
+    ends: [VertexId; 2],
+    drawn: &mut [bool],
+) -> Vec<Point> {
+    let [first, second] = ends.map(|v| path(mesh, hierarchy, v, drawn));
+    first.into_iter().rev().chain(second).collect()
+}

@@ -1,0 +1,234 @@
+//! The Morse-Smale complex: topological invariants, the shape of its 1-cells, and the
+//! feature-preserving cancellation criterion against persistence.
+
+use std::cmp::Ordering;
+
+use crestline::curvature::JetFit;
+use crestline::mesh::generate::{self, Sampling};
+use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::morse::cancel::{Criterion, Hierarchy};
+use crestline::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
+use crestline::morse::gradient::{
+    compare, local_maximum_faces, local_minimum_vertices, Gradient, Keys,
+};
+use crestline::morse::Indicator;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+fn bundled(name: &str) -> Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("meshes")
+        .join(name);
+    Mesh::from_soup(crestline::io::read_mesh(&path).unwrap())
+        .unwrap()
+        .0
+}
+
+/// `mesh` with its vertices moved by Gaussian noise of `sigma` mean edge lengths
+/// along the normals.
+fn noisy(mesh: &Mesh, sigma: f64, seed: u64) -> Mesh {
+    let h = mesh.mean_edge_length();
+    let normals = mesh.vertex_normals();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let positions = mesh
+        .positions()
+        .iter()
+        .zip(&normals)
+        .map(|(p, n)| {
+            // Box-Muller: a standard normal sample from two uniform ones.
+            let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
+            p + n * (sigma * h * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos())
+        })
+        .collect();
+    let soup = TriangleSoup {
+        positions,
+        triangles: mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    };
+    Mesh::from_soup(soup).unwrap().0
+}
+
+fn test_meshes() -> Vec<(&'static str, Mesh)> {
+    let cap = generate::Paraboloid { a: -1.0, b: 0.4 };
+    vec![
+        (
+            "sphere",
+            generate::sphere(1.0, 3000, Sampling::jittered(1))
+                .unwrap()
+                .mesh,
+        ),
+        (
+            "torus",
+            generate::torus(1.0, 0.35, 4000, Sampling::jittered(2))
+                .unwrap()
+                .mesh,
+        ),
+        (
+            "height field",
+            generate::height_field(&cap, 1.0, 3000, Sampling::jittered(3))
+                .unwrap()
+                .mesh,
+        ),
+        ("bunny", bundled("bunny.obj")),
+        ("cow", bundled("cow.obj")),
+        ("airplane", bundled("airplane.obj")),
+        (
+            "noisy bunny_small",
+            noisy(&bundled("bunny_small.obj"), 0.5, 7),
+        ),
+    ]
+}
+
+fn curvedness_keys(mesh: &Mesh) -> Keys {
+    Keys::new(
+        mesh,
+        Indicator::Curvedness
+            .values(mesh, &JetFit::default())
+            .unwrap(),
+    )
+}
+
+#[test]
+fn critical_points_satisfy_euler_before_and_after_cancellations() {
+    for (name, mesh) in test_meshes() {
+        let chi = mesh.euler_characteristic();
+        let keys = curvedness_keys(&mesh);
+        let gradient = Gradient::new(&mesh, &keys);
+        let (m, s, big_m) = (
+            gradient.minima.len(),
+            gradient.saddles.len(),
+            gradient.maxima.len(),
+        );
+        assert_eq!(m as i64 - s as i64 + big_m as i64, chi, "{name} initial");
+        // The roots are the data's extrema, not one per component.
+        let local_max = local_maximum_faces(&mesh, &keys)
+            .iter()
+            .filter(|&&x| x)
+            .count();
+        let local_min = local_minimum_vertices(&mesh, &keys)
+            .iter()
+            .filter(|&&x| x)
+            .count();
+        assert_eq!((big_m, m), (local_max, local_min), "{name}");
+
+        for criterion in [Criterion::Feature, Criterion::Persistence] {
+            let saddles = measure_saddles(&mesh, &keys, &gradient);
+            let regions = (
+                minimum_regions(&mesh, &keys, &gradient),
+                maximum_regions(&mesh, &keys, &gradient),
+            );
+            let mut hierarchy =
+                Hierarchy::new(&mesh, &keys, gradient.clone(), saddles, regions, criterion);
+            let mut done = 0;
+            for target in [1, 10, 100, usize::MAX] {
+                while done < target && hierarchy.cancel_next().is_some() {
+                    done += 1;
+                }
+                let (minima, maxima) = hierarchy.extremum_counts();
+                let saddles = hierarchy.saddle_count();
+                assert_eq!(
+                    minima as i64 - saddles as i64 + maxima as i64,
+                    chi,
+                    "{name} {criterion:?} after {done}"
+                );
+                assert_eq!(saddles, s - done);
+            }
+            // Fully simplified: no live saddle has a valid cancellation left.
+            let live = (0..s).filter(|&i| hierarchy.alive[i]);
+            assert!(
+                live.clone().all(|i| hierarchy.best(i).is_none()),
+                "{name}: not simplified"
+            );
+            eprintln!("{name} {criterion:?}: {} saddles left of {s}", live.count());
+        }
+    }
+}
+
+/// Follow parent pointers from a face, returning the faces visited.
+fn face_path(
+    mesh: &Mesh,
+    gradient: &Gradient,
+    start: crestline::mesh::FaceId,
+) -> Vec<crestline::mesh::FaceId> {
+    let mut path = vec![start];
+    while let Some((_, next)) = gradient.face_step(mesh, *path.last().unwrap()) {
+        path.push(next);
+        assert!(path.len() <= mesh.face_count(), "cycle in the dual forest");
+    }
+    path
+}
+
+fn vertex_path(
+    mesh: &Mesh,
+    gradient: &Gradient,
+    start: crestline::mesh::VertexId,
+) -> Vec<crestline::mesh::VertexId> {
+    let mut path = vec![start];
+    while let Some((_, next)) = gradient.vertex_step(mesh, *path.last().unwrap()) {
+        path.push(next);
+        assert!(
+            path.len() <= mesh.vertex_count(),
+            "cycle in the primal forest"
+        );
+    }
+    path
+}
+
+#[test]
+fn one_cells_are_connected_monotone_paths_to_extrema_of_the_right_kind() {
+    for (name, mesh) in test_meshes() {
+        let keys = curvedness_keys(&mesh);
+        let gradient = Gradient::new(&mesh, &keys);
+        let is_max = local_maximum_faces(&mesh, &keys);
+        let is_min = local_minimum_vertices(&mesh, &keys);
+        let (mut steps, mut downhill_steps) = (0usize, 0usize);
+        for &s in &gradient.saddles {
+            let h = mesh.edge_halfedge(s, 0);
+            for f in [mesh.face(h), mesh.face(mesh.twin(h))]
+                .into_iter()
+                .filter(|f| f.is_valid())
+            {
+                let path = face_path(&mesh, &gradient, f);
+                assert!(
+                    is_max[path.last().unwrap().idx()],
+                    "{name}: ascending line ends off a maximum"
+                );
+                for w in path.windows(2) {
+                    // Consecutive faces share an edge: the strip is connected.
+                    let shared = mesh
+                        .face_vertices(w[0])
+                        .iter()
+                        .filter(|v| mesh.face_vertices(w[1]).contains(v))
+                        .count();
+                    assert_eq!(shared, 2, "{name}");
+                    steps += 1;
+                    if compare(keys.face_key(w[1]), keys.face_key(w[0])) == Ordering::Less {
+                        downhill_steps += 1;
+                    }
+                }
+            }
+            for v in mesh.edge_vertices(s) {
+                let path = vertex_path(&mesh, &gradient, v);
+                assert!(
+                    is_min[path.last().unwrap().idx()],
+                    "{name}: descending line ends off a minimum"
+                );
+                for w in path.windows(2) {
+                    assert!(
+                        mesh.neighbors(w[0]).any(|x| x == w[1]),
+                        "{name}: path not connected"
+                    );
+                    steps += 1;
+                    if compare(keys.vertex_key(w[1]), keys.vertex_key(w[0])) == Ordering::Greater {
+                        downhill_steps += 1;
+                    }
+                }
+            }
+        }
+        eprintln!("{name}: {downhill_steps} of {steps} 1-cell steps go against the indicator");
+        assert_eq!(
+            downhill_steps, 0,
+            "{name}: 1-cells must climb (ascending) and fall (descending)"
+        );
+    }
+}
