@@ -20,6 +20,7 @@
 //!   files are written under a temporary name and renamed on success.
 
 pub mod curvature;
+pub mod draw;
 pub mod error;
 pub mod io;
 pub mod linalg;

@@ -2,6 +2,7 @@
 //! one line `error: <file>: <what is wrong>`), 2 bad usage (printed by clap).
 
 mod curvature;
+mod draw;
 mod info;
 mod load;
 mod morse;
@@ -28,6 +29,8 @@ enum Command {
     Curvature(curvature::CurvatureArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
+    /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
+    Draw(draw::DrawArgs),
     /// Feature lines from the Morse-Smale complex of a curvature indicator (Sahner et al. 2008).
     Morse(morse::MorseCommand),
 }
@@ -47,6 +50,7 @@ pub fn run() -> ExitCode {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
         Command::Ridges(args) => ridges::run(&args),
+        Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),
     };
     match outcome {

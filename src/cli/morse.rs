@@ -41,8 +41,8 @@ pub struct MorseArgs {
     pub indicator: String,
     /// Curvature estimator for curvature indicators (jet-fit is steadier on
     /// irregular meshes, where the shape operator's spikes become maxima).
-    #[arg(long = "morse-estimator", value_enum, default_value_t)]
-    pub estimator: EstimatorChoice,
+    #[arg(long, value_enum, default_value_t)]
+    pub morse_estimator: EstimatorChoice,
     /// Cancellation criterion.
     #[arg(long, value_enum, default_value_t)]
     pub criterion: CriterionChoice,
@@ -73,7 +73,7 @@ impl MorseArgs {
             name => Indicator::Property(name.to_string()),
         };
         MorseSmale {
-            estimator: self.estimator.estimator(),
+            estimator: self.morse_estimator.estimator(),
             indicator,
             criterion: match self.criterion {
                 CriterionChoice::Feature => Criterion::Feature,

@@ -1,0 +1,221 @@
+//! `crestline draw`: a line drawing of a mesh (feature lines and silhouettes, hidden
+//! lines removed) as SVG, with an optional PNG preview.
+
+use std::path::{Path, PathBuf};
+
+use crestline::draw::{
+    svg_document, visible_drawing, write_png, write_svg, Camera, DepthBuffer, DrawOptions,
+    Projection, Style, View,
+};
+use crestline::lines::FeatureLines;
+use crestline::report::Report;
+use crestline::{Error, Point, Result, Vector};
+
+use super::load::{load_mesh, warn_repairs};
+use super::morse::{extract as extract_morse, MorseArgs};
+use super::ridges::{trace_mesh, TracerArgs};
+use super::ReportArg;
+
+/// Which feature lines to draw.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LinesChoice {
+    /// Ridges and valleys by extremality tracing (the options of `crestline ridges`).
+    #[default]
+    Ridges,
+    /// Ascending and descending lines of the Morse-Smale complex.
+    Morse,
+    /// No feature lines (e.g. silhouettes only).
+    None,
+}
+
+/// Arguments of `crestline draw`.
+#[derive(clap::Args, Debug)]
+pub struct DrawArgs {
+    /// The mesh file (.obj, .ply, .off, .stl).
+    pub mesh: PathBuf,
+    /// Output drawing (.svg).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Which feature lines to draw.
+    #[arg(long, value_enum, default_value_t)]
+    pub lines: LinesChoice,
+    /// Also draw the silhouettes (smooth occluding contours).
+    #[arg(long)]
+    pub silhouettes: bool,
+    /// Viewing direction in degrees; 0,0 looks along -z with +y up, a positive
+    /// azimuth turns the eye about +y towards +x, a positive elevation raises it.
+    #[arg(long, value_name = "AZIMUTH,ELEVATION", value_parser = parse_view,
+          allow_hyphen_values = true, conflicts_with = "camera")]
+    pub view: Option<[f64; 2]>,
+    /// Explicit camera: eye, target and up vector. In orthographic projection only
+    /// the direction is used and the mesh is framed automatically.
+    #[arg(long, value_name = "EX,EY,EZ,TX,TY,TZ,UX,UY,UZ", value_parser = parse_camera,
+          allow_hyphen_values = true)]
+    pub camera: Option<[f64; 9]>,
+    /// Perspective projection with this field of view in degrees (across the
+    /// shorter side); orthographic without it.
+    #[arg(long, value_name = "FOV")]
+    pub perspective: Option<f64>,
+    /// Canvas size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "800x800", value_parser = parse_size)]
+    pub size: [u32; 2],
+    /// JSON file overriding colours and widths per kind of line.
+    #[arg(long, value_name = "FILE")]
+    pub style: Option<PathBuf>,
+    /// Also render a PNG preview next to the SVG (same name, .png).
+    #[arg(long)]
+    pub png: bool,
+    /// Options of the Morse-Smale lines (with `--lines morse`).
+    #[command(flatten)]
+    pub morse: MorseArgs,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// Draw the mesh and write the SVG (and the PNG).
+pub fn run(args: &DrawArgs) -> Result<()> {
+    check_output(&args.output)?;
+    let style = args
+        .style
+        .as_deref()
+        .map(Style::read)
+        .transpose()?
+        .unwrap_or_default();
+    let options = DrawOptions {
+        silhouettes: args.silhouettes,
+        ..DrawOptions::default()
+    };
+    let mut report = Report::new("draw", &args.mesh);
+    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    if args.lines != LinesChoice::Ridges {
+        // Tracing loads the mesh again and warns about the repairs itself.
+        warn_repairs(&args.mesh, &repairs);
+    }
+    let [width, height] = args.size;
+    let camera = Camera::framing(
+        mesh.positions(),
+        view(args),
+        projection(args),
+        width,
+        height,
+    )?;
+
+    let mut extraction = Report::new("draw", &args.mesh);
+    let mut lines = report.stage("extraction", || extract(args, &mut extraction))?;
+    report.counts.append(&mut extraction.counts);
+    report.section("extraction_stages", &extraction.stages);
+
+    if options.silhouettes {
+        let contours = report.stage("silhouettes", || {
+            crestline::draw::silhouettes(&mesh, &camera, options.silhouette_min_length)
+        });
+        report.count("silhouette_lines", contours.len());
+        lines.lines.extend(contours.lines);
+    }
+    let drawing = report.stage("visibility", || {
+        let buffer = DepthBuffer::render(&mesh, &camera, options.supersampling);
+        visible_drawing(&lines, &camera, &buffer, &options)
+    })?;
+    let paths: serde_json::Map<String, serde_json::Value> = drawing
+        .path_counts()
+        .into_iter()
+        .map(|(group, count)| (group.to_string(), count.into()))
+        .collect();
+    report.count("paths", serde_json::Value::Object(paths));
+
+    let svg = svg_document(&drawing, &style);
+    report.stage("write", || write_svg(&args.output, &svg))?;
+    if args.png {
+        let png = args.output.with_extension("png");
+        report.stage("png", || write_png(&png, &svg))?;
+    }
+    if let Some(path) = &args.report.report {
+        report.write(path)?;
+    }
+    Ok(())
+}
+
+/// The feature lines of the mesh, by the chosen method.
+fn extract(args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
+    match args.lines {
+        LinesChoice::Ridges => trace_mesh(&args.mesh, &args.tracer, report),
+        LinesChoice::Morse => {
+            extract_morse(&args.mesh, &args.morse, report).map(|(lines, _)| lines)
+        }
+        LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
+    }
+}
+
+/// The drawing must be an `.svg` file.
+fn check_output(path: &Path) -> Result<()> {
+    let is_svg = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if is_svg {
+        Ok(())
+    } else {
+        Err(Error::File {
+            path: path.to_path_buf(),
+            message: "drawings are written as SVG: give a .svg file name".into(),
+        })
+    }
+}
+
+/// The view from `--view` or `--camera` (the default orbit view without either).
+fn view(args: &DrawArgs) -> View {
+    match (args.view, args.camera) {
+        (_, Some([ex, ey, ez, tx, ty, tz, ux, uy, uz])) => View::LookAt {
+            eye: Point::new(ex, ey, ez),
+            target: Point::new(tx, ty, tz),
+            up: Vector::new(ux, uy, uz),
+        },
+        (Some([azimuth, elevation]), None) => View::Orbit { azimuth, elevation },
+        (None, None) => View::default(),
+    }
+}
+
+/// Perspective with `--perspective FOV`, orthographic otherwise.
+fn projection(args: &DrawArgs) -> Projection {
+    args.perspective
+        .map_or(Projection::Orthographic, |fov| Projection::Perspective {
+            fov,
+        })
+}
+
+/// `N` comma-separated numbers.
+fn parse_numbers<const N: usize>(text: &str) -> std::result::Result<[f64; N], String> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|part| {
+            part.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("'{}' is not a number", part.trim()))
+        })
+        .collect::<std::result::Result<_, _>>()?;
+    values
+        .try_into()
+        .map_err(|v: Vec<f64>| format!("expected {N} comma-separated numbers, got {}", v.len()))
+}
+
+fn parse_view(text: &str) -> std::result::Result<[f64; 2], String> {
+    parse_numbers(text)
+}
+
+fn parse_camera(text: &str) -> std::result::Result<[f64; 9], String> {
+    parse_numbers(text)
+}
+
+/// `WIDTHxHEIGHT` in pixels, e.g. `800x600`.
+fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT, e.g. 800x600"))?;
+    let side = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{}' is not a whole number of pixels", s.trim()))
+    };
+    Ok([side(w)?, side(h)?])
+}

@@ -1,0 +1,227 @@
+//! Line drawings: feature lines and silhouettes of a mesh, with hidden lines
+//! removed, as SVG (and a PNG preview).
+//!
+//! Drawing takes lines, not an extractor, so the output of any
+//! [`LineExtractor`](crate::lines::LineExtractor) can be drawn. The steps, each a
+//! function of its own:
+//! 1. a [`Camera`] frames the mesh ([`Camera::framing`]: orthographic by default,
+//!    an orbit direction or an explicit eye, target and up);
+//! 2. optionally the [`silhouettes`] (smooth occluding contours) are traced on the
+//!    mesh and drawn like any other line;
+//! 3. a [`DepthBuffer`] of the mesh is rasterized ([`DepthBuffer::render`]);
+//! 4. every line is resampled below a pixel, each sample tested against the buffer,
+//!    and the visible runs kept and simplified (Douglas–Peucker)
+//!    ([`visible_drawing`]);
+//! 5. the [`Drawing`] is written as SVG in a [`Style`] ([`svg_document`],
+//!    [`write_svg`]) and optionally rendered to PNG ([`write_png`]).
+//!
+//! [`draw`] runs steps 2–4 with [`DrawOptions`].
+//!
+//! Depth tolerances are in mean edge lengths of the mesh, so a drawing does not
+//! depend on the unit of the file.
+
+mod camera;
+mod depth;
+mod raster;
+mod silhouette;
+mod simplify;
+mod style;
+mod svg;
+mod visibility;
+
+use rayon::prelude::*;
+
+use crate::lines::{FeatureLines, LineKind};
+use crate::mesh::Mesh;
+use crate::{Error, Result};
+
+pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
+pub use depth::DepthBuffer;
+pub use raster::{render_png, write_png};
+pub use silhouette::silhouettes;
+pub use simplify::douglas_peucker;
+pub use style::{group_name, KindStyle, Style};
+pub use svg::{svg_document, write_svg};
+pub use visibility::visible_pieces;
+
+/// A visible piece of a line on the canvas.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScreenPath {
+    /// Canvas points in pixels (x right, y down).
+    pub points: Vec<[f64; 2]>,
+    /// Whether the piece is a whole closed line.
+    pub closed: bool,
+    /// The strength of the line the piece comes from.
+    pub strength: f64,
+}
+
+/// The visible pieces of the lines of one kind.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Group {
+    pub kind: LineKind,
+    pub paths: Vec<ScreenPath>,
+}
+
+/// A line drawing: a canvas and its groups of visible pieces, in drawing order
+/// (silhouettes first, underneath the feature lines).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// Where the lines come from (written as the SVG title).
+    pub source: String,
+    /// Canvas width in pixels.
+    pub width: u32,
+    /// Canvas height in pixels.
+    pub height: u32,
+    pub groups: Vec<Group>,
+}
+
+impl Drawing {
+    /// The group of `kind`, if the drawing has one.
+    pub fn group(&self, kind: LineKind) -> Option<&Group> {
+        self.groups.iter().find(|g| g.kind == kind)
+    }
+
+    /// Number of paths of each group, by [`group_name`].
+    pub fn path_counts(&self) -> Vec<(&'static str, usize)> {
+        self.groups
+            .iter()
+            .map(|g| (group_name(g.kind), g.paths.len()))
+            .collect()
+    }
+}
+
+/// The settings of [`draw`] and [`visible_drawing`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawOptions {
+    /// Trace and draw the silhouettes.
+    pub silhouettes: bool,
+    /// Silhouette lines shorter than this many mean edge lengths are dropped.
+    pub silhouette_min_length: f64,
+    /// How far behind the surface a feature line may lie and still be drawn, in
+    /// mean edge lengths.
+    pub depth_tolerance: f64,
+    /// The same for silhouettes, which sit where the surface is seen edge-on.
+    pub silhouette_depth_tolerance: f64,
+    /// Depth-buffer pixels per canvas pixel along each axis.
+    pub supersampling: u32,
+    /// Largest distance between visibility samples along a line, in pixels.
+    pub sample_spacing: f64,
+    /// Douglas–Peucker tolerance of the drawn paths, in pixels.
+    pub simplify_tolerance: f64,
+}
+
+impl Default for DrawOptions {
+    fn default() -> Self {
+        DrawOptions {
+            silhouettes: true,
+            silhouette_min_length: 3.0,
+            depth_tolerance: 1.0,
+            silhouette_depth_tolerance: 2.0,
+            supersampling: 2,
+            sample_spacing: 0.5,
+            simplify_tolerance: 0.25,
+        }
+    }
+}
+
+impl DrawOptions {
+    /// Check that every setting is usable: finite, non-negative lengths and
+    /// tolerances, a positive sample spacing and supersampling.
+    pub fn check(&self) -> Result<()> {
+        let non_negative = [
+            ("silhouette minimum length", self.silhouette_min_length),
+            ("depth tolerance", self.depth_tolerance),
+            (
+                "silhouette depth tolerance",
+                self.silhouette_depth_tolerance,
+            ),
+            ("simplification tolerance", self.simplify_tolerance),
+        ];
+        for (name, value) in non_negative {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(Error::Argument(format!(
+                    "{name} must be finite and not negative, got {value}"
+                )));
+            }
+        }
+        if !(self.sample_spacing.is_finite() && self.sample_spacing > 0.0) {
+            return Err(Error::Argument(format!(
+                "sample spacing must be finite and positive, got {}",
+                self.sample_spacing
+            )));
+        }
+        if self.supersampling == 0 {
+            return Err(Error::Argument("supersampling must be at least 1".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Draw `lines` on `mesh` as seen by `camera`: the silhouettes if asked for, a
+/// depth buffer, and the visible pieces of every line.
+pub fn draw(
+    mesh: &Mesh,
+    lines: &FeatureLines,
+    camera: &Camera,
+    options: &DrawOptions,
+) -> Result<Drawing> {
+    options.check()?;
+    let mut all = lines.clone();
+    if options.silhouettes {
+        all.lines
+            .extend(silhouettes(mesh, camera, options.silhouette_min_length).lines);
+    }
+    let buffer = DepthBuffer::render(mesh, camera, options.supersampling);
+    visible_drawing(&all, camera, &buffer, options)
+}
+
+/// The visible, simplified pieces of `lines` against `buffer`: one group for
+/// every kind among the lines (silhouettes first), even if nothing of it is seen.
+pub fn visible_drawing(
+    lines: &FeatureLines,
+    camera: &Camera,
+    buffer: &DepthBuffer,
+    options: &DrawOptions,
+) -> Result<Drawing> {
+    options.check()?;
+    lines.validate()?;
+    let h = buffer.edge_length();
+    let pieces: Vec<(LineKind, Vec<ScreenPath>)> = lines
+        .lines
+        .par_iter()
+        .map(|line| {
+            let tolerance = h * match line.kind {
+                LineKind::Silhouette => options.silhouette_depth_tolerance,
+                _ => options.depth_tolerance,
+            };
+            let pieces = visible_pieces(line, camera, buffer, tolerance, options.sample_spacing)
+                .into_iter()
+                .map(|mut path| {
+                    path.points =
+                        douglas_peucker(&path.points, path.closed, options.simplify_tolerance);
+                    path
+                })
+                .collect();
+            (line.kind, pieces)
+        })
+        .collect();
+    let mut kinds: Vec<LineKind> = lines.count_by_kind().into_keys().collect();
+    kinds.sort_by_key(|&kind| (kind != LineKind::Silhouette, kind));
+    let groups = kinds
+        .into_iter()
+        .map(|kind| Group {
+            kind,
+            paths: pieces
+                .iter()
+                .filter(|(k, _)| *k == kind)
+                .flat_map(|(_, paths)| paths.iter().cloned())
+                .collect(),
+        })
+        .collect();
+    Ok(Drawing {
+        source: lines.source.clone(),
+        width: camera.width(),
+        height: camera.height(),
+        groups,
+    })
+}

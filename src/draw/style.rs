@@ -1,0 +1,192 @@
+//! Stroke colours and widths per kind of line, with overrides from a small JSON file:
+//!
+//! ```json
+//! {
+//!   "background": "#ffffff",
+//!   "kinds": {
+//!     "ridges": {"color": "#c0392b", "width": 1.2, "width_by_strength": false},
+//!     "silhouettes": {"width": 2}
+//!   }
+//! }
+//! ```
+//!
+//! Every key is optional: what a file leaves out keeps its default. `background` is
+//! a colour or `null` (transparent). The kinds are named as the SVG groups
+//! ([`group_name`]). Colours are `#rgb`, `#rrggbb` or a CSS colour name; widths are
+//! in pixels. With `width_by_strength`, a line's width is scaled by its strength
+//! relative to the median strength of its group, between half and twice the width.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Deserializer};
+
+use crate::lines::LineKind;
+use crate::{Error, Result};
+
+/// The SVG group of a kind of line: `ridges`, `valleys`, `ascending`,
+/// `descending`, `silhouettes`, and for the other kinds their [`LineKind::name`].
+pub fn group_name(kind: LineKind) -> &'static str {
+    match kind {
+        LineKind::Ridge => "ridges",
+        LineKind::Valley => "valleys",
+        LineKind::Silhouette => "silhouettes",
+        other => other.name(),
+    }
+}
+
+/// How the lines of one kind are stroked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KindStyle {
+    /// Stroke colour (`#rgb`, `#rrggbb` or a CSS colour name).
+    pub color: String,
+    /// Stroke width in pixels.
+    pub width: f64,
+    /// Scale each line's width by its strength (see the module docs).
+    pub width_by_strength: bool,
+}
+
+/// The look of a drawing: a background and a stroke per kind of line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Style {
+    /// Background colour, or `None` for a transparent background.
+    pub background: Option<String>,
+    /// The stroke of every kind, indexed by [`LineKind::code`].
+    kinds: [KindStyle; LineKind::ALL.len()],
+}
+
+impl Default for Style {
+    /// White background; ridges red, valleys blue, ascending lines black,
+    /// descending grey, silhouettes dark grey and slightly wider.
+    fn default() -> Self {
+        let stroke = |color: &str, width: f64| KindStyle {
+            color: color.to_string(),
+            width,
+            width_by_strength: false,
+        };
+        let kinds = LineKind::ALL.map(|kind| match kind {
+            LineKind::Ridge => stroke("#c0392b", 1.2),
+            LineKind::Valley => stroke("#2471a3", 1.2),
+            LineKind::Ascending => stroke("#000000", 1.2),
+            LineKind::Descending => stroke("#808080", 1.2),
+            LineKind::Crest => stroke("#7d3c98", 1.2),
+            LineKind::Parabolic => stroke("#1e8449", 1.2),
+            LineKind::Silhouette => stroke("#333333", 1.5),
+            LineKind::Contour => stroke("#555555", 1.0),
+        });
+        Style {
+            background: Some("#ffffff".to_string()),
+            kinds,
+        }
+    }
+}
+
+/// A style file: every entry optional.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StyleFile {
+    #[serde(default, deserialize_with = "present")]
+    background: Option<Option<String>>,
+    #[serde(default)]
+    kinds: BTreeMap<String, KindOverride>,
+}
+
+/// The entries of one kind in a style file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KindOverride {
+    color: Option<String>,
+    width: Option<f64>,
+    width_by_strength: Option<bool>,
+}
+
+/// Tell a key given as `null` (`Some(None)`) from a missing key (`None`).
+fn present<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<Option<String>>, D::Error> {
+    Option::<String>::deserialize(d).map(Some)
+}
+
+/// The widest stroke a style may ask for, in pixels.
+const MAX_WIDTH: f64 = 100.0;
+
+impl Style {
+    /// The stroke of `kind`.
+    pub fn kind(&self, kind: LineKind) -> &KindStyle {
+        &self.kinds[usize::from(kind.code())]
+    }
+
+    /// The stroke of `kind`, to change it.
+    pub fn kind_mut(&mut self, kind: LineKind) -> &mut KindStyle {
+        &mut self.kinds[usize::from(kind.code())]
+    }
+
+    /// The default style with the overrides of the JSON file `path`. Errors
+    /// ([`Error::File`]) name the file and the key: unreadable or malformed JSON,
+    /// an unknown key or kind, a bad colour or width.
+    pub fn read(path: &Path) -> Result<Style> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        Style::default()
+            .with_overrides(&text)
+            .map_err(|message| Error::File {
+                path: path.to_path_buf(),
+                message,
+            })
+    }
+
+    /// This style with the overrides of a style file's text, or what is wrong.
+    fn with_overrides(mut self, text: &str) -> std::result::Result<Style, String> {
+        let file: StyleFile =
+            serde_json::from_str(text).map_err(|e| format!("bad style file: {e}"))?;
+        if let Some(background) = file.background {
+            if let Some(color) = &background {
+                check_color("background", color)?;
+            }
+            self.background = background;
+        }
+        for (name, entry) in file.kinds {
+            let kind = LineKind::ALL
+                .into_iter()
+                .find(|&k| group_name(k) == name)
+                .ok_or_else(|| {
+                    let known: Vec<&str> = LineKind::ALL.into_iter().map(group_name).collect();
+                    format!(
+                        "unknown kind \"{name}\" in \"kinds\"; known: {}",
+                        known.join(", ")
+                    )
+                })?;
+            let style = self.kind_mut(kind);
+            if let Some(color) = entry.color {
+                check_color(&format!("kinds.{name}.color"), &color)?;
+                style.color = color;
+            }
+            if let Some(width) = entry.width {
+                if !(width > 0.0 && width <= MAX_WIDTH) {
+                    return Err(format!(
+                        "kinds.{name}.width must be above 0 and at most {MAX_WIDTH}, got {width}"
+                    ));
+                }
+                style.width = width;
+            }
+            if let Some(by_strength) = entry.width_by_strength {
+                style.width_by_strength = by_strength;
+            }
+        }
+        Ok(self)
+    }
+}
+
+/// Accept `#rgb`, `#rrggbb` or a name made of ASCII letters.
+fn check_color(key: &str, color: &str) -> std::result::Result<(), String> {
+    let hex = color.strip_prefix('#').is_some_and(|digits| {
+        matches!(digits.len(), 3 | 6) && digits.chars().all(|c| c.is_ascii_hexdigit())
+    });
+    let name = !color.is_empty() && color.chars().all(|c| c.is_ascii_alphabetic());
+    if hex || name {
+        Ok(())
+    } else {
+        Err(format!(
+            "{key}: \"{color}\" is not a colour (#rgb, #rrggbb or a CSS colour name)"
+        ))
+    }
+}

@@ -1,0 +1,94 @@
+//! Hidden-line removal: a line is resampled finely on the canvas, each sample is
+//! tested against the [`DepthBuffer`], and the runs of visible samples become the
+//! pieces that are drawn.
+
+use crate::lines::Polyline;
+use crate::Point;
+
+use super::camera::Camera;
+use super::depth::DepthBuffer;
+use super::ScreenPath;
+
+/// The most samples one segment of a line is cut into.
+const MAX_SAMPLES_PER_SEGMENT: f64 = 100_000.0;
+
+/// The visible pieces of `line` on the canvas. Samples are taken along each segment
+/// (interpolated in 3D, then projected) at most `spacing` pixels apart; a sample
+/// is visible if it lies on the canvas and passes [`DepthBuffer::is_visible`] with
+/// `tolerance` (mesh units). Every run of at least two visible samples is a piece;
+/// a closed line seen whole stays closed. Pieces carry the line's strength.
+pub fn visible_pieces(
+    line: &Polyline,
+    camera: &Camera,
+    buffer: &DepthBuffer,
+    tolerance: f64,
+    spacing: f64,
+) -> Vec<ScreenPath> {
+    let samples = samples(line, camera, spacing);
+    let seen: Vec<Option<[f64; 2]>> = samples
+        .iter()
+        .map(|p| {
+            let s = camera.project(p)?;
+            let inside = (0.0..=f64::from(camera.width())).contains(&s.x)
+                && (0.0..=f64::from(camera.height())).contains(&s.y);
+            (inside && buffer.is_visible(&s, tolerance)).then_some([s.x, s.y])
+        })
+        .collect();
+    let piece = |points: Vec<[f64; 2]>, closed: bool| ScreenPath {
+        points,
+        closed,
+        strength: line.strength,
+    };
+    if line.closed && seen.iter().all(Option::is_some) {
+        return vec![piece(seen.into_iter().flatten().collect(), true)];
+    }
+    // A closed line is read from a hidden sample, so no run wraps around the end.
+    let start = if line.closed {
+        seen.iter().position(Option::is_none).unwrap_or(0)
+    } else {
+        0
+    };
+    let mut pieces = Vec::new();
+    let mut run: Vec<[f64; 2]> = Vec::new();
+    for sample in seen[start..].iter().chain(&seen[..start]) {
+        match sample {
+            Some(point) => run.push(*point),
+            None => close_run(&mut run, &mut pieces, &piece),
+        }
+    }
+    close_run(&mut run, &mut pieces, &piece);
+    pieces
+}
+
+/// Move the current run into `pieces` if it has a segment, and start a new one.
+fn close_run(
+    run: &mut Vec<[f64; 2]>,
+    pieces: &mut Vec<ScreenPath>,
+    piece: &impl Fn(Vec<[f64; 2]>, bool) -> ScreenPath,
+) {
+    let points = std::mem::take(run);
+    if points.len() >= 2 {
+        pieces.push(piece(points, false));
+    }
+}
+
+/// Points along `line`, at most about `spacing` pixels apart on the canvas. The last
+/// point of an open line is included; a closed line ends just before its first
+/// point.
+fn samples(line: &Polyline, camera: &Camera, spacing: f64) -> Vec<Point> {
+    let mut points = Vec::with_capacity(line.points.len());
+    for (a, b) in line.segments() {
+        let pixels = match (camera.project(a), camera.project(b)) {
+            (Some(pa), Some(pb)) => (pb.x - pa.x).hypot(pb.y - pa.y),
+            _ => 0.0,
+        };
+        let count = (pixels / spacing)
+            .ceil()
+            .clamp(1.0, MAX_SAMPLES_PER_SEGMENT) as usize;
+        points.extend((0..count).map(|i| a + (b - a) * (i as f64 / count as f64)));
+    }
+    if !line.closed {
+        points.extend(line.points.last());
+    }
+    points
+}
