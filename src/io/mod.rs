@@ -16,6 +16,7 @@ pub mod atomic;
 mod obj;
 mod off;
 mod ply;
+mod ply_binary;
 mod stl;
 
 pub use obj::{read_obj, write_obj};

@@ -10,6 +10,7 @@ use ply_rs_bw::ply::{
     ScalarType,
 };
 
+use super::ply_binary::{self, scalar_size, Endian};
 use super::{capped_capacity, line_error, push_polygon, truncated, Input};
 use crate::mesh::{Mesh, ScalarProperty, TriangleSoup};
 use crate::{Error, Point, Result, Vector};
@@ -48,13 +49,46 @@ pub(super) fn parse(input: &mut Input<'_>) -> Result<TriangleSoup> {
         encoding: header.encoding,
     };
     let mut soup = TriangleSoup::default();
+    let endian = match header.encoding {
+        Encoding::Ascii => None,
+        Encoding::BinaryLittleEndian => Some(Endian::Little),
+        Encoding::BinaryBigEndian => Some(Endian::Big),
+    };
     for def in header.elements.values() {
-        if def.name == "vertex" {
-            read_vertices(&mut payload, def, &layout.vertex, &mut soup)?;
-        } else if def.name == "face" {
-            read_faces(&mut payload, def, layout.vertex_count, &mut soup.triangles)?;
-        } else {
-            payload.records(def, |_, _: Skipped| Ok(()))?;
+        let fixed = endian.zip(ply_binary::fixed_layout(def));
+        let index_list = endian.zip(single_list(def));
+        match (def.name.as_str(), fixed, index_list) {
+            ("vertex", Some((endian, (columns, stride))), _) => {
+                let extras: Vec<usize> = layout.vertex.extras.iter().map(|(_, c)| *c).collect();
+                let input = payload.reader.get_mut();
+                let (positions, values) = ply_binary::read_vertices(
+                    input,
+                    def,
+                    (&columns, stride),
+                    layout.vertex.xyz,
+                    &extras,
+                    endian,
+                )?;
+                soup.positions = positions;
+                soup.vertex_scalars = named_columns(&layout.vertex, values);
+            }
+            ("vertex", None, _) => read_vertices(&mut payload, def, &layout.vertex, &mut soup)?,
+            ("face", _, Some((endian, (count, index)))) => {
+                let input = payload.reader.get_mut();
+                let vertex_count = layout.vertex_count;
+                ply_binary::read_faces(
+                    input,
+                    def,
+                    (&count, &index),
+                    vertex_count,
+                    endian,
+                    &mut soup.triangles,
+                )?;
+            }
+            ("face", _, None) => {
+                read_faces(&mut payload, def, layout.vertex_count, &mut soup.triangles)?
+            }
+            _ => payload.records(def, |_, _: Skipped| Ok(()))?,
         }
     }
     Ok(soup)
@@ -273,13 +307,14 @@ impl Payload<'_, '_> {
     }
 }
 
-/// Size in bytes of a binary scalar.
-fn scalar_size(t: &ScalarType) -> usize {
-    match t {
-        ScalarType::Char | ScalarType::UChar => 1,
-        ScalarType::Short | ScalarType::UShort => 2,
-        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
-        ScalarType::Double => 8,
+/// The count and index types of an element made of a single list property.
+fn single_list(def: &ElementDef) -> Option<(ScalarType, ScalarType)> {
+    match def.properties.values().collect::<Vec<_>>().as_slice() {
+        [p] => match &p.data_type {
+            PropertyType::List(count, index) => Some((count.clone(), index.clone())),
+            PropertyType::Scalar(_) => None,
+        },
+        _ => None,
     }
 }
 
@@ -313,16 +348,21 @@ fn read_vertices(
         }
         Ok(())
     })?;
-    soup.vertex_scalars = layout
+    soup.vertex_scalars = named_columns(layout, extras);
+    Ok(())
+}
+
+/// The kept vertex properties, named.
+fn named_columns(layout: &VertexLayout, columns: Vec<Vec<f64>>) -> Vec<ScalarProperty> {
+    layout
         .extras
         .iter()
-        .zip(extras)
+        .zip(columns)
         .map(|((name, _), values)| ScalarProperty {
             name: name.clone(),
             values,
         })
-        .collect();
-    Ok(())
+        .collect()
 }
 
 fn read_faces(

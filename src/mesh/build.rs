@@ -356,7 +356,15 @@ fn orient(
     partner: &mut [u32],
     report: &mut RepairReport,
 ) -> Result<()> {
-    let flip = consistent_flips(tris, partner, positions, report)?;
+    let already_consistent = (0..partner.len()).into_par_iter().all(|c| {
+        let d = partner[c];
+        d == NONE || corner_edge(tris, c) != corner_edge(tris, d as usize)
+    });
+    let flip = if already_consistent {
+        outward_flips(tris, partner, positions, report)
+    } else {
+        consistent_flips(tris, partner, positions, report)?
+    };
     if !flip.iter().any(|&f| f) {
         return Ok(());
     }
@@ -377,6 +385,45 @@ fn orient(
         }
     }
     Ok(())
+}
+
+/// The flips for a mesh whose neighbours already agree: only closed components
+/// with negative volume are turned outside-out. Components are found with a
+/// union-find and volumes summed in face order (cheaper than the search of
+/// [`consistent_flips`], which this equals on consistent input).
+fn outward_flips(
+    tris: &[[u32; 3]],
+    partner: &[u32],
+    positions: &[Point],
+    report: &mut RepairReport,
+) -> Vec<bool> {
+    let mut components = UnionFind::<u32>::new(tris.len());
+    for (c, &d) in partner.iter().enumerate() {
+        if d != NONE && (c as u32) < d {
+            components.union((c / 3) as u32, d / 3);
+        }
+    }
+    let label = components.into_labeling();
+    let mut closed = vec![true; tris.len()];
+    let mut volume = vec![0.0; tris.len()];
+    for (f, t) in tris.iter().enumerate() {
+        let root = label[f] as usize;
+        closed[root] &= partner[3 * f..3 * f + 3].iter().all(|&d| d != NONE);
+        let [a, b, c] = t.map(|v| positions[v as usize].coords);
+        volume[root] += a.dot(&b.cross(&c));
+    }
+    let inside_out: Vec<bool> = closed
+        .iter()
+        .zip(&volume)
+        .map(|(&c, &v)| c && v < 0.0)
+        .collect();
+    report.inverted_components = (0..tris.len())
+        .filter(|&f| label[f] as usize == f && inside_out[f])
+        .count();
+    label
+        .iter()
+        .map(|&root| inside_out[root as usize])
+        .collect()
 }
 
 /// Decide which faces to flip: a breadth-first search over each component makes
