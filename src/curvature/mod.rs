@@ -57,11 +57,12 @@ impl PrincipalCurvatures {
     /// points.
     pub fn from_tangent_operator(op: &Matrix3<f64>, normal: &Vector) -> Self {
         let (t1, t2) = tangent_basis(normal);
-        let a = t1.dot(&(op * t1));
-        let b = 0.5 * (t1.dot(&(op * t2)) + t2.dot(&(op * t1)));
-        let c = t2.dot(&(op * t2));
-        let (k_max, k_min, angle) = symmetric_2x2_eigen(a, b, c);
-        let d_max = t1 * angle.cos() + t2 * angle.sin();
+        let (op_t1, op_t2) = (op * t1, op * t2);
+        let a = t1.dot(&op_t1);
+        let b = 0.5 * (t1.dot(&op_t2) + t2.dot(&op_t1));
+        let c = t2.dot(&op_t2);
+        let (k_max, k_min, [u, w]) = symmetric_2x2_eigen(a, b, c);
+        let d_max = t1 * u + t2 * w;
         PrincipalCurvatures {
             k_max,
             k_min,
@@ -86,12 +87,19 @@ pub fn tangent_basis(n: &Vector) -> (Vector, Vector) {
     (t1, n.cross(&t1))
 }
 
-/// Eigenvalues `λ1 ≥ λ2` of `[[a, b], [b, c]]` and the angle θ of the eigenvector
-/// (cos θ, sin θ) of `λ1`.
-pub fn symmetric_2x2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, f64) {
+/// Eigenvalues `λ1 ≥ λ2` of `[[a, b], [b, c]]` and a unit eigenvector of `λ1`
+/// (`[1, 0]` when the matrix is a multiple of the identity).
+pub fn symmetric_2x2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, [f64; 2]) {
     let mean = 0.5 * (a + c);
-    let radius = (0.5 * (a - c)).hypot(b);
-    (mean + radius, mean - radius, 0.5 * (2.0 * b).atan2(a - c))
+    let half_gap = 0.5 * (a - c);
+    let radius = (half_gap * half_gap + b * b).sqrt();
+    // (A − λ2 I) has the λ1-eigenvector in its columns: take the longer one.
+    let (column_1, column_2) = ([half_gap + radius, b], [b, radius - half_gap]);
+    let norm = |v: [f64; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
+    let longer = if norm(column_1) >= norm(column_2) { column_1 } else { column_2 };
+    let length = norm(longer);
+    let direction = if length > 0.0 { [longer[0] / length, longer[1] / length] } else { [1.0, 0.0] };
+    (mean + radius, mean - radius, direction)
 }
 
 /// Principal curvatures of the implicit surface F = 0 at a point where ∇F =

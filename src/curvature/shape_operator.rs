@@ -3,7 +3,6 @@
 
 use rayon::prelude::*;
 
-use crate::mesh::geometry::signed_angle;
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Result, Vector};
 
@@ -32,7 +31,8 @@ struct EdgeOperator {
 
 impl CurvatureEstimator for ShapeOperator {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let face_normals = mesh.face_normals();
+        let area_vectors: Vec<Vector> = mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
+        let face_normals: Vec<Vector> = area_vectors.par_iter().map(|a| a.normalize()).collect();
         let edges: Vec<EdgeOperator> = (0..mesh.edge_count() as u32)
             .into_par_iter()
             .map(|e| edge_operator(mesh, EdgeId(e), &face_normals))
@@ -41,18 +41,29 @@ impl CurvatureEstimator for ShapeOperator {
             .par_vertices()
             .map(|v| {
                 let mut area_vector = Vector::zeros();
-                let mut operator = nalgebra::Matrix3::zeros();
+                let mut incident = [0u32; 32];
+                let mut count = 0;
                 for h in mesh.outgoing(v) {
-                    if !mesh.is_boundary_halfedge(h) {
-                        area_vector += mesh.face_area_vector(mesh.face(h));
+                    let f = mesh.face(h);
+                    if f.is_valid() {
+                        area_vector += area_vectors[f.idx()];
                     }
+                    if count < incident.len() {
+                        incident[count] = mesh.edge(h).0;
+                    }
+                    count += 1;
                 }
                 let normal = area_vector.normalize();
                 let star_area = 0.5 * area_vector.norm();
-                for h in mesh.outgoing(v) {
-                    let e = &edges[mesh.edge(h).idx()];
+                let mut operator = nalgebra::Matrix3::zeros();
+                let mut add = |e: &EdgeOperator| {
                     let weight = normal.dot(&e.normal) * e.mean_curvature;
                     operator += e.across * e.across.transpose() * weight;
+                };
+                if count <= incident.len() {
+                    incident[..count].iter().for_each(|&e| add(&edges[e as usize]));
+                } else {
+                    mesh.outgoing(v).for_each(|h| add(&edges[mesh.edge(h).idx()]));
                 }
                 // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
                 operator *= 0.5 * 3.0 / star_area;
@@ -78,11 +89,22 @@ fn edge_operator(mesh: &Mesh, e: EdgeId, face_normals: &[Vector]) -> EdgeOperato
     let n2 = face_normals[mesh.face(mesh.twin(h)).idx()];
     let length = edge.norm();
     let e_hat = edge / length;
-    let phi = signed_angle(&n1, &n2, &e_hat);
+    // 2|e| sin(φ/2) without trigonometry: sin φ = ⟨N1 × N2, ê⟩ (signed) and
+    // 2 cos(φ/2) = |N1 + N2| = √(2 (1 + cos φ)), so sin(φ/2) = sin φ / |N1 + N2|.
+    let sum = n1 + n2;
+    let sum_length = sum.norm();
     // Folded faces (N1 = −N2) have no edge normal; such an edge contributes nothing.
-    let normal = (n1 + n2).try_normalize(1e-12).unwrap_or_else(Vector::zeros);
+    if sum_length < 1e-12 {
+        return EdgeOperator {
+            mean_curvature: 0.0,
+            across: Vector::zeros(),
+            normal: Vector::zeros(),
+        };
+    }
+    let normal = sum / sum_length;
+    let sin_phi = n1.cross(&n2).dot(&e_hat);
     EdgeOperator {
-        mean_curvature: 2.0 * length * (0.5 * phi).sin(),
+        mean_curvature: 2.0 * length * sin_phi / sum_length,
         across: e_hat.cross(&normal),
         normal,
     }

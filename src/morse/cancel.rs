@@ -89,6 +89,13 @@ impl Extrema {
     }
 }
 
+/// The two kinds of extrema.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Minimum,
+    Maximum,
+}
+
 /// A queue entry: a saddle's score, valid while its version is current.
 #[derive(Clone, Copy, PartialEq)]
 struct Entry {
@@ -128,6 +135,8 @@ pub struct Hierarchy<'a> {
     boundary: usize,
     criterion: Criterion,
     version: Vec<u32>,
+    /// The score each saddle is queued under (+∞ if none).
+    queued: Vec<f64>,
     queue: BinaryHeap<Entry>,
     /// The cancellations made, in order.
     pub cancelled: Vec<Cancellation>,
@@ -157,6 +166,7 @@ impl<'a> Hierarchy<'a> {
             boundary,
             criterion,
             version: vec![0; n],
+            queued: vec![f64::INFINITY; n],
             queue: BinaryHeap::with_capacity(n),
             cancelled: Vec::new(),
         };
@@ -304,12 +314,40 @@ impl<'a> Hierarchy<'a> {
     /// Re-score saddle `s` and queue it under a new version.
     fn requeue(&mut self, s: usize) {
         self.version[s] += 1;
+        self.queued[s] = f64::INFINITY;
         if let Some((t, _)) = self.best(s) {
+            self.queued[s] = t;
             self.queue.push(Entry {
                 t,
                 saddle: s,
                 version: self.version[s],
             });
+        }
+    }
+
+    /// Re-score the live saddles linked to extremum set `rep` and move those whose
+    /// score dropped forward in the queue; raised scores are caught lazily when
+    /// popped.
+    fn rescore_linked(&mut self, kind: Kind, rep: usize) {
+        let extrema = match kind {
+            Kind::Minimum => &mut self.minima,
+            Kind::Maximum => &mut self.maxima,
+        };
+        let alive = &self.alive;
+        extrema.linked[rep].retain(|&x| alive[x as usize]);
+        let linked = std::mem::take(&mut extrema.linked[rep]);
+        for &x in &linked {
+            let s = x as usize;
+            let dropped = self
+                .best(s)
+                .is_some_and(|(t, _)| t < self.queued[s] - 1e-12 * t.abs());
+            if dropped {
+                self.requeue(s);
+            }
+        }
+        match kind {
+            Kind::Minimum => self.minima.linked[rep] = linked,
+            Kind::Maximum => self.maxima.linked[rep] = linked,
         }
     }
 
@@ -376,27 +414,22 @@ impl<'a> Hierarchy<'a> {
                 ("maximum", gone_face)
             }
         };
-        // Extrema left with a single live saddle became terminal: its score may
-        // drop (the Γ terms), so re-score it now; other changes are caught lazily.
-        for m in touched_minima {
-            let rep = self.minima.find(m as u32);
-            if self.minima.links[rep] == 1 {
-                let alive = &self.alive;
-                self.minima.linked[rep].retain(|&x| alive[x as usize]);
-                for x in self.minima.linked[rep].clone() {
-                    self.requeue(x as usize);
-                }
-            }
-        }
-        for m in touched_maxima {
-            let rep = self.maxima.find(m as u32);
-            if self.maxima.links[rep] == 1 {
-                let alive = &self.alive;
-                self.maxima.linked[rep].retain(|&x| alive[x as usize]);
-                for x in self.maxima.linked[rep].clone() {
-                    self.requeue(x as usize);
-                }
-            }
+        // A cancellation can lower other saddles' scores (paper §3.7): the merged
+        // extremum's region mean changed, and extrema whose link counts dropped may
+        // have become terminal (the Γ terms of eqs. 7–8). Re-score their saddles.
+        let mut touched: Vec<(Kind, usize)> = touched_minima
+            .into_iter()
+            .map(|m| (Kind::Minimum, self.minima.find(m as u32)))
+            .chain(
+                touched_maxima
+                    .into_iter()
+                    .map(|m| (Kind::Maximum, self.maxima.find(m as u32))),
+            )
+            .collect();
+        touched.sort_unstable_by_key(|&(kind, rep)| (kind == Kind::Maximum, rep));
+        touched.dedup();
+        for (kind, rep) in touched {
+            self.rescore_linked(kind, rep);
         }
         let cancellation = Cancellation {
             saddle: saddle.edge.0,

@@ -88,30 +88,54 @@ impl Gradient {
     }
 }
 
-/// Measure every saddle's branches, in increasing order of the saddle keys, each
-/// branch stopping at the first node an earlier branch claimed (that node counts).
-/// Ascending strips weight each triangle by area(T) f_T; descending paths weight
-/// each edge by |e| f_e, with the saddle edge split half to each branch.
+/// Measure every saddle's branches, each restricted to the part uniquely associated
+/// with the saddle (paper §3.4, note 2): from the saddle up to the first branching
+/// point, the first node that another branch also passes through (the saddle's own
+/// other branch included), that node counted. Ascending strips weight each triangle
+/// by area(T) f_T; descending paths weight each edge by |e| f_e, with the saddle edge
+/// split half to each branch. The result does not depend on the order of the saddles.
 pub fn measure_saddles(mesh: &Mesh, keys: &Keys, gradient: &Gradient) -> Vec<Saddle> {
-    let mut order = gradient.saddles.clone();
-    order.sort_by(|&a, &b| super::gradient::compare(keys.edge_key(a), keys.edge_key(b)));
-    let mut face_claimed = vec![false; mesh.face_count()];
-    let mut vertex_claimed = vec![false; mesh.vertex_count()];
-    order
-        .into_iter()
-        .map(|edge| {
+    let face_next = |f: FaceId| gradient.face_step(mesh, f).map(|(_, g)| g);
+    let vertex_next = |v: VertexId| gradient.vertex_step(mesh, v).map(|(_, w)| w);
+    let sides: Vec<([FaceId; 2], [VertexId; 2])> = gradient
+        .saddles
+        .iter()
+        .map(|&edge| {
             let h = mesh.edge_halfedge(edge, 0);
-            let faces = [mesh.face(h), mesh.face(mesh.twin(h))];
-            let vertices = mesh.edge_vertices(edge);
+            (
+                [mesh.face(h), mesh.face(mesh.twin(h))],
+                mesh.edge_vertices(edge),
+            )
+        })
+        .collect();
+    let face_shared = branching_points(
+        mesh.face_count(),
+        sides
+            .iter()
+            .flat_map(|(faces, _)| faces.iter().filter(|f| f.is_valid()).map(|f| f.0)),
+        |f| face_next(FaceId(f)).map(|g| g.0),
+    );
+    let vertex_shared = branching_points(
+        mesh.vertex_count(),
+        sides
+            .iter()
+            .flat_map(|(_, vertices)| vertices.iter().map(|v| v.0)),
+        |v| vertex_next(VertexId(v)).map(|w| w.0),
+    );
+    gradient
+        .saddles
+        .iter()
+        .zip(sides)
+        .map(|(&edge, (faces, vertices))| {
             let ascending = faces.map(|f| {
                 let mut branch = Integral::default();
                 let mut current = f.is_valid().then_some(f);
                 while let Some(f) = current {
                     branch.add(mesh.face_area(f), keys.face[f.idx()]);
-                    if std::mem::replace(&mut face_claimed[f.idx()], true) {
+                    if face_shared[f.idx()] {
                         break;
                     }
-                    current = gradient.face_step(mesh, f).map(|(_, g)| g);
+                    current = face_next(f);
                 }
                 branch
             });
@@ -120,7 +144,7 @@ pub fn measure_saddles(mesh: &Mesh, keys: &Keys, gradient: &Gradient) -> Vec<Sad
                 let mut branch = Integral::default();
                 branch.add(half_saddle, keys.edge[edge.idx()]);
                 let mut current = v;
-                while !std::mem::replace(&mut vertex_claimed[current.idx()], true) {
+                while !vertex_shared[current.idx()] {
                     let Some((e, next)) = gradient.vertex_step(mesh, current) else {
                         break;
                     };
@@ -138,6 +162,30 @@ pub fn measure_saddles(mesh: &Mesh, keys: &Keys, gradient: &Gradient) -> Vec<Sad
             }
         })
         .collect()
+}
+
+/// Which of `n` forest nodes are branching points of the paths from `starts` to
+/// their roots: the first node of a path that another path also reaches. Each
+/// path is walked until it meets a node already walked, which marks that node;
+/// the first marked node along any path is then its first branching point.
+fn branching_points(
+    n: usize,
+    starts: impl Iterator<Item = u32>,
+    next: impl Fn(u32) -> Option<u32>,
+) -> Vec<bool> {
+    let mut walked = vec![false; n];
+    let mut shared = vec![false; n];
+    for start in starts {
+        let mut current = Some(start);
+        while let Some(node) = current {
+            if std::mem::replace(&mut walked[node as usize], true) {
+                shared[node as usize] = true;
+                break;
+            }
+            current = next(node);
+        }
+    }
+    shared
 }
 
 /// ∫ I and area of the region of every maximum (the faces of its dual tree,
