@@ -96,9 +96,17 @@ pub fn symmetric_2x2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, [f64; 2]) {
     // (A − λ2 I) has the λ1-eigenvector in its columns: take the longer one.
     let (column_1, column_2) = ([half_gap + radius, b], [b, radius - half_gap]);
     let norm = |v: [f64; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
-    let longer = if norm(column_1) >= norm(column_2) { column_1 } else { column_2 };
+    let longer = if norm(column_1) >= norm(column_2) {
+        column_1
+    } else {
+        column_2
+    };
     let length = norm(longer);
-    let direction = if length > 0.0 { [longer[0] / length, longer[1] / length] } else { [1.0, 0.0] };
+    let direction = if length > 0.0 {
+        [longer[0] / length, longer[1] / length]
+    } else {
+        [1.0, 0.0]
+    };
     (mean + radius, mean - radius, direction)
 }
 

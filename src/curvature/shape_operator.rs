@@ -31,7 +31,8 @@ struct EdgeOperator {
 
 impl CurvatureEstimator for ShapeOperator {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let area_vectors: Vec<Vector> = mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
+        let area_vectors: Vec<Vector> =
+            mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
         let face_normals: Vec<Vector> = area_vectors.par_iter().map(|a| a.normalize()).collect();
         let edges: Vec<EdgeOperator> = (0..mesh.edge_count() as u32)
             .into_par_iter()
@@ -61,9 +62,12 @@ impl CurvatureEstimator for ShapeOperator {
                     operator += e.across * e.across.transpose() * weight;
                 };
                 if count <= incident.len() {
-                    incident[..count].iter().for_each(|&e| add(&edges[e as usize]));
+                    incident[..count]
+                        .iter()
+                        .for_each(|&e| add(&edges[e as usize]));
                 } else {
-                    mesh.outgoing(v).for_each(|h| add(&edges[mesh.edge(h).idx()]));
+                    mesh.outgoing(v)
+                        .for_each(|h| add(&edges[mesh.edge(h).idx()]));
                 }
                 // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
                 operator *= 0.5 * 3.0 / star_area;

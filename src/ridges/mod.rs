@@ -133,8 +133,13 @@ impl ExtremalityTracer {
         })?;
         let h = mesh.mean_edge_length();
         let mut lines = FeatureLines::new(String::new());
+        let mut smoother = smoothing::ExtremalitySmoother::new(
+            work,
+            self.smooth_time,
+            self.smoothing_weights.as_deref(),
+        )?;
         for &which in self.kinds.fields() {
-            for line in self.trace_field(work, &field, which, mesh, report)? {
+            for line in self.trace_field(work, &field, which, mesh, &mut smoother, report)? {
                 lines.push(line);
             }
         }
@@ -199,6 +204,7 @@ impl ExtremalityTracer {
         field: &CurvatureField,
         which: Principal,
         input: &Mesh,
+        smoother: &mut smoothing::ExtremalitySmoother<'_>,
         report: &mut Report,
     ) -> Result<Vec<Polyline>> {
         let (name, kind) = match which {
@@ -210,14 +216,7 @@ impl ExtremalityTracer {
             extremality(work, field, which)
         });
         report.stage(&format!("{name}: smoothing"), || {
-            smoothing::smooth_extremality(
-                work,
-                directions,
-                &mut values,
-                self.smooth_steps,
-                self.smooth_time,
-                self.smoothing_weights.as_deref(),
-            )
+            smoother.smooth(directions, &mut values, self.smooth_steps)
         })?;
         let regular = regular_faces(work, directions);
         let singular = regular.iter().filter(|&&r| !r).count();

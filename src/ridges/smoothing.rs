@@ -52,21 +52,64 @@ pub fn smooth_extremality(
     tau: f64,
     weights: Option<&[f64]>,
 ) -> Result<()> {
-    if steps == 0 {
-        return Ok(());
+    ExtremalitySmoother::new(mesh, tau, weights)?.smooth(d, e, steps)
+}
+
+/// [`smooth_extremality`] for several fields of one mesh: the matrices differ only
+/// in the signs σ_pq, so they share their sparsity pattern and the symbolic
+/// factorization is computed once.
+pub struct ExtremalitySmoother<'a> {
+    mesh: &'a Mesh,
+    time: f64,
+    weights: Option<&'a [f64]>,
+    factor: Option<CholeskyFactor>,
+}
+
+impl<'a> ExtremalitySmoother<'a> {
+    /// A smoother with time step `tau` (in units of h̄²) and optional per-vertex weights.
+    pub fn new(mesh: &'a Mesh, tau: f64, weights: Option<&'a [f64]>) -> Result<Self> {
+        check_weights(mesh, weights)?;
+        let h = mesh.mean_edge_length();
+        Ok(ExtremalitySmoother {
+            mesh,
+            time: tau * h * h,
+            weights,
+            factor: None,
+        })
     }
-    check_weights(mesh, weights)?;
-    let h = mesh.mean_edge_length();
-    let (system, mass) = implicit_system(mesh, tau * h * h, |p, q| {
-        let scale = weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]));
-        (direction_sign(d, p, q), scale)
-    });
-    let factor = CholeskyFactor::new(&system)?;
-    for _ in 0..steps {
-        let rhs: Vec<f64> = e.iter().zip(&mass).map(|(x, m)| x * m).collect();
-        e.copy_from_slice(&factor.solve(&rhs));
+
+    /// Smooth `e`, whose signs follow the directions `d`, by `steps` implicit steps.
+    pub fn smooth(&mut self, d: &[Vector], e: &mut [f64], steps: usize) -> Result<()> {
+        if steps == 0 {
+            return Ok(());
+        }
+        let weights = self.weights;
+        let (system, mass) = implicit_system(self.mesh, self.time, |p, q| {
+            let scale = weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]));
+            (direction_sign(d, p, q), scale)
+        });
+        let factor = factor_into(&mut self.factor, &system)?;
+        for _ in 0..steps {
+            let rhs: Vec<f64> = e.iter().zip(&mass).map(|(x, m)| x * m).collect();
+            e.copy_from_slice(&factor.solve(&rhs));
+        }
+        Ok(())
     }
-    Ok(())
+}
+
+/// Factor `system` into `slot`, reusing the symbolic analysis of a factor
+/// already there (same sparsity pattern).
+fn factor_into<'s>(
+    slot: &'s mut Option<CholeskyFactor>,
+    system: &CsMat<f64>,
+) -> Result<&'s CholeskyFactor> {
+    match slot {
+        Some(f) => {
+            f.refactor(system)?;
+            Ok(f)
+        }
+        None => Ok(slot.insert(CholeskyFactor::new(system)?)),
+    }
 }
 
 fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
@@ -98,13 +141,7 @@ pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Vec<Point>> {
     for _ in 0..steps {
         let (system, mass) = implicit_system(&current, h * h, |_, _| (1.0, 1.0));
         // The pattern never changes: later steps reuse the symbolic analysis.
-        let factor = match factor.as_mut() {
-            Some(f) => {
-                f.refactor(&system)?;
-                f
-            }
-            None => factor.insert(CholeskyFactor::new(&system)?),
-        };
+        let factor = factor_into(&mut factor, &system)?;
         let mut next = current.positions().to_vec();
         for axis in 0..3 {
             let rhs: Vec<f64> = current
