@@ -1,13 +1,16 @@
 //! Curvature estimators against exact curvature of analytic surfaces, and the
 //! invariances every estimator must have.
 
+mod common;
+
+use common::transformed;
 use crestline::curvature::{
     estimate_curvature, relative_rms_error, CurvatureEstimator, CurvatureField, JetFit,
     ShapeOperator,
 };
 use crestline::mesh::generate::{self, AnalyticMesh, Paraboloid, Sampling};
-use crestline::mesh::{Mesh, TriangleSoup};
-use crestline::{Point, Vector};
+use crestline::mesh::Mesh;
+use crestline::Vector;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
 const VERTICES: usize = 20_000;
@@ -30,16 +33,6 @@ fn torus(sampling: Sampling) -> AnalyticMesh {
 fn error_of(surface: &AnalyticMesh, estimator: &dyn CurvatureEstimator) -> f64 {
     let field = estimate_curvature(&surface.mesh, estimator).unwrap();
     relative_rms_error(&field, &surface.exact).unwrap()
-}
-
-/// A copy of `mesh` with every position mapped by `map`.
-fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
-    let soup = TriangleSoup {
-        positions: mesh.positions().iter().map(map).collect(),
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    Mesh::from_soup(soup).unwrap().0
 }
 
 #[test]

@@ -2,6 +2,9 @@
 //! known exactly (its principal ellipses), under rigid motion, scaling, arbitrary
 //! direction signs and noise, and on real meshes.
 
+mod common;
+
+use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
@@ -22,15 +25,6 @@ fn ellipsoid() -> Mesh {
     generate::ellipsoid(AXES, 30_000, Sampling::jittered(1))
         .unwrap()
         .mesh
-}
-
-fn moved(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
-    let soup = TriangleSoup {
-        positions: mesh.positions().iter().map(map).collect(),
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    Mesh::from_soup(soup).unwrap().0
 }
 
 fn motion() -> Isometry3<f64> {
@@ -97,7 +91,7 @@ fn coverage(points: &[Point], axis: usize, radius: f64) -> f64 {
 #[test]
 fn default_ridge_of_a_rotated_ellipsoid_is_its_sharpest_principal_ellipse() {
     let motion = motion();
-    let mesh = moved(&ellipsoid(), |p| motion * p);
+    let mesh = transformed(&ellipsoid(), |p| motion * p);
     let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
     // Back to the ellipsoid's frame.
     let points: Vec<Point> = all_points(&lines)
@@ -151,7 +145,7 @@ fn all_extremal_lines_of_an_ellipsoid_cover_its_three_principal_ellipses() {
 #[test]
 fn scaling_by_1000_gives_the_same_lines() {
     let mesh = ellipsoid();
-    let big = moved(&mesh, |p| p * 1000.0);
+    let big = transformed(&mesh, |p| p * 1000.0);
     let tracer = ExtremalityTracer {
         feature_conditions: false,
         threshold: 0.5,
