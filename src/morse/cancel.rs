@@ -45,12 +45,15 @@ pub struct Cancellation {
 }
 
 /// Extrema of one kind, merged by cancellations: each set carries the region
-/// integral, how many live saddle branches end at it, and the saddles linked to it.
+/// integral, how many live saddle branches end at it, and its non-terminal
+/// cancellation candidates.
 struct Extrema {
     sets: UnionFind<u32>,
     region: Vec<Integral>,
     links: Vec<i64>,
-    linked: Vec<Vec<u32>>,
+    /// Per set, the candidates (s, e) whose branch ends at it, keyed by the part of
+    /// their score that does not depend on the extremum; see [`Hierarchy::offset`].
+    candidates: Vec<BinaryHeap<Candidate>>,
     /// The surviving extremum (a vertex or face id) of each set.
     survivor: Vec<u32>,
 }
@@ -66,7 +69,7 @@ impl Extrema {
             sets: UnionFind::new(n),
             region,
             links: vec![0; n],
-            linked: vec![Vec::new(); n],
+            candidates: (0..n).map(|_| BinaryHeap::new()).collect(),
             survivor: (0..n as u32).collect(),
         }
     }
@@ -82,26 +85,56 @@ impl Extrema {
         let other = if rep == kept { gone } else { kept };
         self.region[rep] = self.region[rep].merged(self.region[other]);
         self.links[rep] += self.links[other];
-        let moved = std::mem::take(&mut self.linked[other]);
-        self.linked[rep].extend(moved);
+        let mut moved = std::mem::take(&mut self.candidates[other]);
+        // `append` moves the smaller heap into the larger.
+        self.candidates[rep].append(&mut moved);
         self.survivor[rep] = self.survivor[kept];
         rep
     }
 }
 
 /// The two kinds of extrema.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 enum Kind {
     Minimum,
     Maximum,
 }
 
-/// A queue entry: a saddle's score, valid while its version is current.
+/// A cancellation candidate in an extremum's heap: saddle `saddle` with the
+/// extremum at the end of its branch `branch`, smallest `key` first.
+#[derive(Clone, Copy, PartialEq)]
+struct Candidate {
+    key: f64,
+    saddle: u32,
+    branch: u8,
+}
+
+impl Eq for Candidate {}
+
+impl Ord for Candidate {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .key
+            .total_cmp(&self.key)
+            .then(other.saddle.cmp(&self.saddle))
+            .then(other.branch.cmp(&self.branch))
+    }
+}
+
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// A queue entry: the best score of an extremum set when queued. Never above the
+/// set's current best: every change that can lower it queues a new entry, and an
+/// entry whose set improved is re-queued when popped.
 #[derive(Clone, Copy, PartialEq)]
 struct Entry {
     t: f64,
-    saddle: usize,
-    version: u32,
+    kind: Kind,
+    set: u32,
 }
 
 impl Eq for Entry {}
@@ -112,7 +145,8 @@ impl Ord for Entry {
         other
             .t
             .total_cmp(&self.t)
-            .then(other.saddle.cmp(&self.saddle))
+            .then(other.kind.cmp(&self.kind))
+            .then(other.set.cmp(&self.set))
     }
 }
 
@@ -134,16 +168,14 @@ pub struct Hierarchy<'a> {
     /// The index of the boundary in `maxima` (one past the faces).
     boundary: usize,
     criterion: Criterion,
-    version: Vec<u32>,
-    /// The score each saddle is queued under (+∞ if none).
-    queued: Vec<f64>,
+    live_saddles: usize,
     queue: BinaryHeap<Entry>,
     /// The cancellations made, in order.
     pub cancelled: Vec<Cancellation>,
 }
 
 impl<'a> Hierarchy<'a> {
-    /// The initial complex, every saddle scored and queued.
+    /// The initial complex, every extremum queued under its best candidate.
     pub fn new(
         mesh: &'a Mesh,
         keys: &'a Keys,
@@ -165,32 +197,48 @@ impl<'a> Hierarchy<'a> {
             maxima: Extrema::new(maximum_regions, true),
             boundary,
             criterion,
-            version: vec![0; n],
-            queued: vec![f64::INFINITY; n],
+            live_saddles: n,
             queue: BinaryHeap::with_capacity(n),
             cancelled: Vec::new(),
         };
+        let boundary_set = boundary;
         for s in 0..n {
-            for end in hierarchy.minimum_ends(s) {
+            let saddle = &hierarchy.saddles[s];
+            let (low, high) = hierarchy.static_keys(saddle);
+            for (branch, end) in hierarchy.minimum_ends(s).into_iter().enumerate() {
                 hierarchy.minima.links[end] += 1;
-                hierarchy.minima.linked[end].push(s as u32);
+                hierarchy.minima.candidates[end].push(Candidate {
+                    key: low,
+                    saddle: s as u32,
+                    branch: branch as u8,
+                });
             }
-            for end in hierarchy.maximum_ends(s).into_iter().flatten() {
-                hierarchy.maxima.links[end] += 1;
-                hierarchy.maxima.linked[end].push(s as u32);
+            for (branch, end) in hierarchy.maximum_ends(s).into_iter().enumerate() {
+                if let Some(end) = end {
+                    hierarchy.maxima.links[end] += 1;
+                    hierarchy.maxima.candidates[end].push(Candidate {
+                        key: high,
+                        saddle: s as u32,
+                        branch: branch as u8,
+                    });
+                }
             }
         }
-        // The boundary is never a terminal maximum.
-        hierarchy.maxima.links[boundary] = i64::MAX / 2;
-        for s in 0..n {
-            hierarchy.requeue(s);
+        // The boundary is never a terminal maximum, nor cancelled.
+        hierarchy.maxima.links[boundary_set] = i64::MAX / 2;
+        hierarchy.maxima.candidates[boundary_set].clear();
+        for m in 0..hierarchy.minima.region.len() {
+            hierarchy.queue_set(Kind::Minimum, m);
+        }
+        for m in 0..boundary_set {
+            hierarchy.queue_set(Kind::Maximum, m);
         }
         hierarchy
     }
 
     /// Number of live saddles.
     pub fn saddle_count(&self) -> usize {
-        self.alive.iter().filter(|&&a| a).count()
+        self.live_saddles
     }
 
     /// Number of live minima and maxima.
@@ -247,20 +295,13 @@ impl<'a> Hierarchy<'a> {
         let mins = self.minimum_ends(s);
         let maxs = self.maximum_ends(s);
         let mut out = Vec::with_capacity(4);
-        if !valid_only || mins[0] != mins[1] {
+        if !valid_only || self.valid(s, Kind::Minimum) {
             for (i, &m) in mins.iter().enumerate() {
                 out.push((self.score_minimum(saddle, i, m), Partner::Minimum(i)));
             }
         }
-        // Two ascending branches must end at different maxima; a boundary saddle's
-        // single branch may drain its maximum through the boundary.
         let boundary = self.maxima.find(self.boundary as u32);
-        let valid = match maxs {
-            [Some(a), Some(b)] => a != b,
-            [Some(m), None] | [None, Some(m)] => m != boundary,
-            [None, None] => false,
-        };
-        if !valid_only || valid {
+        if !valid_only || self.valid(s, Kind::Maximum) {
             for (i, m) in maxs.iter().enumerate() {
                 if let Some(m) = m.filter(|&m| m != boundary) {
                     out.push((self.score_maximum(saddle, i, m), Partner::Maximum(i)));
@@ -268,6 +309,112 @@ impl<'a> Hierarchy<'a> {
             }
         }
         out
+    }
+
+    /// The parts of a saddle's scores that do not depend on the extremum it is
+    /// cancelled with: (with a minimum, with a maximum). A non-terminal candidate
+    /// scores its key plus its extremum's [`offset`](Self::offset): σ_max(r, m) =
+    /// avg_r(I) − avg_U(m)(I) (eq. 1), σ_min(v, M) = avg_S(M)(I) − avg_v(I) (eq. 2),
+    /// or the persistence f(s) − f(m), f(M) − f(s).
+    fn static_keys(&self, saddle: &Saddle) -> (f64, f64) {
+        match self.criterion {
+            Criterion::Feature => (saddle.ascending_mean(), -saddle.descending_mean()),
+            Criterion::Persistence => {
+                let f = self.keys.edge[saddle.edge.idx()];
+                (f, -f)
+            }
+        }
+    }
+
+    /// The extremum's part of its non-terminal candidates' scores.
+    fn offset(&self, kind: Kind, m: usize) -> f64 {
+        match (self.criterion, kind) {
+            (Criterion::Feature, Kind::Minimum) => -self.minima.region[m].mean(),
+            (Criterion::Feature, Kind::Maximum) => self.maxima.region[m].mean(),
+            (Criterion::Persistence, Kind::Minimum) => {
+                -self.keys.vertex[self.minima.survivor[m] as usize]
+            }
+            (Criterion::Persistence, Kind::Maximum) => {
+                self.keys.face[self.maxima.survivor[m] as usize]
+            }
+        }
+    }
+
+    /// Whether cancelling saddle `s` with the extremum at the end of its branch of
+    /// `kind` is valid: the saddle links two different extrema of that kind (a
+    /// boundary saddle's single ascending branch may drain into the boundary).
+    /// Once invalid, a candidate stays invalid, as sets only merge.
+    fn valid(&self, s: usize, kind: Kind) -> bool {
+        match kind {
+            Kind::Minimum => {
+                let [a, b] = self.minimum_ends(s);
+                a != b
+            }
+            Kind::Maximum => {
+                let boundary = self.maxima.find(self.boundary as u32);
+                match self.maximum_ends(s) {
+                    [Some(a), Some(b)] => a != b,
+                    [Some(m), None] | [None, Some(m)] => m != boundary,
+                    [None, None] => false,
+                }
+            }
+        }
+    }
+
+    /// The best valid cancellation with extremum set `m` of `kind`: its score, the
+    /// saddle and the partner. Drops dead and invalid candidates from the set's
+    /// heap on the way.
+    fn set_best(&mut self, kind: Kind, m: usize) -> Option<(f64, usize, Partner)> {
+        loop {
+            let top = *match kind {
+                Kind::Minimum => &self.minima.candidates[m],
+                Kind::Maximum => &self.maxima.candidates[m],
+            }
+            .peek()?;
+            let s = top.saddle as usize;
+            if !self.alive[s] || !self.valid(s, kind) {
+                match kind {
+                    Kind::Minimum => self.minima.candidates[m].pop(),
+                    Kind::Maximum => self.maxima.candidates[m].pop(),
+                };
+                continue;
+            }
+            let i = top.branch as usize;
+            let saddle = &self.saddles[s];
+            // A terminal extremum has a single live branch, the top one; its score
+            // includes the Γ term (eqs. 5–8). Otherwise key + offset.
+            return Some(match kind {
+                Kind::Minimum => (
+                    if self.minima.links[m] == 1 {
+                        self.score_minimum(saddle, i, m)
+                    } else {
+                        top.key + self.offset(kind, m)
+                    },
+                    s,
+                    Partner::Minimum(i),
+                ),
+                Kind::Maximum => (
+                    if self.maxima.links[m] == 1 {
+                        self.score_maximum(saddle, i, m)
+                    } else {
+                        top.key + self.offset(kind, m)
+                    },
+                    s,
+                    Partner::Maximum(i),
+                ),
+            });
+        }
+    }
+
+    /// Queue extremum set `m` under its current best score.
+    fn queue_set(&mut self, kind: Kind, m: usize) {
+        if let Some((t, _, _)) = self.set_best(kind, m) {
+            self.queue.push(Entry {
+                t,
+                kind,
+                set: m as u32,
+            });
+        }
     }
 
     /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
@@ -311,61 +458,29 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
-    /// Re-score saddle `s` and queue it under a new version.
-    fn requeue(&mut self, s: usize) {
-        self.version[s] += 1;
-        self.queued[s] = f64::INFINITY;
-        if let Some((t, _)) = self.best(s) {
-            self.queued[s] = t;
-            self.queue.push(Entry {
-                t,
-                saddle: s,
-                version: self.version[s],
-            });
-        }
-    }
-
-    /// Re-score the live saddles linked to extremum set `rep` and move those whose
-    /// score dropped forward in the queue; raised scores are caught lazily when
-    /// popped.
-    fn rescore_linked(&mut self, kind: Kind, rep: usize) {
-        let extrema = match kind {
-            Kind::Minimum => &mut self.minima,
-            Kind::Maximum => &mut self.maxima,
-        };
-        let alive = &self.alive;
-        extrema.linked[rep].retain(|&x| alive[x as usize]);
-        let linked = std::mem::take(&mut extrema.linked[rep]);
-        for &x in &linked {
-            let s = x as usize;
-            let dropped = self
-                .best(s)
-                .is_some_and(|(t, _)| t < self.queued[s] - 1e-12 * t.abs());
-            if dropped {
-                self.requeue(s);
-            }
-        }
-        match kind {
-            Kind::Minimum => self.minima.linked[rep] = linked,
-            Kind::Maximum => self.maxima.linked[rep] = linked,
-        }
-    }
-
     /// Cancel the next saddle in criterion order; `None` when no valid cancellation
-    /// is left.
+    /// is left. The queue holds extremum sets, each under its best candidate: the
+    /// smallest entry whose score is still current is the saddle of least t (eq. 9),
+    /// cancelled with the extremum that attains it.
     pub fn cancel_next(&mut self) -> Option<Cancellation> {
         while let Some(entry) = self.queue.pop() {
-            let s = entry.saddle;
-            if !self.alive[s] || entry.version != self.version[s] {
+            let m = entry.set as usize;
+            let current = match entry.kind {
+                Kind::Minimum => self.minima.find(entry.set) == m,
+                Kind::Maximum => {
+                    self.maxima.find(entry.set) == m && m != self.maxima.find(self.boundary as u32)
+                }
+            };
+            if !current {
                 continue;
             }
-            let Some((t, partner)) = self.best(s) else {
+            let Some((t, s, partner)) = self.set_best(entry.kind, m) else {
                 continue;
             };
-            // Lazy queue: a score that grew since it was queued (a region merged,
-            // a candidate became invalid) goes back in the queue.
+            // Lazy queue: a set whose best score grew since it was queued (its top
+            // saddle was cancelled elsewhere, a region merged) goes back in.
             if t > entry.t + 1e-12 * entry.t.abs().max(1e-300) {
-                self.requeue(s);
+                self.queue.push(Entry { t, ..entry });
                 continue;
             }
             return Some(self.cancel(s, partner, t));
@@ -379,6 +494,7 @@ impl<'a> Hierarchy<'a> {
     /// terminal.
     fn cancel(&mut self, s: usize, partner: Partner, t: f64) -> Cancellation {
         self.alive[s] = false;
+        self.live_saddles -= 1;
         let saddle = self.saddles[s].clone();
         let mins = self.minimum_ends(s);
         let maxs = self.maximum_ends(s);
@@ -414,9 +530,9 @@ impl<'a> Hierarchy<'a> {
                 ("maximum", gone_face)
             }
         };
-        // A cancellation can lower other saddles' scores (paper §3.7): the merged
-        // extremum's region mean changed, and extrema whose link counts dropped may
-        // have become terminal (the Γ terms of eqs. 7–8). Re-score their saddles.
+        // A cancellation can lower other scores (§3.7): the merged extremum's region
+        // and candidates changed, and extrema whose link counts dropped may have
+        // become terminal (the Γ terms of eqs. 7–8). Queue them afresh.
         let mut touched: Vec<(Kind, usize)> = touched_minima
             .into_iter()
             .map(|m| (Kind::Minimum, self.minima.find(m as u32)))
@@ -426,10 +542,12 @@ impl<'a> Hierarchy<'a> {
                     .map(|m| (Kind::Maximum, self.maxima.find(m as u32))),
             )
             .collect();
-        touched.sort_unstable_by_key(|&(kind, rep)| (kind == Kind::Maximum, rep));
+        touched.sort_unstable();
         touched.dedup();
-        for (kind, rep) in touched {
-            self.rescore_linked(kind, rep);
+        for (kind, m) in touched {
+            if kind == Kind::Minimum || m != self.maxima.find(self.boundary as u32) {
+                self.queue_set(kind, m);
+            }
         }
         let cancellation = Cancellation {
             saddle: saddle.edge.0,
