@@ -22,43 +22,39 @@ struct EdgeCurvatureFit;
 
 impl CurvatureEstimator for EdgeCurvatureFit {
     fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
-        let values = mesh
-            .vertices()
-            .map(|v| {
-                let normal: Vector = mesh
-                    .vertex_faces(v)
-                    .map(|f| mesh.face_area_vector(f))
-                    .sum::<Vector>()
-                    .normalize();
-                let (t1, t2) = tangent_basis(&normal);
-                // Fit κ(t) = a u² + 2 b u w + c w² for tangent t = (u, w).
-                let mut lhs = SMatrix::<f64, 3, 3>::zeros();
-                let mut rhs = SVector::<f64, 3>::zeros();
-                for w in mesh.neighbors(v) {
-                    let d = mesh.position(v) - mesh.position(w);
-                    let kappa = 2.0 * normal.dot(&d) / d.norm_squared();
-                    let tangent = Vector::new(d.dot(&t1), d.dot(&t2), 0.0).normalize();
-                    let row = SVector::<f64, 3>::new(
-                        tangent.x * tangent.x,
-                        2.0 * tangent.x * tangent.y,
-                        tangent.y * tangent.y,
-                    );
-                    lhs += row * row.transpose();
-                    rhs += row * kappa;
-                }
-                let [a, b, c] = match lhs.cholesky() {
-                    Some(cholesky) => cholesky.solve(&rhs).into(),
-                    None => [0.0; 3],
-                };
-                // Back to a 3×3 operator in world coordinates.
-                let frame = Matrix3::from_columns(&[t1, t2, normal]);
-                let local = Matrix3::new(a, b, 0.0, b, c, 0.0, 0.0, 0.0, 0.0);
-                let operator = frame * local * frame.transpose();
-                let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
-                (k, normal, mesh.is_boundary_vertex(v))
-            })
-            .collect();
-        Ok(CurvatureField::from_vertices(values))
+        Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
+            let normal: Vector = mesh
+                .vertex_faces(v)
+                .map(|f| mesh.face_area_vector(f))
+                .sum::<Vector>()
+                .normalize();
+            let (t1, t2) = tangent_basis(&normal);
+            // Fit κ(t) = a u² + 2 b u w + c w² for tangent t = (u, w).
+            let mut lhs = SMatrix::<f64, 3, 3>::zeros();
+            let mut rhs = SVector::<f64, 3>::zeros();
+            for w in mesh.neighbors(v) {
+                let d = mesh.position(v) - mesh.position(w);
+                let kappa = 2.0 * normal.dot(&d) / d.norm_squared();
+                let tangent = Vector::new(d.dot(&t1), d.dot(&t2), 0.0).normalize();
+                let row = SVector::<f64, 3>::new(
+                    tangent.x * tangent.x,
+                    2.0 * tangent.x * tangent.y,
+                    tangent.y * tangent.y,
+                );
+                lhs += row * row.transpose();
+                rhs += row * kappa;
+            }
+            let [a, b, c] = match lhs.cholesky() {
+                Some(cholesky) => cholesky.solve(&rhs).into(),
+                None => [0.0; 3],
+            };
+            // Back to a 3×3 operator in world coordinates.
+            let frame = Matrix3::from_columns(&[t1, t2, normal]);
+            let local = Matrix3::new(a, b, 0.0, b, c, 0.0, 0.0, 0.0, 0.0);
+            let operator = frame * local * frame.transpose();
+            let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
+            (k, normal, mesh.is_boundary_vertex(v))
+        }))
     }
 }
 

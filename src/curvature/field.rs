@@ -1,5 +1,7 @@
 //! The per-vertex curvature field every estimator produces.
 
+use rayon::prelude::*;
+
 use crate::mesh::{Mesh, VertexId};
 use crate::{Result, Vector};
 
@@ -24,29 +26,37 @@ pub struct CurvatureField {
 }
 
 impl CurvatureField {
-    /// Collect a field from per-vertex estimates `(curvatures, normal, unreliable)`.
-    pub fn from_vertices(values: Vec<(PrincipalCurvatures, Vector, bool)>) -> CurvatureField {
-        let mut field = CurvatureField::with_capacity(values.len());
-        for (k, normal, unreliable) in values {
-            field.k_max.push(k.k_max);
-            field.k_min.push(k.k_min);
-            field.d_max.push(k.d_max);
-            field.d_min.push(k.d_min);
-            field.normal.push(normal);
-            field.unreliable.push(unreliable);
-        }
+    /// The field of `n` vertices whose values at vertex `v` are
+    /// `estimate(v) = (curvatures, normal, unreliable)`, evaluated in parallel and
+    /// written straight into the field's arrays.
+    pub fn from_fn<F>(n: usize, estimate: F) -> CurvatureField
+    where
+        F: Fn(VertexId) -> (PrincipalCurvatures, Vector, bool) + Sync,
+    {
+        let mut field = CurvatureField {
+            k_max: vec![0.0; n],
+            k_min: vec![0.0; n],
+            d_max: vec![Vector::zeros(); n],
+            d_min: vec![Vector::zeros(); n],
+            normal: vec![Vector::zeros(); n],
+            unreliable: vec![false; n],
+        };
+        (
+            &mut field.k_max,
+            &mut field.k_min,
+            &mut field.d_max,
+            &mut field.d_min,
+            &mut field.normal,
+            &mut field.unreliable,
+        )
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(v, (k_max, k_min, d_max, d_min, normal, unreliable))| {
+                let (k, n, flag) = estimate(VertexId(v as u32));
+                (*k_max, *k_min, *d_max, *d_min, *normal, *unreliable) =
+                    (k.k_max, k.k_min, k.d_max, k.d_min, n, flag);
+            });
         field
-    }
-
-    fn with_capacity(n: usize) -> CurvatureField {
-        CurvatureField {
-            k_max: Vec::with_capacity(n),
-            k_min: Vec::with_capacity(n),
-            d_max: Vec::with_capacity(n),
-            d_min: Vec::with_capacity(n),
-            normal: Vec::with_capacity(n),
-            unreliable: Vec::with_capacity(n),
-        }
     }
 
     /// Number of vertices.

@@ -39,15 +39,16 @@ impl Default for JetFit {
 impl CurvatureEstimator for JetFit {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
         let normals = area_weighted_normals(mesh);
-        let values = mesh
-            .par_vertices()
-            .map_init(Vec::new, |ring_buffer, v| {
+        thread_local! {
+            static RING: std::cell::RefCell<Vec<VertexId>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
+            RING.with_borrow_mut(|ring_buffer| {
                 let points = self.neighbourhood(mesh, v, ring_buffer);
                 let (k, normal, fitted) = fit_vertex(mesh, v, &normals[v.idx()], points);
                 (k, normal, !fitted || mesh.is_boundary_vertex(v))
             })
-            .collect();
-        Ok(CurvatureField::from_vertices(values))
+        }))
     }
 }
 

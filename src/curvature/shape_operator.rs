@@ -38,44 +38,40 @@ impl CurvatureEstimator for ShapeOperator {
             .into_par_iter()
             .map(|e| edge_operator(mesh, EdgeId(e), &face_normals))
             .collect();
-        let values = mesh
-            .par_vertices()
-            .map(|v| {
-                let mut area_vector = Vector::zeros();
-                let mut incident = [0u32; 32];
-                let mut count = 0;
-                for h in mesh.outgoing(v) {
-                    let f = mesh.face(h);
-                    if f.is_valid() {
-                        area_vector += area_vectors[f.idx()];
-                    }
-                    if count < incident.len() {
-                        incident[count] = mesh.edge(h).0;
-                    }
-                    count += 1;
+        Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
+            let mut area_vector = Vector::zeros();
+            let mut incident = [0u32; 32];
+            let mut count = 0;
+            for h in mesh.outgoing(v) {
+                let f = mesh.face(h);
+                if f.is_valid() {
+                    area_vector += area_vectors[f.idx()];
                 }
-                let normal = area_vector.normalize();
-                let star_area = 0.5 * area_vector.norm();
-                let mut operator = nalgebra::Matrix3::zeros();
-                let mut add = |e: &EdgeOperator| {
-                    let weight = normal.dot(&e.normal) * e.mean_curvature;
-                    operator += e.across * e.across.transpose() * weight;
-                };
-                if count <= incident.len() {
-                    incident[..count]
-                        .iter()
-                        .for_each(|&e| add(&edges[e as usize]));
-                } else {
-                    mesh.outgoing(v)
-                        .for_each(|h| add(&edges[mesh.edge(h).idx()]));
+                if count < incident.len() {
+                    incident[count] = mesh.edge(h).0;
                 }
-                // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
-                operator *= 0.5 * 3.0 / star_area;
-                let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
-                (k, normal, mesh.is_boundary_vertex(v))
-            })
-            .collect();
-        Ok(CurvatureField::from_vertices(values))
+                count += 1;
+            }
+            let normal = area_vector.normalize();
+            let star_area = 0.5 * area_vector.norm();
+            let mut operator = nalgebra::Matrix3::zeros();
+            let mut add = |e: &EdgeOperator| {
+                let weight = normal.dot(&e.normal) * e.mean_curvature;
+                operator += e.across * e.across.transpose() * weight;
+            };
+            if count <= incident.len() {
+                incident[..count]
+                    .iter()
+                    .for_each(|&e| add(&edges[e as usize]));
+            } else {
+                mesh.outgoing(v)
+                    .for_each(|h| add(&edges[mesh.edge(h).idx()]));
+            }
+            // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
+            operator *= 0.5 * 3.0 / star_area;
+            let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
+            (k, normal, mesh.is_boundary_vertex(v))
+        }))
     }
 }
 
