@@ -30,7 +30,7 @@ pub struct JetFit {
 impl Default for JetFit {
     fn default() -> Self {
         JetFit {
-            min_points: 30,
+            min_points: 18,
             max_rings: 4,
         }
     }
