@@ -16,7 +16,8 @@ use super::{CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 /// are the principal curvatures and directions. Boundary edges contribute nothing
 /// and boundary vertices are flagged unreliable.
 ///
-/// Cost: one pass over faces, edges and vertices, each in parallel.
+/// Cost: one parallel pass over the faces and one over the vertices, each edge
+/// evaluated from both of its ends (cheaper than storing per-edge operators).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ShapeOperator;
 
@@ -33,39 +34,22 @@ impl CurvatureEstimator for ShapeOperator {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
         let area_vectors: Vec<Vector> =
             mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
-        let face_normals: Vec<Vector> = area_vectors.par_iter().map(|a| a.normalize()).collect();
-        let edges: Vec<EdgeOperator> = (0..mesh.edge_count() as u32)
-            .into_par_iter()
-            .map(|e| edge_operator(mesh, EdgeId(e), &face_normals))
-            .collect();
         Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
             let mut area_vector = Vector::zeros();
-            let mut incident = [0u32; 32];
-            let mut count = 0;
             for h in mesh.outgoing(v) {
                 let f = mesh.face(h);
                 if f.is_valid() {
                     area_vector += area_vectors[f.idx()];
                 }
-                if count < incident.len() {
-                    incident[count] = mesh.edge(h).0;
-                }
-                count += 1;
             }
             let normal = area_vector.normalize();
             let star_area = 0.5 * area_vector.norm();
             let mut operator = nalgebra::Matrix3::zeros();
-            let mut add = |e: &EdgeOperator| {
+            for h in mesh.outgoing(v) {
+                // Each edge is evaluated from both of its ends: cheaper than storing it.
+                let e = edge_operator(mesh, mesh.edge(h), &area_vectors);
                 let weight = normal.dot(&e.normal) * e.mean_curvature;
                 operator += e.across * e.across.transpose() * weight;
-            };
-            if count <= incident.len() {
-                incident[..count]
-                    .iter()
-                    .for_each(|&e| add(&edges[e as usize]));
-            } else {
-                mesh.outgoing(v)
-                    .for_each(|h| add(&edges[mesh.edge(h).idx()]));
             }
             // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
             operator *= 0.5 * 3.0 / star_area;
@@ -75,7 +59,9 @@ impl CurvatureEstimator for ShapeOperator {
     }
 }
 
-fn edge_operator(mesh: &Mesh, e: EdgeId, face_normals: &[Vector]) -> EdgeOperator {
+/// S(e) of edge `e` from the area vectors (twice the area times the unit normal)
+/// of the faces.
+fn edge_operator(mesh: &Mesh, e: EdgeId, area_vectors: &[Vector]) -> EdgeOperator {
     let h = mesh.edge_halfedge(e, 0);
     let edge = mesh.halfedge_vector(h);
     if mesh.is_boundary_edge(e) {
@@ -85,8 +71,8 @@ fn edge_operator(mesh: &Mesh, e: EdgeId, face_normals: &[Vector]) -> EdgeOperato
             normal: Vector::zeros(),
         };
     }
-    let n1 = face_normals[mesh.face(h).idx()];
-    let n2 = face_normals[mesh.face(mesh.twin(h)).idx()];
+    let n1 = area_vectors[mesh.face(h).idx()].normalize();
+    let n2 = area_vectors[mesh.face(mesh.twin(h)).idx()].normalize();
     let length = edge.norm();
     let e_hat = edge / length;
     // 2|e| sin(φ/2) without trigonometry: sin φ = ⟨N1 × N2, ê⟩ (signed) and
