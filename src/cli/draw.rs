@@ -8,12 +8,12 @@ use crestline::draw::{
     Projection, Style, View,
 };
 use crestline::lines::FeatureLines;
+use crestline::mesh::Mesh;
 use crestline::report::Report;
 use crestline::{Error, Point, Result, Vector};
 
-use super::load::{load_mesh, warn_repairs};
 use super::morse::{extract as extract_morse, MorseArgs};
-use super::ridges::{trace_mesh, TracerArgs};
+use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
 use super::ReportArg;
 
 /// Which feature lines to draw.
@@ -88,11 +88,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         ..DrawOptions::default()
     };
     let mut report = Report::new("draw", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
-    if args.lines != LinesChoice::Ridges {
-        // Tracing loads the mesh again and warns about the repairs itself.
-        warn_repairs(&args.mesh, &repairs);
-    }
+    let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let [width, height] = args.size;
     let camera = Camera::framing(
         mesh.positions(),
@@ -103,7 +99,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     )?;
 
     let mut extraction = Report::new("draw", &args.mesh);
-    let mut lines = report.stage("extraction", || extract(args, &mut extraction))?;
+    let mut lines = report.stage("extraction", || extract(&mesh, args, &mut extraction))?;
     report.counts.append(&mut extraction.counts);
     report.section("extraction_stages", &extraction.stages);
 
@@ -138,11 +134,11 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 }
 
 /// The feature lines of the mesh, by the chosen method.
-fn extract(args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
+fn extract(mesh: &Mesh, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
     match args.lines {
-        LinesChoice::Ridges => trace_mesh(&args.mesh, &args.tracer, report),
+        LinesChoice::Ridges => trace_loaded(mesh, &args.mesh, &args.tracer, report),
         LinesChoice::Morse => {
-            extract_morse(&args.mesh, &args.morse, report).map(|(lines, _)| lines)
+            extract_morse(mesh, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
         }
         LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
     }

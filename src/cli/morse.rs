@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
+use crestline::mesh::Mesh;
 use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, Simplification};
 use crestline::report::Report;
 use crestline::Result;
@@ -111,17 +112,16 @@ pub struct MorseCommand {
     pub report: ReportArg,
 }
 
-/// Load `mesh_path` and extract its Morse-Smale lines, recording in `report`.
+/// Extract the Morse-Smale lines of `mesh` (read from `mesh_path`), recording in `report`.
 pub fn extract(
+    mesh: &Mesh,
     mesh_path: &Path,
     args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, crestline::morse::MorseSummary)> {
-    let (mesh, repairs) = load_mesh(mesh_path, report)?;
-    warn_repairs(mesh_path, &repairs);
     let (mut lines, summary) = args
         .extractor()
-        .run(&mesh, report)
+        .run(mesh, report)
         .map_err(|e| e.in_file(mesh_path))?;
     lines.source = mesh_path.display().to_string();
     report.section("counts_after", summary.after);
@@ -136,7 +136,9 @@ pub fn extract(
 pub fn run(args: &MorseCommand) -> Result<()> {
     LineFormat::from_path(&args.output)?;
     let mut report = Report::new("morse", &args.mesh);
-    let (lines, summary) = extract(&args.mesh, &args.morse, &mut report)?;
+    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    warn_repairs(&args.mesh, &repairs);
+    let (lines, summary) = extract(&mesh, &args.mesh, &args.morse, &mut report)?;
     report.stage("write", || write_lines(&args.output, &lines))?;
     if let Some(path) = &args.hierarchy {
         crestline::io::atomic::write_atomically(path, |w| {

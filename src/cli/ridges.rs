@@ -2,7 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::lines::{write_lines, LineFormat};
+use crestline::lines::{write_lines, FeatureLines, LineFormat};
+use crestline::mesh::Mesh;
 use crestline::report::Report;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
@@ -74,24 +75,35 @@ pub struct RidgesArgs {
 /// The name under which smoothing weights read from a text file are attached.
 const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
 
-/// Load `mesh_path` and trace its lines with `args`, recording in `report`.
-pub fn trace_mesh(
-    mesh_path: &Path,
-    args: &TracerArgs,
-    report: &mut Report,
-) -> Result<crestline::lines::FeatureLines> {
-    let weights_file = args
-        .smoothing_weights
-        .as_deref()
-        .map(Path::new)
-        .filter(|p| p.is_file());
+/// Load `mesh_path` for tracing: smoothing weights given as a text file are
+/// attached before the repairs, and the repairs are reported as warnings.
+pub fn load_for_tracing(mesh_path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Mesh> {
+    let weights_file = weights_file(args);
     let extra: Vec<(&str, &Path)> = weights_file
         .map(|f| (WEIGHTS_FROM_FILE, f))
         .into_iter()
         .collect();
     let (mesh, repairs) = load_mesh_with_scalars(mesh_path, report, &extra)?;
     warn_repairs(mesh_path, &repairs);
-    let smoothing_weights = match (&args.smoothing_weights, weights_file) {
+    Ok(mesh)
+}
+
+/// `--smoothing-weights` when it names an existing file.
+fn weights_file(args: &TracerArgs) -> Option<&Path> {
+    args.smoothing_weights
+        .as_deref()
+        .map(Path::new)
+        .filter(|p| p.is_file())
+}
+
+/// Trace the lines of `mesh` (loaded by [`load_for_tracing`] from `mesh_path`).
+pub fn trace_loaded(
+    mesh: &Mesh,
+    mesh_path: &Path,
+    args: &TracerArgs,
+    report: &mut Report,
+) -> Result<FeatureLines> {
+    let smoothing_weights = match (&args.smoothing_weights, weights_file(args)) {
         (None, _) => None,
         (Some(_), Some(_)) => mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec),
         (Some(name), None) => Some(
@@ -121,7 +133,7 @@ pub fn trace_mesh(
     report.count("vertices", mesh.vertex_count());
     report.count("faces", mesh.face_count());
     let mut lines = tracer
-        .trace(&mesh, report)
+        .trace(mesh, report)
         .map_err(|e| e.in_file(mesh_path))?;
     lines.source = mesh_path.display().to_string();
     Ok(lines)
@@ -131,7 +143,8 @@ pub fn trace_mesh(
 pub fn run(args: &RidgesArgs) -> Result<()> {
     LineFormat::from_path(&args.output)?;
     let mut report = Report::new("ridges", &args.mesh);
-    let lines = trace_mesh(&args.mesh, &args.tracer, &mut report)?;
+    let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let lines = trace_loaded(&mesh, &args.mesh, &args.tracer, &mut report)?;
     report.stage("write", || write_lines(&args.output, &lines))?;
     if let Some(path) = &args.report.report {
         report.write(path)?;
