@@ -16,43 +16,18 @@ use std::time::Instant;
 
 use crestline::curvature::ShapeOperator;
 use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::morse::cancel::{Criterion, Hierarchy};
 use crestline::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
 use crestline::morse::gradient::{Gradient, Keys};
 use crestline::morse::Indicator;
 use crestline::Result;
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
-
-/// `mesh` with Gaussian noise of `sigma` mean edge lengths along the normals.
-fn noisy(mesh: &Mesh, sigma: f64, seed: u64) -> Result<Mesh> {
-    let h = mesh.mean_edge_length();
-    let mut rng = StdRng::seed_from_u64(seed);
-    let positions = mesh
-        .positions()
-        .iter()
-        .zip(mesh.vertex_normals())
-        .map(|(p, n)| {
-            // Box-Muller: a standard normal sample from two uniform ones.
-            let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
-            p + n * (sigma * h * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos())
-        })
-        .collect();
-    let soup = TriangleSoup {
-        positions,
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    Ok(Mesh::from_soup(soup)?.0)
-}
 
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let vertices: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(150_000);
     let noise: f64 = args.next().and_then(|a| a.parse().ok()).unwrap_or(0.2);
     let torus = generate::torus(1.0, 0.35, vertices, Sampling::jittered(1))?.mesh;
-    let mesh = noisy(&torus, noise, 2)?;
+    let mesh = generate::with_normal_noise(&torus, noise, 2)?;
     println!(
         "torus: {} vertices, {} triangles, noise {noise} mean edge lengths",
         mesh.vertex_count(),

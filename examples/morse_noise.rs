@@ -19,33 +19,10 @@ use std::sync::Arc;
 
 use crestline::curvature::{CurvatureEstimator, JetFit, ShapeOperator};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
-use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::mesh::generate;
+use crestline::mesh::Mesh;
 use crestline::morse::{MorseSmale, Simplification};
 use crestline::{Point, Result};
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
-
-/// `mesh` with Gaussian noise of `sigma` mean edge lengths along the normals.
-fn noisy(mesh: &Mesh, sigma: f64, seed: u64) -> Result<Mesh> {
-    let h = mesh.mean_edge_length();
-    let mut rng = StdRng::seed_from_u64(seed);
-    let positions = mesh
-        .positions()
-        .iter()
-        .zip(mesh.vertex_normals())
-        .map(|(p, n)| {
-            // Box-Muller: a standard normal sample from two uniform ones.
-            let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
-            p + n * (sigma * h * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos())
-        })
-        .collect();
-    let soup = TriangleSoup {
-        positions,
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    Ok(Mesh::from_soup(soup)?.0)
-}
 
 fn points(lines: &FeatureLines) -> Vec<Point> {
     lines
@@ -117,7 +94,7 @@ fn main() -> Result<()> {
         let clean = points(&extractor.extract(&mesh)?);
         println!("{name:<15} {:>5}  {:>6}", 0.0, clean.len());
         for sigma in [0.2, 0.5, 1.0] {
-            let lines = extractor.extract(&noisy(&mesh, sigma, 7)?)?;
+            let lines = extractor.extract(&generate::with_normal_noise(&mesh, sigma, 7)?)?;
             let noisy_points = points(&lines);
             let d = mean_distance(&noisy_points, &clean, 2.0 * h);
             println!(

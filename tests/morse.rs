@@ -24,30 +24,6 @@ fn bundled(name: &str) -> Mesh {
         .0
 }
 
-/// `mesh` with its vertices moved by Gaussian noise of `sigma` mean edge lengths
-/// along the normals.
-fn noisy(mesh: &Mesh, sigma: f64, seed: u64) -> Mesh {
-    let h = mesh.mean_edge_length();
-    let normals = mesh.vertex_normals();
-    let mut rng = StdRng::seed_from_u64(seed);
-    let positions = mesh
-        .positions()
-        .iter()
-        .zip(&normals)
-        .map(|(p, n)| {
-            // Box-Muller: a standard normal sample from two uniform ones.
-            let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
-            p + n * (sigma * h * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos())
-        })
-        .collect();
-    let soup = TriangleSoup {
-        positions,
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    Mesh::from_soup(soup).unwrap().0
-}
-
 fn test_meshes() -> Vec<(&'static str, Mesh)> {
     let cap = generate::Paraboloid { a: -1.0, b: 0.4 };
     vec![
@@ -74,7 +50,7 @@ fn test_meshes() -> Vec<(&'static str, Mesh)> {
         ("airplane", bundled("airplane.obj")),
         (
             "noisy bunny_small",
-            noisy(&bundled("bunny_small.obj"), 0.5, 7),
+            generate::with_normal_noise(&bundled("bunny_small.obj"), 0.5, 7).unwrap(),
         ),
     ]
 }

@@ -8,7 +8,7 @@ use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::mesh::Mesh;
 use crestline::ridges::extremality::{extremality, regular_faces, Principal};
 use crestline::ridges::smoothing::smooth_extremality;
 use crestline::ridges::trace::{trace, Extremality};
@@ -230,20 +230,7 @@ fn smoothing_and_lines_do_not_depend_on_direction_signs() {
 fn smoothing_recovers_the_ridge_of_a_noisy_ellipsoid() {
     let mesh = ellipsoid();
     let h = mesh.mean_edge_length();
-    let normals = mesh.vertex_normals();
-    let mut rng = StdRng::seed_from_u64(5);
-    let mut soup = TriangleSoup {
-        positions: Vec::new(),
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    };
-    for (p, n) in mesh.positions().iter().zip(&normals) {
-        // Box-Muller: a standard normal sample from two uniform ones.
-        let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
-        let gaussian = (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos();
-        soup.positions.push(p + n * (0.2 * h * gaussian));
-    }
-    let noisy = Mesh::from_soup(soup).unwrap().0;
+    let noisy = generate::with_normal_noise(&mesh, 0.2, 5).unwrap();
     let unsmoothed = ExtremalityTracer {
         smooth_steps: 0,
         ..Default::default()

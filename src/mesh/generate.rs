@@ -393,3 +393,27 @@ fn icosahedron() -> (Vec<Vector>, Vec<[usize; 3]>) {
     ];
     (corners, faces)
 }
+
+/// A copy of `mesh` with every vertex moved along its angle-weighted normal by
+/// Gaussian noise of standard deviation `sigma` mean edge lengths, reproducibly
+/// from `seed`: the noisy scans of robustness tests.
+pub fn with_normal_noise(mesh: &Mesh, sigma: f64, seed: u64) -> Result<Mesh> {
+    let h = mesh.mean_edge_length();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let positions = mesh
+        .positions()
+        .iter()
+        .zip(mesh.vertex_normals())
+        .map(|(p, n)| {
+            // Box-Muller: a standard normal sample from two uniform ones.
+            let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
+            p + n * (sigma * h * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos())
+        })
+        .collect();
+    let soup = TriangleSoup {
+        positions,
+        triangles: mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    };
+    Ok(Mesh::from_soup(soup)?.0)
+}
