@@ -516,6 +516,9 @@ fn split_fans(
     scalars: &mut [ScalarProperty],
     report: &mut RepairReport,
 ) {
+    if every_vertex_has_one_fan(tris, partner, positions.len()) {
+        return;
+    }
     let corner_count = partner.len();
     let mut fans = UnionFind::<u32>::new(corner_count);
     for (c, &d) in partner.iter().enumerate() {
@@ -548,6 +551,60 @@ fn split_fans(
             };
         }
         tris[f][i] = fan_vertex[fan];
+    }
+}
+
+/// Whether walking around each vertex through paired edges meets all its corners
+/// (the usual case, checked in parallel before any splitting is set up).
+fn every_vertex_has_one_fan(tris: &[[u32; 3]], partner: &[u32], vertex_count: usize) -> bool {
+    let mut first_corner = vec![NONE; vertex_count];
+    let mut corners = vec![0u32; vertex_count];
+    for (c, &v) in tris.iter().flatten().enumerate() {
+        first_corner[v as usize] = c as u32;
+        corners[v as usize] += 1;
+    }
+    (0..vertex_count).into_par_iter().all(|v| {
+        let start = first_corner[v];
+        start == NONE || fan_size(partner, start as usize, corners[v]) == corners[v]
+    })
+}
+
+/// The number of corners in the fan of corner `start`, walking both ways around its
+/// vertex through paired edges; stops after `limit` corners.
+fn fan_size(partner: &[u32], start: usize, limit: u32) -> u32 {
+    // Forwards: the edge into the vertex (the previous corner's edge) is paired with
+    // an edge out of it, whose corner is the next one around the vertex.
+    let mut size = 1;
+    let mut c = start;
+    loop {
+        let d = partner[prev_corner(c)];
+        if d == NONE {
+            break;
+        }
+        c = d as usize;
+        if c == start || size > limit {
+            return size;
+        }
+        size += 1;
+    }
+    // Hit the boundary: walk backwards from the start to the other boundary.
+    let mut c = start;
+    while let Some(d) = Some(partner[c]).filter(|&d| d != NONE) {
+        c = next_corner(d as usize);
+        size += 1;
+        if size > limit {
+            break;
+        }
+    }
+    size
+}
+
+#[inline]
+fn prev_corner(c: usize) -> usize {
+    if c % 3 == 0 {
+        c + 2
+    } else {
+        c - 1
     }
 }
 
