@@ -601,7 +601,7 @@ fn fan_size(partner: &[u32], start: usize, limit: u32) -> u32 {
 
 #[inline]
 fn prev_corner(c: usize) -> usize {
-    if c % 3 == 0 {
+    if c.is_multiple_of(3) {
         c + 2
     } else {
         c - 1
@@ -636,6 +636,10 @@ fn compact_vertices(
             *slot = kept;
             kept += 1;
         }
+    }
+    if kept as usize == positions.len() {
+        // Every vertex is used: the numbering stays as it is.
+        return positions.len();
     }
     let keep = |values: &[f64]| -> Vec<f64> {
         values
