@@ -247,3 +247,47 @@ fn smoothing_weights_come_from_a_text_file_or_a_property() {
         "no vertex property 'no_such_property'",
     );
 }
+
+#[test]
+fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, report, hierarchy) = (
+        dir.path().join("m.json"),
+        dir.path().join("r.json"),
+        dir.path().join("h.json"),
+    );
+    let run = crestline(&[
+        "morse",
+        "meshes/bunny_small.obj",
+        "-o",
+        out.to_str().unwrap(),
+        "--keep-saddles",
+        "20",
+        "--report",
+        report.to_str().unwrap(),
+        "--hierarchy",
+        hierarchy.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let chi = |counts: &serde_json::Value| {
+        counts["minima"].as_i64().unwrap() - counts["saddles"].as_i64().unwrap()
+            + counts["maxima"].as_i64().unwrap()
+    };
+    assert_eq!(chi(&json["counts"]), 2);
+    assert_eq!(chi(&json["counts_after"]), 2);
+    assert_eq!(json["counts_after"]["saddles"], 20);
+    let cancellations: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&hierarchy).unwrap()).unwrap();
+    let cancelled = cancellations["cancellations"].as_array().unwrap();
+    let initial = json["counts"]["saddles"].as_u64().unwrap() as usize;
+    assert_eq!(cancelled.len(), initial - 20);
+    assert!(cancelled
+        .iter()
+        .all(|c| c["t"].is_number() && c["saddle"].is_u64()));
+    let lines = crestline::lines::read_json(&out).unwrap();
+    assert!(lines
+        .iter()
+        .all(|l| l.kind == crestline::lines::LineKind::Ascending));
+    assert!(!lines.is_empty() && lines.len() <= 20);
+}

@@ -1,7 +1,7 @@
 //! The 1-cells of the simplified complex as feature lines.
 
 use crate::lines::{FeatureLines, LineKind, Polyline};
-use crate::mesh::{FaceId, Mesh, VertexId};
+use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 use crate::ridges::fair::fair_polyline;
 use crate::Point;
 
@@ -68,28 +68,48 @@ fn centroid(mesh: &Mesh, f: FaceId) -> Point {
     Point::from((a + b + c) / 3.0)
 }
 
-fn midpoint(mesh: &Mesh, e: crate::mesh::EdgeId) -> Point {
+fn midpoint(mesh: &Mesh, e: EdgeId) -> Point {
     let [a, b] = mesh.edge_vertices(e).map(|v| mesh.position(v));
     nalgebra::center(&a, &b)
 }
 
-/// Centroids and crossed-edge midpoints from `start` up to its maximum, stopping
-/// after the first face already drawn.
-fn strip(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: FaceId, drawn: &mut [bool]) -> Vec<Point> {
+/// Follow the gradient from `start` with `step`, collecting `node_point` of every
+/// node and `edge_point` of every edge crossed between nodes, and stop after the
+/// first node already drawn (marking the nodes drawn on the way).
+fn walk<N: Copy>(
+    start: N,
+    drawn: &mut [bool],
+    index: impl Fn(N) -> usize,
+    step: impl Fn(N) -> Option<(EdgeId, N)>,
+    node_point: impl Fn(N) -> Point,
+    edge_point: impl Fn(EdgeId) -> Option<Point>,
+) -> Vec<Point> {
     let mut points = Vec::new();
     let mut current = start;
     loop {
-        points.push(centroid(mesh, current));
-        if std::mem::replace(&mut drawn[current.idx()], true) {
+        points.push(node_point(current));
+        if std::mem::replace(&mut drawn[index(current)], true) {
             break;
         }
-        let Some((e, next)) = hierarchy.gradient.face_step(mesh, current) else {
+        let Some((e, next)) = step(current) else {
             break;
         };
-        points.push(midpoint(mesh, e));
+        points.extend(edge_point(e));
         current = next;
     }
     points
+}
+
+/// Centroids and crossed-edge midpoints from `start` up to its maximum.
+fn strip(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: FaceId, drawn: &mut [bool]) -> Vec<Point> {
+    walk(
+        start,
+        drawn,
+        FaceId::idx,
+        |f| hierarchy.gradient.face_step(mesh, f),
+        |f| centroid(mesh, f),
+        |e| Some(midpoint(mesh, e)),
+    )
 }
 
 /// The ascending line of a saddle: one strip reversed, the saddle edge's midpoint,
@@ -98,7 +118,7 @@ fn ascending_points(
     mesh: &Mesh,
     hierarchy: &Hierarchy<'_>,
     faces: [FaceId; 2],
-    edge: crate::mesh::EdgeId,
+    edge: EdgeId,
     drawn: &mut [bool],
 ) -> Vec<Point> {
     let [first, second] = faces.map(|f| {
@@ -114,22 +134,16 @@ fn ascending_points(
     points
 }
 
-/// The vertex path from `start` down to its minimum, stopping at the first vertex
-/// already drawn.
+/// The vertex path from `start` down to its minimum.
 fn path(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: VertexId, drawn: &mut [bool]) -> Vec<Point> {
-    let mut points = Vec::new();
-    let mut current = start;
-    loop {
-        points.push(mesh.position(current));
-        if std::mem::replace(&mut drawn[current.idx()], true) {
-            break;
-        }
-        let Some((_, next)) = hierarchy.gradient.vertex_step(mesh, current) else {
-            break;
-        };
-        current = next;
-    }
-    points
+    walk(
+        start,
+        drawn,
+        VertexId::idx,
+        |v| hierarchy.gradient.vertex_step(mesh, v),
+        |v| mesh.position(v),
+        |_| None,
+    )
 }
 
 /// The descending line of a saddle: one path reversed, then the other.
