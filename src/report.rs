@@ -1,13 +1,14 @@
 //! Machine-readable run reports (`--report r.json`): stage timings and counts.
 
 use std::collections::BTreeMap;
+use std::fmt;
+use std::io::Write;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
 use serde_json::Value;
-
-use std::io::Write;
 
 use crate::io::atomic::write_atomically;
 use crate::Result;
@@ -30,6 +31,39 @@ pub struct Report {
     pub counts: BTreeMap<String, Value>,
     #[serde(flatten)]
     pub sections: BTreeMap<String, Value>,
+    /// Told the name of each stage as it starts (e.g. to show progress).
+    #[serde(skip)]
+    pub observer: StageObserver,
+}
+
+/// A function of a stage name.
+type StageCallback = Arc<dyn Fn(&str) + Send + Sync>;
+
+/// A callback told the name of each stage of a [`Report`] as it starts.
+#[derive(Clone, Default)]
+pub struct StageObserver(Option<StageCallback>);
+
+impl StageObserver {
+    /// An observer calling `notify` with each stage name.
+    pub fn new(notify: impl Fn(&str) + Send + Sync + 'static) -> StageObserver {
+        StageObserver(Some(Arc::new(notify)))
+    }
+
+    fn notify(&self, stage: &str) {
+        if let Some(notify) = &self.0 {
+            notify(stage);
+        }
+    }
+}
+
+impl fmt::Debug for StageObserver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(if self.0.is_some() {
+            "StageObserver(..)"
+        } else {
+            "StageObserver(none)"
+        })
+    }
 }
 
 impl Report {
@@ -41,11 +75,13 @@ impl Report {
             stages: Vec::new(),
             counts: BTreeMap::new(),
             sections: BTreeMap::new(),
+            observer: StageObserver::default(),
         }
     }
 
     /// Run `work`, recording its wall-clock time as stage `name`.
     pub fn stage<T>(&mut self, name: &str, work: impl FnOnce() -> T) -> T {
+        self.observer.notify(name);
         let start = Instant::now();
         let result = work();
         self.stages.push(Stage {

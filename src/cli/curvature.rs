@@ -6,10 +6,9 @@ use std::sync::Arc;
 use crestline::curvature::{
     estimate_curvature, write_curvature_ply, CurvatureEstimator, JetFit, ShapeOperator,
 };
-use crestline::report::Report;
 use crestline::{Error, Result};
 
-use super::load::load_mesh;
+use super::load::{load_mesh, report_with_progress};
 use super::ReportArg;
 
 /// Which curvature estimator to use.
@@ -63,7 +62,7 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
                 .into(),
         });
     }
-    let mut report = Report::new("curvature", &args.mesh);
+    let mut report = report_with_progress("curvature", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     super::load::warn_repairs(&args.mesh, &repairs);
     let estimator = args.estimator.estimator();

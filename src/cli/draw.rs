@@ -12,6 +12,7 @@ use crestline::mesh::Mesh;
 use crestline::report::Report;
 use crestline::{Error, Point, Result, Vector};
 
+use super::load::report_with_progress;
 use super::morse::{extract as extract_morse, MorseArgs};
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
 use super::ReportArg;
@@ -87,7 +88,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         silhouettes: args.silhouettes,
         ..DrawOptions::default()
     };
-    let mut report = Report::new("draw", &args.mesh);
+    let mut report = report_with_progress("draw", &args.mesh);
     let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let [width, height] = args.size;
     let camera = Camera::framing(
@@ -99,6 +100,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     )?;
 
     let mut extraction = Report::new("draw", &args.mesh);
+    extraction.observer = report.observer.clone();
     let mut lines = report.stage("extraction", || extract(&mesh, args, &mut extraction))?;
     report.counts.append(&mut extraction.counts);
     report.section("extraction_stages", &extraction.stages);

@@ -6,7 +6,7 @@ use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
 use crestline::report::Report;
 use crestline::Result;
 
-use super::load::load_mesh;
+use super::load::{load_mesh, report_with_progress};
 use super::ReportArg;
 
 /// Arguments of `crestline info`.
@@ -20,7 +20,7 @@ pub struct InfoArgs {
 
 /// Load the mesh and print its summary to stdout.
 pub fn run(args: &InfoArgs) -> Result<()> {
-    let mut report = Report::new("info", &args.mesh);
+    let mut report = report_with_progress("info", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     let components = report.stage("topology", || mesh.components());
     super::print_stdout(&summary(&args.mesh, &mesh, &components, &repairs));

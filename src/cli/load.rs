@@ -2,12 +2,13 @@
 
 use std::io::IsTerminal;
 use std::path::Path;
+use std::sync::OnceLock;
 
 use crestline::io::read_mesh_with_progress;
 use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
-use crestline::report::Report;
+use crestline::report::{Report, StageObserver};
 use crestline::{Error, Result};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressFinish, ProgressStyle};
 
 /// Read `path` and build the repaired halfedge mesh, recording the stages `read`
 /// and `build` in `report`. A byte progress bar is drawn on stderr when it is a
@@ -76,7 +77,7 @@ fn progress_bar(path: &Path) -> ProgressBar {
     if !std::io::stderr().is_terminal() || size < WORTH_SHOWING {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::new(size);
+    let bar = terminal_bars().add(ProgressBar::new(size));
     let style =
         ProgressStyle::with_template("reading {msg} {bar:30} {bytes}/{total_bytes} ({eta})")
             .unwrap_or_else(|_| ProgressStyle::default_bar());
@@ -90,4 +91,25 @@ pub fn warn_repairs(path: &Path, repairs: &RepairReport) {
     for message in repairs.messages() {
         eprintln!("warning: {}: {message}", path.display());
     }
+}
+
+/// A report for `command` on `input` that, on a terminal, shows the running stage
+/// next to a spinner (cleared when the report is dropped).
+pub fn report_with_progress(command: &str, input: &Path) -> Report {
+    let mut report = Report::new(command, input);
+    if std::io::stderr().is_terminal() {
+        let spinner =
+            terminal_bars().add(ProgressBar::new_spinner().with_finish(ProgressFinish::AndClear));
+        spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+        let prefix = format!("{command} {}", input.display());
+        report.observer =
+            StageObserver::new(move |stage| spinner.set_message(format!("{prefix}: {stage}")));
+    }
+    report
+}
+
+/// The progress displays on stderr, drawn together so they do not overwrite each other.
+fn terminal_bars() -> &'static MultiProgress {
+    static BARS: OnceLock<MultiProgress> = OnceLock::new();
+    BARS.get_or_init(MultiProgress::new)
 }

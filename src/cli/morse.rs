@@ -10,7 +10,7 @@ use crestline::report::Report;
 use crestline::Result;
 
 use super::curvature::EstimatorChoice;
-use super::load::{load_mesh, warn_repairs};
+use super::load::{load_mesh, report_with_progress, warn_repairs};
 use super::ReportArg;
 
 /// Cancellation criterion.
@@ -135,7 +135,7 @@ pub fn extract(
 /// Extract and write the lines (and the hierarchy).
 pub fn run(args: &MorseCommand) -> Result<()> {
     LineFormat::from_path(&args.output)?;
-    let mut report = Report::new("morse", &args.mesh);
+    let mut report = report_with_progress("morse", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     warn_repairs(&args.mesh, &repairs);
     let (lines, summary) = extract(&mesh, &args.mesh, &args.morse, &mut report)?;

@@ -9,7 +9,7 @@ use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
 
 use super::curvature::EstimatorChoice;
-use super::load::{load_mesh_with_scalars, warn_repairs};
+use super::load::{load_mesh_with_scalars, report_with_progress, warn_repairs};
 use super::ReportArg;
 
 /// Which lines to extract.
@@ -142,7 +142,7 @@ pub fn trace_loaded(
 /// Trace the lines and write them.
 pub fn run(args: &RidgesArgs) -> Result<()> {
     LineFormat::from_path(&args.output)?;
-    let mut report = Report::new("ridges", &args.mesh);
+    let mut report = report_with_progress("ridges", &args.mesh);
     let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let lines = trace_loaded(&mesh, &args.mesh, &args.tracer, &mut report)?;
     report.stage("write", || write_lines(&args.output, &lines))?;
