@@ -139,9 +139,13 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 fn extract(mesh: &Mesh, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
     match args.lines {
         LinesChoice::Ridges => trace_loaded(mesh, &args.mesh, &args.tracer, report),
-        LinesChoice::Morse => {
-            extract_morse(mesh, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
-        }
+        LinesChoice::Morse => extract_morse(
+            mesh,
+            &args.mesh,
+            (&args.morse, args.tracer.estimator),
+            report,
+        )
+        .map(|(lines, _)| lines),
         LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
     }
 }

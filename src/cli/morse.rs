@@ -40,10 +40,6 @@ pub struct MorseArgs {
     /// Indicator: curvedness, kmax, kmin, or the name of a PLY vertex property.
     #[arg(long, default_value = "curvedness", value_name = "NAME")]
     pub indicator: String,
-    /// Curvature estimator for curvature indicators (jet-fit is steadier on
-    /// irregular meshes, where the shape operator's spikes become maxima).
-    #[arg(long, value_enum, default_value_t)]
-    pub morse_estimator: EstimatorChoice,
     /// Cancellation criterion.
     #[arg(long, value_enum, default_value_t)]
     pub criterion: CriterionChoice,
@@ -65,8 +61,8 @@ pub struct MorseArgs {
 }
 
 impl MorseArgs {
-    /// The extractor these options describe.
-    pub fn extractor(&self) -> MorseSmale {
+    /// The extractor these options describe, estimating curvature with `estimator`.
+    pub fn extractor(&self, estimator: EstimatorChoice) -> MorseSmale {
         let indicator = match self.indicator.as_str() {
             "curvedness" => Indicator::Curvedness,
             "kmax" => Indicator::KMax,
@@ -74,7 +70,7 @@ impl MorseArgs {
             name => Indicator::Property(name.to_string()),
         };
         MorseSmale {
-            estimator: self.morse_estimator.estimator(),
+            estimator: estimator.estimator(),
             indicator,
             criterion: match self.criterion {
                 CriterionChoice::Feature => Criterion::Feature,
@@ -103,6 +99,10 @@ pub struct MorseCommand {
     /// Output lines: .json, .obj, .ply or .vtk.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
+    /// Curvature estimator for curvature indicators (jet-fit is steadier on
+    /// irregular meshes, where the shape operator's spikes become long-lived maxima).
+    #[arg(long, value_enum, default_value_t)]
+    pub estimator: EstimatorChoice,
     #[command(flatten)]
     pub morse: MorseArgs,
     /// Write the cancellation sequence (saddle, extremum, t) as JSON.
@@ -116,11 +116,11 @@ pub struct MorseCommand {
 pub fn extract(
     mesh: &Mesh,
     mesh_path: &Path,
-    args: &MorseArgs,
+    (args, estimator): (&MorseArgs, EstimatorChoice),
     report: &mut Report,
 ) -> Result<(FeatureLines, crestline::morse::MorseSummary)> {
     let (mut lines, summary) = args
-        .extractor()
+        .extractor(estimator)
         .run(mesh, report)
         .map_err(|e| e.in_file(mesh_path))?;
     lines.source = mesh_path.display().to_string();
@@ -138,7 +138,12 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     let mut report = report_with_progress("morse", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     warn_repairs(&args.mesh, &repairs);
-    let (lines, summary) = extract(&mesh, &args.mesh, &args.morse, &mut report)?;
+    let (lines, summary) = extract(
+        &mesh,
+        &args.mesh,
+        (&args.morse, args.estimator),
+        &mut report,
+    )?;
     report.stage("write", || write_lines(&args.output, &lines))?;
     if let Some(path) = &args.hierarchy {
         crestline::io::atomic::write_atomically(path, |w| {
