@@ -23,11 +23,7 @@ struct EdgeCurvatureFit;
 impl CurvatureEstimator for EdgeCurvatureFit {
     fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
         Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
-            let normal: Vector = mesh
-                .vertex_faces(v)
-                .map(|f| mesh.face_area_vector(f))
-                .sum::<Vector>()
-                .normalize();
+            let normal = mesh.area_weighted_normal(v);
             let (t1, t2) = tangent_basis(&normal);
             // Fit κ(t) = a u² + 2 b u w + c w² for tangent t = (u, w).
             let mut lhs = SMatrix::<f64, 3, 3>::zeros();

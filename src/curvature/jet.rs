@@ -85,10 +85,7 @@ impl JetFit {
 /// Unit normals from the sum of the area vectors of the faces around each vertex.
 fn area_weighted_normals(mesh: &Mesh) -> Vec<Vector> {
     mesh.par_vertices()
-        .map(|v| {
-            let sum: Vector = mesh.vertex_faces(v).map(|f| mesh.face_area_vector(f)).sum();
-            sum.normalize()
-        })
+        .map(|v| mesh.area_weighted_normal(v))
         .collect()
 }
 

@@ -112,6 +112,15 @@ impl Mesh {
         )
     }
 
+    /// Area-weighted normal of `v`: the normalised sum of the area vectors of the
+    /// faces around it (the vertex normal N_p of Hildebrandt et al. §3).
+    pub fn area_weighted_normal(&self, v: VertexId) -> Vector {
+        self.vertex_faces(v)
+            .map(|f| self.face_area_vector(f))
+            .sum::<Vector>()
+            .normalize()
+    }
+
     /// Angle-weighted vertex normals (Thürmer–Wüthrich): each face contributes its
     /// normal times its interior angle at the vertex.
     pub fn vertex_normals(&self) -> Vec<Vector> {

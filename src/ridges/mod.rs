@@ -191,9 +191,10 @@ impl ExtremalityTracer {
         if self.presmooth_steps == 0 {
             return Ok(None);
         }
-        let mut smoothed = mesh.clone();
-        smoothed.set_positions(smoothing::presmooth_surface(mesh, self.presmooth_steps)?)?;
-        Ok(Some(smoothed))
+        Ok(Some(smoothing::presmooth_surface(
+            mesh,
+            self.presmooth_steps,
+        )?))
     }
 
     /// Extremality, smoothing, tracing and chaining of one field on `work`; line

@@ -6,7 +6,7 @@ use sprs::CsMat;
 
 use crate::linalg::{CholeskyFactor, SymmetricBuilder};
 use crate::mesh::{EdgeId, Mesh};
-use crate::{Error, Point, Result, Vector};
+use crate::{Error, Result, Vector};
 
 use super::extremality::direction_sign;
 
@@ -133,8 +133,8 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 /// `steps` implicit cotan smoothing steps of the vertex positions,
 /// (M + tL) x' = M x with t = h̄² (h̄ the mean edge length of the input); weights and
 /// masses are recomputed from the current positions at every step. Returns the
-/// smoothed positions; connectivity is unchanged.
-pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Vec<Point>> {
+/// smoothed mesh; connectivity is unchanged.
+pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
     let h = mesh.mean_edge_length();
     let mut current = mesh.clone();
     let mut factor: Option<CholeskyFactor> = None;
@@ -156,5 +156,5 @@ pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Vec<Point>> {
         }
         current.set_positions(next)?;
     }
-    Ok(current.positions().to_vec())
+    Ok(current)
 }
