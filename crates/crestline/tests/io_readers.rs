@@ -13,7 +13,7 @@ use crestline::{Error, Result, Vector};
 
 fn mesh_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("meshes")
+        .join("../../meshes")
         .join(name)
 }
 

@@ -27,7 +27,7 @@ pub mod linalg;
 pub mod lines;
 pub mod mesh;
 pub mod morse;
-pub mod report;
+pub mod progress;
 pub mod ridges;
 
 pub use error::{Error, Result};

@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::report::Report;
 use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
-use crestline::report::Report;
 use crestline::Result;
 
 use super::load::{load_mesh, report_with_progress};

@@ -17,7 +17,7 @@ use rand::{Rng, SeedableRng};
 
 fn bundled(name: &str) -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("meshes")
+        .join("../../meshes")
         .join(name);
     Mesh::from_soup(crestline::io::read_mesh(&path).unwrap())
         .unwrap()

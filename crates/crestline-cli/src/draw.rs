@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::report::Report;
 use crestline::draw::{
     svg_document, visible_drawing, write_png, write_svg, Camera, DepthBuffer, DrawOptions,
     Projection, Style, View,
 };
 use crestline::lines::FeatureLines;
 use crestline::mesh::Mesh;
-use crestline::report::Report;
 use crestline::{Error, Point, Result, Vector};
 
 use super::load::report_with_progress;

@@ -22,6 +22,7 @@
 
 mod camera;
 mod depth;
+#[cfg(feature = "png")]
 mod raster;
 mod silhouette;
 mod simplify;
@@ -37,6 +38,7 @@ use crate::{Error, Result};
 
 pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
 pub use depth::DepthBuffer;
+#[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
 pub use simplify::douglas_peucker;

@@ -5,13 +5,13 @@ use std::fmt;
 use std::io::Write;
 use std::path::Path;
 use std::sync::Arc;
-use std::time::Instant;
 
 use serde::Serialize;
 use serde_json::Value;
 
-use crate::io::atomic::write_atomically;
-use crate::Result;
+use crestline::io::atomic::write_atomically;
+use crestline::progress::{self, Observer};
+use crestline::Result;
 
 /// One timed stage of a run.
 #[derive(Clone, Debug, Serialize)]
@@ -81,14 +81,7 @@ impl Report {
 
     /// Run `work`, recording its wall-clock time as stage `name`.
     pub fn stage<T>(&mut self, name: &str, work: impl FnOnce() -> T) -> T {
-        self.observer.notify(name);
-        let start = Instant::now();
-        let result = work();
-        self.stages.push(Stage {
-            name: name.to_string(),
-            seconds: start.elapsed().as_secs_f64(),
-        });
-        result
+        progress::stage(self, name, work)
     }
 
     /// Record a count (or any value) under `counts`.
@@ -102,16 +95,34 @@ impl Report {
         self.sections.insert(key.to_string(), value);
     }
 
-    /// Total seconds over all stages.
-    pub fn total_seconds(&self) -> f64 {
-        self.stages.iter().map(|s| s.seconds).sum()
-    }
-
     /// Write the report as pretty JSON (atomically).
     pub fn write(&self, path: &Path) -> Result<()> {
         write_atomically(path, |w| {
             serde_json::to_writer_pretty(&mut *w, self)?;
             writeln!(w)
         })
+    }
+}
+
+/// The library's algorithms report into the run report: stages as they start (shown
+/// by the spinner) and end (timed), counts and figures under `counts`.
+impl Observer for Report {
+    fn stage_started(&mut self, name: &str) {
+        self.observer.notify(name);
+    }
+
+    fn stage_finished(&mut self, name: &str, seconds: f64) {
+        self.stages.push(Stage {
+            name: name.to_string(),
+            seconds,
+        });
+    }
+
+    fn count(&mut self, key: &str, value: usize) {
+        Report::count(self, key, value);
+    }
+
+    fn measure(&mut self, key: &str, value: f64) {
+        Report::count(self, key, value);
     }
 }

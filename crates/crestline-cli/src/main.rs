@@ -1,11 +1,13 @@
-//! Command-line parsing and dispatch. Exit codes: 0 success, 1 an error (printed as
-//! one line `error: <file>: <what is wrong>`), 2 bad usage (printed by clap).
+//! The `crestline` command-line tool: a thin layer over the library. Exit codes: 0
+//! success, 1 an error (printed as one line `error: <file>: <what is wrong>`), 2 bad
+//! usage (printed by clap).
 
 mod curvature;
 mod draw;
 mod info;
 mod load;
 mod morse;
+mod report;
 mod ridges;
 
 use std::path::PathBuf;
@@ -44,7 +46,7 @@ pub struct ReportArg {
 }
 
 /// Parse the command line, run the command, and turn its outcome into an exit code.
-pub fn run() -> ExitCode {
+fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Command::Info(args) => info::run(&args),

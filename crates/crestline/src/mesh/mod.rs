@@ -13,6 +13,7 @@
 
 pub(crate) mod buckets;
 mod build;
+#[cfg(feature = "generate")]
 pub mod generate;
 pub mod geometry;
 mod ids;

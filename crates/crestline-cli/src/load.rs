@@ -4,9 +4,9 @@ use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::OnceLock;
 
+use crate::report::{Report, StageObserver};
 use crestline::io::read_mesh_with_progress;
 use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
-use crestline::report::{Report, StageObserver};
 use crestline::{Error, Result};
 use indicatif::{MultiProgress, ProgressBar, ProgressFinish, ProgressStyle};
 

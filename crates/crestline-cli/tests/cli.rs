@@ -5,7 +5,7 @@ use std::process::{Command, Output};
 fn crestline(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_crestline"))
         .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .output()
         .expect("the binary runs")
 }

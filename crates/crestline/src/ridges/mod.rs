@@ -21,13 +21,12 @@ pub mod fair;
 pub mod smoothing;
 pub mod trace;
 
-use std::path::Path;
 use std::sync::Arc;
 
 use crate::curvature::{estimate_curvature, CurvatureEstimator, CurvatureField, ShapeOperator};
 use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 use crate::mesh::Mesh;
-use crate::report::Report;
+use crate::progress::{stage, Observer, Silent};
 use crate::{Error, Point, Result};
 
 use extremality::{extremality, regular_faces, Principal};
@@ -117,18 +116,18 @@ impl Default for ExtremalityTracer {
 
 impl LineExtractor for ExtremalityTracer {
     fn extract(&self, mesh: &Mesh) -> Result<FeatureLines> {
-        self.trace(mesh, &mut Report::new("ridges", Path::new("")))
+        self.trace(mesh, &mut Silent)
     }
 }
 
 impl ExtremalityTracer {
     /// Extract the lines of `mesh`, recording stage timings, the share of singular
     /// triangles per field and line counts in `report`.
-    pub fn trace(&self, mesh: &Mesh, report: &mut Report) -> Result<FeatureLines> {
+    pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
-        let smoothed = report.stage("presmooth", || self.presmoothed(mesh))?;
+        let smoothed = stage(observer, "presmooth", || self.presmoothed(mesh))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
-        let field = report.stage("curvature", || {
+        let field = stage(observer, "curvature", || {
             estimate_curvature(work, self.estimator.as_ref())
         })?;
         let h = mesh.mean_edge_length();
@@ -139,12 +138,12 @@ impl ExtremalityTracer {
             self.smoothing_weights.as_deref(),
         )?;
         for &which in self.kinds.fields() {
-            for line in self.trace_field(work, &field, which, mesh, &mut smoother, report)? {
+            for line in self.trace_field(work, &field, which, mesh, &mut smoother, observer)? {
                 lines.push(line);
             }
         }
         if let Some(fairing) = self.fairing {
-            report.stage("fairing", || {
+            stage(observer, "fairing", || {
                 for line in &mut lines.lines {
                     fair::fair_polyline(
                         &mut line.points,
@@ -155,10 +154,10 @@ impl ExtremalityTracer {
                 }
             });
         }
-        report.count("lines", lines.len());
-        report.count("ridges", lines.of_kind(LineKind::Ridge).count());
-        report.count("valleys", lines.of_kind(LineKind::Valley).count());
-        report.count("total_length", lines.total_length());
+        observer.count("lines", lines.len());
+        observer.count("ridges", lines.of_kind(LineKind::Ridge).count());
+        observer.count("valleys", lines.of_kind(LineKind::Valley).count());
+        observer.measure("total_length", lines.total_length());
         Ok(lines)
     }
 
@@ -206,31 +205,31 @@ impl ExtremalityTracer {
         which: Principal,
         input: &Mesh,
         smoother: &mut smoothing::ExtremalitySmoother<'_>,
-        report: &mut Report,
+        observer: &mut dyn Observer,
     ) -> Result<Vec<Polyline>> {
         let (name, kind) = match which {
             Principal::Max => ("ridges", LineKind::Ridge),
             Principal::Min => ("valleys", LineKind::Valley),
         };
         let directions = which.directions(field);
-        let mut values = report.stage(&format!("{name}: extremality"), || {
+        let mut values = stage(observer, &format!("{name}: extremality"), || {
             extremality(work, field, which)
         });
-        report.stage(&format!("{name}: smoothing"), || {
+        stage(observer, &format!("{name}: smoothing"), || {
             smoother.smooth(directions, &mut values, self.smooth_steps)
         })?;
         let regular = regular_faces(work, directions);
         let singular = regular.iter().filter(|&&r| !r).count();
-        report.count(
+        observer.measure(
             &format!("{name}_singular_share"),
             singular as f64 / regular.len() as f64,
         );
         let ext = Extremality::new(which, values, field, &regular, self.feature_conditions);
-        let segments = report.stage(&format!("{name}: tracing"), || {
+        let segments = stage(observer, &format!("{name}: tracing"), || {
             trace::trace(work, field, &ext)
         });
         let place = |p: LinePoint| place(input, work, field, &ext, p);
-        let chains = report.stage(&format!("{name}: chaining"), || {
+        let chains = stage(observer, &format!("{name}: chaining"), || {
             chain::chain(&segments, place, self.threshold)
         });
         Ok(chains

@@ -327,7 +327,7 @@ fn real_meshes_give_lines() {
         "airplane.obj",
     ] {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("meshes")
+            .join("../../meshes")
             .join(name);
         let soup = crestline::io::read_mesh(&path).unwrap();
         let mesh = Mesh::from_soup(soup).unwrap().0;

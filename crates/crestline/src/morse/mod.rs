@@ -23,13 +23,12 @@ pub mod gradient;
 mod indicator;
 mod output;
 
-use std::path::Path;
 use std::sync::Arc;
 
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
 use crate::lines::{FeatureLines, LineExtractor};
 use crate::mesh::Mesh;
-use crate::report::Report;
+use crate::progress::{stage, Observer, Silent};
 use crate::Result;
 
 pub use cancel::{Cancellation, Criterion};
@@ -96,20 +95,26 @@ pub struct MorseSummary {
 
 impl LineExtractor for MorseSmale {
     fn extract(&self, mesh: &Mesh) -> Result<FeatureLines> {
-        Ok(self.run(mesh, &mut Report::new("morse", Path::new("")))?.0)
+        Ok(self.run(mesh, &mut Silent)?.0)
     }
 }
 
 impl MorseSmale {
     /// Build, simplify and output the complex of `mesh`, recording stage timings
     /// in `report`.
-    pub fn run(&self, mesh: &Mesh, report: &mut Report) -> Result<(FeatureLines, MorseSummary)> {
-        let values = report.stage("indicator", || {
+    pub fn run(
+        &self,
+        mesh: &Mesh,
+        observer: &mut dyn Observer,
+    ) -> Result<(FeatureLines, MorseSummary)> {
+        let values = stage(observer, "indicator", || {
             self.indicator.values(mesh, self.estimator.as_ref())
         })?;
         let keys = gradient::Keys::new(mesh, values);
-        let gradient = report.stage("gradient", || gradient::Gradient::new(mesh, &keys));
-        let (saddles, regions) = report.stage("cells", || {
+        let gradient = stage(observer, "gradient", || {
+            gradient::Gradient::new(mesh, &keys)
+        });
+        let (saddles, regions) = stage(observer, "cells", || {
             let saddles = cells::measure_saddles(mesh, &keys, &gradient);
             let regions = (
                 cells::minimum_regions(mesh, &keys, &gradient),
@@ -124,14 +129,14 @@ impl MorseSmale {
         };
         let mut hierarchy =
             cancel::Hierarchy::new(mesh, &keys, gradient, saddles, regions, self.criterion);
-        report.stage("cancellation", || self.simplify(&mut hierarchy));
+        stage(observer, "cancellation", || self.simplify(&mut hierarchy));
         let (minima, maxima) = hierarchy.extremum_counts();
         let after = CriticalCounts {
             minima,
             saddles: hierarchy.saddle_count(),
             maxima,
         };
-        let lines = report.stage("lines", || output::lines(mesh, &hierarchy, self));
+        let lines = stage(observer, "lines", || output::lines(mesh, &hierarchy, self));
         let summary = MorseSummary {
             initial,
             after,

@@ -3,10 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::report::Report;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
 use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, Simplification};
-use crestline::report::Report;
 use crestline::Result;
 
 use super::curvature::EstimatorChoice;

@@ -67,7 +67,7 @@ fn mean_distance(from: &[Point], to: &[Point], cell: f64) -> f64 {
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
     let path = args.next().map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("meshes/bunny.obj"),
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../meshes/bunny.obj"),
         PathBuf::from,
     );
     let keep: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(100);

@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::report::Report;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
-use crestline::report::Report;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
 

@@ -1,0 +1,82 @@
+//! The `draw` command: SVG, PNG and report files, and one-line errors.
+
+use std::process::Command;
+
+fn crestline(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_crestline"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn the_draw_command_writes_svg_png_and_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("bunny.svg");
+    let report = dir.path().join("report.json");
+    let out = crestline(&[
+        "draw",
+        "meshes/bunny_small.obj",
+        "-o",
+        svg.to_str().unwrap(),
+        "--silhouettes",
+        "--png",
+        "--view",
+        "-20,10",
+        "--size",
+        "300x200",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert_eq!(doc.root_element().attribute("viewBox"), Some("0 0 300 200"));
+    assert!(dir.path().join("bunny.png").is_file());
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let stages: Vec<&str> = report["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    for stage in ["extraction", "silhouettes", "visibility", "write", "png"] {
+        assert!(stages.contains(&stage), "{stages:?}");
+    }
+    assert!(report["counts"]["paths"]["silhouettes"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn the_draw_command_rejects_absurd_values_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("out.svg");
+    let svg = svg.to_str().unwrap();
+    let mesh = "meshes/bunny_small.obj";
+    let cases: [(&str, &[&str], &str); 5] = [
+        (svg, &["--size", "0x100"], "between 1 and 20000"),
+        (svg, &["--perspective", "180"], "field of view"),
+        (svg, &["--view", "nan,0"], "finite"),
+        (
+            svg,
+            &["--lines", "none", "--style", "missing.json"],
+            "missing.json",
+        ),
+        ("out.png", &[], "SVG"),
+    ];
+    for (output, extra, words) in cases {
+        let mut args = vec!["draw", mesh, "-o", output];
+        args.extend_from_slice(extra);
+        let out = crestline(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(words), "{args:?}: {err}");
+    }
+    assert!(!std::path::Path::new(svg).exists());
+}
