@@ -1,37 +1,12 @@
 //! `crestline curvature`: principal curvatures per vertex, written as PLY properties.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
-use crestline::curvature::{
-    estimate_curvature, write_curvature_ply, CurvatureEstimator, JetFit, ShapeOperator,
-};
+use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
 use crestline::{Error, Result};
 
 use super::load::{load_mesh, report_with_progress};
 use super::ReportArg;
-
-/// Which curvature estimator to use.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum EstimatorChoice {
-    /// The discrete shape operator (Hildebrandt et al. 2005): fast, best on regular meshes.
-    #[default]
-    ShapeOperator,
-    /// A quartic least-squares fit over a ring neighbourhood: slower, accurate on
-    /// irregular meshes.
-    #[value(alias = "quadric")]
-    JetFit,
-}
-
-impl EstimatorChoice {
-    /// The estimator this choice names, with its default settings.
-    pub fn estimator(self) -> Arc<dyn CurvatureEstimator + Send + Sync> {
-        match self {
-            EstimatorChoice::ShapeOperator => Arc::new(ShapeOperator),
-            EstimatorChoice::JetFit => Arc::new(JetFit::default()),
-        }
-    }
-}
 
 /// Arguments of `crestline curvature`.
 #[derive(clap::Args, Debug)]
@@ -39,12 +14,14 @@ pub struct CurvatureArgs {
     /// The mesh file (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
     /// Output PLY file: the mesh with float vertex properties k_max, k_min, mean,
-    /// gauss, dmax_x/y/z, dmin_x/y/z, nx/ny/nz and unreliable (1 on the boundary).
+    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable (1 on the boundary).
     #[arg(short, long, value_name = "FILE.ply")]
     pub output: PathBuf,
-    /// Curvature estimator.
-    #[arg(long, value_enum, default_value_t)]
-    pub estimator: EstimatorChoice,
+    /// Curvature estimator: shape-operator is fast and best on regular meshes;
+    /// jet-fit (a quartic least-squares fit over a ring neighbourhood) is slower and
+    /// accurate on irregular ones.
+    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    pub estimator: Estimator,
     #[command(flatten)]
     pub report: ReportArg,
 }
@@ -65,7 +42,7 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let mut report = report_with_progress("curvature", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
     super::load::warn_repairs(&args.mesh, &repairs);
-    let estimator = args.estimator.estimator();
+    let estimator = args.estimator.build();
     let field = report
         .stage("estimate", || estimate_curvature(&mesh, estimator.as_ref()))
         .map_err(|e| e.in_file(&args.mesh))?;

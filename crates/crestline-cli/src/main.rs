@@ -64,6 +64,16 @@ fn main() -> ExitCode {
     }
 }
 
+/// A parser for an option whose values are the library's `names` of `T` (listed in
+/// `--help`), parsed by `T`'s `FromStr`.
+pub fn named<T>(names: &'static [&'static str]) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr<Err = crestline::Error> + Clone + Send + Sync + 'static,
+{
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
+}
+
 /// Print `text` to stdout; a closed pipe (e.g. `| head`) is not an error.
 pub fn print_stdout(text: &str) {
     use std::io::Write;

@@ -4,54 +4,34 @@
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
+use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
 use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, Simplification};
 use crestline::Result;
 
-use super::curvature::EstimatorChoice;
 use super::load::{load_mesh, report_with_progress, warn_repairs};
 use super::ReportArg;
-
-/// Cancellation criterion.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
-pub enum CriterionChoice {
-    /// The paper's feature-line-preserving significance.
-    #[default]
-    Feature,
-    /// Plain persistence (function difference).
-    Persistence,
-}
-
-/// Which 1-cells to output.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
-pub enum CellsChoice {
-    /// Saddle-to-maximum lines (crests of the indicator).
-    #[default]
-    Ascending,
-    /// Saddle-to-minimum lines (troughs of the indicator).
-    Descending,
-    Both,
-}
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MorseArgs {
     /// Indicator: curvedness, kmax, kmin, or the name of a PLY vertex property.
     #[arg(long, default_value = "curvedness", value_name = "NAME")]
-    pub indicator: String,
-    /// Cancellation criterion.
-    #[arg(long, value_enum, default_value_t)]
-    pub criterion: CriterionChoice,
+    pub indicator: Indicator,
+    /// Cancellation criterion: feature (the paper's significance) or persistence.
+    #[arg(long, default_value_t, value_parser = super::named::<Criterion>(Criterion::NAMES))]
+    pub criterion: Criterion,
     /// Number of cancellations to make.
     #[arg(long, value_name = "N", conflicts_with = "keep_saddles")]
     pub cancel: Option<usize>,
-    /// Cancel until at most this many saddles remain (default 100).
-    #[arg(long, value_name = "N")]
-    pub keep_saddles: Option<usize>,
-    /// Which 1-cells to output.
-    #[arg(long, value_enum, default_value_t)]
-    pub cells: CellsChoice,
+    /// Cancel until at most this many saddles remain.
+    #[arg(long, value_name = "N", default_value_t = MorseSmale::DEFAULT_KEEP_SADDLES)]
+    pub keep_saddles: usize,
+    /// Which 1-cells to output: ascending (saddle to maximum: crests of the
+    /// indicator), descending (saddle to minimum: troughs) or both.
+    #[arg(long, default_value_t, value_parser = super::named::<Cells>(Cells::NAMES))]
+    pub cells: Cells,
     /// Keep lines forced by topology (no valid cancellation, low significance).
     #[arg(long)]
     pub keep_forced: bool,
@@ -62,29 +42,16 @@ pub struct MorseArgs {
 
 impl MorseArgs {
     /// The extractor these options describe, estimating curvature with `estimator`.
-    pub fn extractor(&self, estimator: EstimatorChoice) -> MorseSmale {
-        let indicator = match self.indicator.as_str() {
-            "curvedness" => Indicator::Curvedness,
-            "kmax" => Indicator::KMax,
-            "kmin" => Indicator::KMin,
-            name => Indicator::Property(name.to_string()),
-        };
+    pub fn extractor(&self, estimator: Estimator) -> MorseSmale {
         MorseSmale {
-            estimator: estimator.estimator(),
-            indicator,
-            criterion: match self.criterion {
-                CriterionChoice::Feature => Criterion::Feature,
-                CriterionChoice::Persistence => Criterion::Persistence,
-            },
+            estimator: estimator.build(),
+            indicator: self.indicator.clone(),
+            criterion: self.criterion,
             simplification: match self.cancel {
                 Some(n) => Simplification::Cancel(n),
-                None => Simplification::KeepSaddles(self.keep_saddles.unwrap_or(100)),
+                None => Simplification::KeepSaddles(self.keep_saddles),
             },
-            cells: match self.cells {
-                CellsChoice::Ascending => Cells::Ascending,
-                CellsChoice::Descending => Cells::Descending,
-                CellsChoice::Both => Cells::Both,
-            },
+            cells: self.cells,
             hide_forced: !self.keep_forced,
             smooth_iterations: self.smooth,
         }
@@ -101,8 +68,8 @@ pub struct MorseCommand {
     pub output: PathBuf,
     /// Curvature estimator for curvature indicators (jet-fit is steadier on
     /// irregular meshes, where the shape operator's spikes become long-lived maxima).
-    #[arg(long, value_enum, default_value_t)]
-    pub estimator: EstimatorChoice,
+    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    pub estimator: Estimator,
     #[command(flatten)]
     pub morse: MorseArgs,
     /// Write the cancellation sequence (saddle, extremum, t) as JSON.
@@ -116,7 +83,7 @@ pub struct MorseCommand {
 pub fn extract(
     mesh: &Mesh,
     mesh_path: &Path,
-    (args, estimator): (&MorseArgs, EstimatorChoice),
+    (args, estimator): (&MorseArgs, Estimator),
     report: &mut Report,
 ) -> Result<(FeatureLines, crestline::morse::MorseSummary)> {
     let (mut lines, summary) = args
@@ -146,7 +113,7 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     )?;
     report.stage("write", || write_lines(&args.output, &lines))?;
     if let Some(path) = &args.hierarchy {
-        crestline::io::atomic::write_atomically(path, |w| {
+        crestline::atomic::write_atomically(path, |w| {
             serde_json::to_writer_pretty(
                 &mut *w,
                 &serde_json::json!({ "cancellations": summary.hierarchy }),

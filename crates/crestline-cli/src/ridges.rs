@@ -3,44 +3,34 @@
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
+use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
 
-use super::curvature::EstimatorChoice;
 use super::load::{load_mesh_with_scalars, report_with_progress, warn_repairs};
 use super::ReportArg;
-
-/// Which lines to extract.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default)]
-pub enum KindChoice {
-    /// Ridges only (maxima of k_max: convex crests).
-    Ridges,
-    /// Valleys only (minima of k_min: concave creases).
-    Valleys,
-    /// Both.
-    #[default]
-    Both,
-}
 
 /// Options of extremality tracing, shared by every command that traces ridges.
 #[derive(clap::Args, Debug, Clone)]
 pub struct TracerArgs {
-    /// Which lines to extract.
-    #[arg(long, value_enum, default_value_t)]
-    pub kind: KindChoice,
-    /// Curvature estimator.
-    #[arg(long, value_enum, default_value_t)]
-    pub estimator: EstimatorChoice,
+    /// Which lines to extract: ridges (maxima of k_max: convex crests), valleys
+    /// (minima of k_min: concave creases) or both.
+    #[arg(long, default_value_t, value_parser = super::named::<Kinds>(Kinds::NAMES))]
+    pub kind: Kinds,
+    /// Curvature estimator: shape-operator (fast) or jet-fit (accurate on irregular meshes).
+    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    pub estimator: Estimator,
     /// Implicit smoothing steps of the extremalities.
-    #[arg(long, default_value_t = 3, value_name = "N")]
+    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_SMOOTH_STEPS, value_name = "N")]
     pub smooth_steps: usize,
     /// Smoothing time step, in units of the mean edge length squared.
-    #[arg(long, default_value_t = 2.0, value_name = "TAU")]
+    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_SMOOTH_TIME, value_name = "TAU")]
     pub smooth_time: f64,
-    /// Keep connected lines whose strength ∫|k| ds (dimensionless) is at least this.
-    #[arg(long, default_value_t = 2.0, value_name = "T")]
+    /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
+    /// ∫ |k_min| ds for valleys) is at least this.
+    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_THRESHOLD, value_name = "T")]
     pub threshold: f64,
     /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
     #[arg(long, default_value_t = 0, value_name = "N")]
@@ -116,12 +106,8 @@ pub fn trace_loaded(
         ),
     };
     let tracer = ExtremalityTracer {
-        estimator: args.estimator.estimator(),
-        kinds: match args.kind {
-            KindChoice::Ridges => Kinds::Ridges,
-            KindChoice::Valleys => Kinds::Valleys,
-            KindChoice::Both => Kinds::Both,
-        },
+        estimator: args.estimator.build(),
+        kinds: args.kind,
         smooth_steps: args.smooth_steps,
         smooth_time: args.smooth_time,
         threshold: args.threshold,

@@ -9,7 +9,12 @@ pub enum Error {
     /// A problem tied to a file: it could not be read or written, or its content is
     /// malformed. The message names the line or element where that is known.
     #[error("{}: {message}", path.display())]
-    File { path: PathBuf, message: String },
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        message: String,
+    },
     /// Malformed content read from a stream with no file name (yet). Readers return
     /// this and [`crate::io::read_mesh`] turns it into [`Error::File`].
     #[error("{0}")]
@@ -32,6 +37,15 @@ impl Error {
             },
             other => other,
         }
+    }
+
+    /// `name` is not one of the `known` names of a `what` (an estimator, a line
+    /// kind, ...).
+    pub fn unknown_name(what: &str, name: &str, known: &[&str]) -> Error {
+        Error::Argument(format!(
+            "unknown {what} '{name}'; expected one of: {}",
+            known.join(", ")
+        ))
     }
 
     /// An I/O failure on `path`.

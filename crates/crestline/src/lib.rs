@@ -19,7 +19,9 @@
 //! - Bad input is an [`Error`] naming the file and what is wrong, never a panic; output
 //!   files are written under a temporary name and renamed on success.
 
+pub mod atomic;
 pub mod curvature;
+pub mod differential;
 pub mod draw;
 pub mod error;
 pub mod io;
@@ -27,6 +29,7 @@ pub mod linalg;
 pub mod lines;
 pub mod mesh;
 pub mod morse;
+mod named;
 pub mod progress;
 pub mod ridges;
 

@@ -1,7 +1,7 @@
 //! Sparse symmetric positive definite systems for the implicit smoothing steps of
 //! the ridge pipeline (Hildebrandt et al. 2005, §5.1):
 //!
-//! - curvature-tensor smoothing `(M + t K) e' = M e`, one matrix for many steps and
+//! - extremality smoothing `(M + t K) e' = M e`, one matrix for many steps and
 //!   many right-hand sides: factor once with [`CholeskyFactor::new`], then solve
 //!   repeatedly;
 //! - surface smoothing `(M + t L) x' = M x`, where the matrix changes every step but

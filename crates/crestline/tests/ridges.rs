@@ -6,13 +6,14 @@ mod common;
 
 use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
+use crestline::lines::chain;
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
 use crestline::ridges::extremality::{extremality, regular_faces, Principal};
 use crestline::ridges::smoothing::smooth_extremality;
 use crestline::ridges::trace::{trace, Extremality};
-use crestline::ridges::{chain, ExtremalityTracer};
+use crestline::ridges::ExtremalityTracer;
 use crestline::{Point, Vector};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use rand::rngs::StdRng;

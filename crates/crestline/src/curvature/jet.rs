@@ -1,4 +1,4 @@
-//! Curvature from a local least-squares fit of a cubic height function (a 3-jet,
+//! Curvature from a local least-squares fit of a quartic height function (a 4-jet,
 //! in the manner of Cazals and Pouget, "Estimating differential quantities using
 //! polynomial fitting of osculating jets", 2003).
 
@@ -10,12 +10,13 @@ use crate::{Result, Vector};
 
 use super::{implicit_curvature, tangent_basis, CurvatureEstimator, CurvatureField};
 
-/// Fits z = f(x, y), a polynomial of degree 3, to the vertices of a neighbourhood
-/// of rings around each vertex, in the frame of the vertex's area-weighted normal,
-/// and takes the curvature of the fitted graph at the vertex. The neighbourhood
-/// grows ring by ring until it holds `min_points` vertices (or `max_rings` rings);
-/// where fewer than 10 points are found, a quadric (degree 2) is fitted, and with
-/// fewer than 6 the vertex is flagged unreliable.
+/// Fits z = f(x, y), a polynomial of degree 4 (unweighted least squares), to the
+/// vertices of a neighbourhood of rings around each vertex, in the frame of the
+/// vertex's area-weighted normal, and takes the curvature of the fitted graph at the
+/// vertex. The neighbourhood grows ring by ring until it holds `min_points` vertices
+/// (or `max_rings` rings); where fewer than 15 points are found (or they do not
+/// determine the quartic), a cubic (10 points) or a quadric (6 points) is fitted,
+/// and with fewer than 6 the vertex is flagged unreliable.
 ///
 /// Error on a smooth surface sampled with spacing h is O(h²), independent of the
 /// triangulation's regularity, unlike the discrete shape operator.

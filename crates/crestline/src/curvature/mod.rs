@@ -8,119 +8,25 @@
 //! - [`ShapeOperator`] (the default): the edge-based discrete shape operator of
 //!   Hildebrandt, Polthier and Wardetzky (2005), §3. Linear in the number of edges
 //!   and parallel; accurate on regular meshes, noisier on irregular ones.
-//! - [`JetFit`]: a weighted least-squares cubic fit (a 3-jet in the sense of Cazals
-//!   and Pouget) over an adaptive neighbourhood of rings. Accurate on irregular
+//! - [`JetFit`]: an unweighted least-squares quartic fit (a 4-jet in the sense of
+//!   Cazals and Pouget) over an adaptive neighbourhood of rings. Accurate on irregular
 //!   meshes; use it where the mesh has many 3- and 4-valent vertices or strongly
 //!   varying triangle sizes.
 
 mod accuracy;
+mod choice;
 mod field;
 mod jet;
 mod output;
 mod shape_operator;
 
 pub use accuracy::relative_rms_error;
+pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply};
 pub use shape_operator::ShapeOperator;
 
-use nalgebra::Matrix3;
-
-use crate::Vector;
-
-/// Principal curvatures and unit principal directions at one point. `(d_max, d_min,
-/// normal)` is a right-handed orthonormal frame; directions are defined up to sign.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PrincipalCurvatures {
-    pub k_max: f64,
-    pub k_min: f64,
-    pub d_max: Vector,
-    pub d_min: Vector,
-}
-
-impl PrincipalCurvatures {
-    /// Mean curvature H = (k_max + k_min) / 2.
-    pub fn mean(&self) -> f64 {
-        0.5 * (self.k_max + self.k_min)
-    }
-
-    /// Gaussian curvature K = k_max k_min.
-    pub fn gauss(&self) -> f64 {
-        self.k_max * self.k_min
-    }
-
-    /// Eigenpairs of a symmetric shape operator `op` restricted to the tangent plane
-    /// of the unit `normal`: the 2×2 matrix ⟨t_i, op t_j⟩ in an orthonormal tangent
-    /// basis is diagonalised in closed form. Using the tangent plane (rather than
-    /// picking two of the 3×3 eigenvectors) stays well defined on flat and umbilic
-    /// points.
-    pub fn from_tangent_operator(op: &Matrix3<f64>, normal: &Vector) -> Self {
-        let (t1, t2) = tangent_basis(normal);
-        let (op_t1, op_t2) = (op * t1, op * t2);
-        let a = t1.dot(&op_t1);
-        let b = 0.5 * (t1.dot(&op_t2) + t2.dot(&op_t1));
-        let c = t2.dot(&op_t2);
-        let (k_max, k_min, [u, w]) = symmetric_2x2_eigen(a, b, c);
-        let d_max = t1 * u + t2 * w;
-        PrincipalCurvatures {
-            k_max,
-            k_min,
-            d_max,
-            d_min: normal.cross(&d_max),
-        }
-    }
-}
-
-/// An orthonormal basis `(t1, t2)` of the plane orthogonal to the unit vector `n`,
-/// with `(t1, t2, n)` right-handed.
-pub fn tangent_basis(n: &Vector) -> (Vector, Vector) {
-    // Cross with the coordinate axis least aligned with n: never near-parallel.
-    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
-        Vector::x()
-    } else if n.y.abs() <= n.z.abs() {
-        Vector::y()
-    } else {
-        Vector::z()
-    };
-    let t1 = n.cross(&axis).normalize();
-    (t1, n.cross(&t1))
-}
-
-/// Eigenvalues `λ1 ≥ λ2` of `[[a, b], [b, c]]` and a unit eigenvector of `λ1`
-/// (`[1, 0]` when the matrix is a multiple of the identity).
-pub fn symmetric_2x2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, [f64; 2]) {
-    let mean = 0.5 * (a + c);
-    let half_gap = 0.5 * (a - c);
-    let radius = (half_gap * half_gap + b * b).sqrt();
-    // (A − λ2 I) has the λ1-eigenvector in its columns: take the longer one.
-    let (column_1, column_2) = ([half_gap + radius, b], [b, radius - half_gap]);
-    let norm = |v: [f64; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
-    let longer = if norm(column_1) >= norm(column_2) {
-        column_1
-    } else {
-        column_2
-    };
-    let length = norm(longer);
-    let direction = if length > 0.0 {
-        [longer[0] / length, longer[1] / length]
-    } else {
-        [1.0, 0.0]
-    };
-    (mean + radius, mean - radius, direction)
-}
-
-/// Principal curvatures of the implicit surface F = 0 at a point where ∇F =
-/// `gradient` and the Hessian of F is `hessian`, with outward normal n = ∇F/|∇F|:
-/// the shape operator is W = P H P / |∇F| with P = I − n nᵀ, restricted to the
-/// tangent plane. Returns the curvatures and n.
-pub fn implicit_curvature(
-    gradient: &Vector,
-    hessian: &Matrix3<f64>,
-) -> (PrincipalCurvatures, Vector) {
-    let norm = gradient.norm();
-    let n = gradient / norm;
-    let projector = Matrix3::identity() - n * n.transpose();
-    let shape = projector * hessian * projector / norm;
-    (PrincipalCurvatures::from_tangent_operator(&shape, &n), n)
-}
+pub use crate::differential::{
+    implicit_curvature, symmetric_2x2_eigen, tangent_basis, PrincipalCurvatures,
+};

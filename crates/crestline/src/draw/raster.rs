@@ -5,7 +5,7 @@ use std::path::Path;
 
 use resvg::{tiny_skia, usvg};
 
-use crate::io::atomic::write_atomically;
+use crate::atomic::write_atomically;
 use crate::{Error, Result};
 
 /// Render the SVG text `svg` at its own size into PNG bytes. Errors are

@@ -4,20 +4,21 @@
 
 use rayon::prelude::*;
 
+use crate::lines::chain::chain;
+use crate::lines::zero_set::{LinePoint, ZeroSet};
 use crate::lines::{FeatureLines, LineKind, Polyline};
-use crate::mesh::{EdgeId, Mesh};
-use crate::ridges::chain::chain;
-use crate::ridges::trace::LinePoint;
+use crate::mesh::Mesh;
 use crate::Point;
 
 use super::camera::Camera;
 
 /// The silhouettes of `mesh` seen by `camera`, as [`LineKind::Silhouette`] lines
 /// lying on the mesh edges. Per vertex g = n_v · (eye − p_v) (n_v the angle-weighted
-/// vertex normal; the eye direction in orthographic projection); the contour crosses
-/// every edge whose ends differ in sign, at the linear zero, and joins the two
-/// crossings of each triangle. Lines shorter than `min_length` mean edge lengths are
-/// dropped; a line's strength is its length in mean edge lengths.
+/// vertex normal; the eye direction in orthographic projection); the contour is the
+/// zero set of g ([`ZeroSet`]: it crosses every edge whose ends differ in sign, at
+/// the linear zero, and joins the two crossings of each triangle). Lines shorter
+/// than `min_length` mean edge lengths are dropped; a line's strength is its length
+/// in mean edge lengths.
 ///
 /// The result says nothing about visibility: back-facing parts of the contour are
 /// hidden later, with the feature lines.
@@ -30,49 +31,28 @@ pub fn silhouettes(mesh: &Mesh, camera: &Camera, min_length: f64) -> FeatureLine
             normals[v.idx()].dot(&camera.toward_viewer(&p))
         })
         .collect();
-    let crossing = |e: EdgeId| -> Option<f64> {
-        let [a, b] = mesh.edge_vertices(e).map(|v| facing[v.idx()]);
-        ((a >= 0.0) != (b >= 0.0)).then(|| a / (a - b))
-    };
-    let segments: Vec<[LinePoint; 2]> = mesh
-        .par_faces()
-        .filter_map(|f| {
-            let crossed: Vec<EdgeId> = mesh
-                .face_halfedges(f)
-                .iter()
-                .map(|&h| mesh.edge(h))
-                .filter(|&e| crossing(e).is_some())
-                .collect();
-            match crossed[..] {
-                [first, second] => Some([LinePoint::Edge(first), LinePoint::Edge(second)]),
-                _ => None,
-            }
-        })
+    let zero_set = ZeroSet::new(facing);
+    let segments: Vec<[LinePoint; 2]> = zero_set
+        .face_segments(mesh, |_, _| true)
+        .into_iter()
+        .flatten()
+        .map(|[a, b]| [LinePoint::Edge(a), LinePoint::Edge(b)])
         .collect();
     let h = mesh.mean_edge_length();
-    let locate = |point: LinePoint| -> (Point, f64) {
-        let position = match point {
-            LinePoint::Edge(e) => {
-                let [a, b] = mesh.edge_vertices(e).map(|v| mesh.position(v));
-                a + (b - a) * crossing(e).unwrap_or(0.0)
-            }
-            LinePoint::Face(f) => {
-                let [a, b, c] = mesh.face_points(f);
-                Point::from((a.coords + b.coords + c.coords) / 3.0)
-            }
-        };
-        (position, 1.0 / h)
-    };
+    let locate = |point: LinePoint| (zero_set.location(mesh, point).position(mesh), 1.0 / h);
     let mut lines = FeatureLines::new(String::new());
     for piece in chain(&segments, locate, min_length) {
-        let points: Vec<Point> = piece.points.iter().map(|&p| locate(p).0).collect();
+        let locations: Vec<_> = piece
+            .points
+            .iter()
+            .map(|&p| zero_set.location(mesh, p))
+            .collect();
+        let points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
         if points.len() >= if piece.closed { 3 } else { 2 } {
-            lines.push(Polyline::new(
-                LineKind::Silhouette,
-                piece.closed,
-                piece.strength,
-                points,
-            ));
+            lines.push(
+                Polyline::new(LineKind::Silhouette, piece.closed, piece.strength, points)
+                    .with_locations(locations),
+            );
         }
     }
     lines

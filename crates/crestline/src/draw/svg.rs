@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
-use crate::io::atomic::write_atomically;
+use crate::atomic::write_atomically;
 use crate::Result;
 
 use super::style::{group_name, KindStyle, Style};

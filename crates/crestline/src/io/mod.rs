@@ -10,9 +10,8 @@
 //! formats) where the file goes wrong.
 //!
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; like every writer of
-//! the crate they go through [`atomic::write_atomically`].
+//! the crate they go through [`crate::atomic::write_atomically`].
 
-pub mod atomic;
 mod obj;
 mod off;
 mod ply;

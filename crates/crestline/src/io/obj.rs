@@ -103,7 +103,7 @@ fn face_corner(token: &str, defined: usize) -> std::result::Result<u32, String> 
 /// so reading the file back gives the same coordinates) and one 1-based `f a b c`
 /// line per triangle. The file is written atomically.
 pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<()> {
-    super::atomic::write_atomically(path, |w| {
+    crate::atomic::write_atomically(path, |w| {
         for p in mesh.positions() {
             writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
         }

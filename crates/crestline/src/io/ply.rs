@@ -541,7 +541,7 @@ fn write_f32(w: &mut impl Write, value: f64) -> std::io::Result<()> {
 /// vertex, or its name is empty, contains white space or repeats another property.
 pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<()> {
     let header = ply_header(mesh, attributes)?;
-    super::atomic::write_atomically(path, |w| {
+    crate::atomic::write_atomically(path, |w| {
         w.write_all(header.as_bytes())?;
         for (v, p) in mesh.positions().iter().enumerate() {
             p.coords

@@ -1,14 +1,37 @@
-//! The extractor trait every feature-line method implements.
+//! The extractor trait every feature-line method implements, and the inputs it
+//! can take.
 
+use crate::curvature::CurvatureField;
 use crate::mesh::Mesh;
 use crate::Result;
 
 use super::FeatureLines;
 
-/// A method that finds feature lines on a mesh (e.g. extremality tracing or the
-/// Morse-Smale complex). Implement it to plug a custom method into every consumer
-/// of lines (writers, drawings).
-pub trait LineExtractor {
-    /// Find the feature lines of `mesh`.
-    fn extract(&self, mesh: &Mesh) -> Result<FeatureLines>;
+/// A method that finds feature lines on an input: a [`Mesh`] by default, or a
+/// surface that carries what the method needs ([`SurfaceWithCurvature`],
+/// [`SurfaceWithValues`]), and next a volume. Implement it to plug a custom method
+/// into every consumer of lines (filters, writers, drawings).
+pub trait LineExtractor<Input: ?Sized = Mesh> {
+    /// Find the feature lines of `input`.
+    fn extract(&self, input: &Input) -> Result<FeatureLines>;
+}
+
+/// A mesh with principal curvatures computed elsewhere (e.g. from the derivatives
+/// of an image, or by a custom estimator), for extractors that need curvature.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceWithCurvature<'a> {
+    /// The surface.
+    pub mesh: &'a Mesh,
+    /// Its curvature, one entry per vertex.
+    pub curvature: &'a CurvatureField,
+}
+
+/// A mesh with one scalar per vertex (an indicator of features), for extractors
+/// that work on a scalar field.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceWithValues<'a> {
+    /// The surface.
+    pub mesh: &'a Mesh,
+    /// One value per vertex.
+    pub values: &'a [f64],
 }

@@ -16,12 +16,17 @@
 //! temporary name and renames on success
 //! ([`write_atomically`]).
 
+pub mod chain;
 mod extractor;
+pub mod fair;
 mod indexing;
 mod json;
+mod location;
 mod obj;
+mod pipeline;
 mod ply;
 mod vtk;
+pub mod zero_set;
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -30,12 +35,14 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::io::atomic::write_atomically;
+use crate::atomic::write_atomically;
 use crate::{Error, Point, Result};
 
-pub use extractor::LineExtractor;
+pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
+pub use location::SurfaceLocation;
 pub use obj::write_obj;
+pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
 pub use vtk::write_vtk;
 
@@ -114,7 +121,8 @@ impl std::fmt::Display for LineKind {
     }
 }
 
-/// One feature line: a sequence of points with a kind, a closed flag and a strength.
+/// One feature line: a sequence of points with a kind, a closed flag and a strength,
+/// and optionally where each point lies on the surface and named values per point.
 ///
 /// A closed polyline does **not** repeat its first point at the end: the segment from
 /// the last point back to the first is implied by `closed`. Writers need at least two
@@ -132,6 +140,14 @@ pub struct Polyline {
     /// The points in order, without a repeated first point for closed lines.
     #[serde(with = "json::point_arrays")]
     pub points: Vec<Point>,
+    /// Where each point lies on the surface it was traced on (one per point), or
+    /// empty when unknown.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub locations: Vec<SurfaceLocation>,
+    /// Named per-point values (e.g. `"k_max"`), each with one value per point. Names
+    /// are ASCII letters, digits and underscores.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub values: BTreeMap<String, Vec<f64>>,
 }
 
 impl Polyline {
@@ -142,7 +158,21 @@ impl Polyline {
             closed,
             strength,
             points,
+            locations: Vec::new(),
+            values: BTreeMap::new(),
         }
+    }
+
+    /// The line with the surface location of each point.
+    pub fn with_locations(mut self, locations: Vec<SurfaceLocation>) -> Polyline {
+        self.locations = locations;
+        self
+    }
+
+    /// The line with one more named per-point value.
+    pub fn with_values(mut self, name: &str, values: Vec<f64>) -> Polyline {
+        self.values.insert(name.to_string(), values);
+        self
     }
 
     /// The segments in order, including the closing segment (last point to first)
@@ -161,6 +191,28 @@ impl Polyline {
     /// The length of the line, including the closing segment if it is closed.
     pub fn length(&self) -> f64 {
         self.segments().map(|(a, b)| (b - a).norm()).sum()
+    }
+
+    /// Why the locations or named values of the line cannot be written, if they
+    /// cannot: a length other than the number of points, a bad name, or a value for
+    /// which `fits` is false.
+    fn per_point_problem(&self, fits: &impl Fn(f64) -> bool, what: &str) -> Option<String> {
+        let n = self.points.len();
+        if !self.locations.is_empty() && self.locations.len() != n {
+            return Some(format!("{} locations for {n} points", self.locations.len()));
+        }
+        self.values.iter().find_map(|(name, values)| {
+            if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+                return Some(format!(
+                    "value name {name:?} is not letters, digits and '_'"
+                ));
+            }
+            if values.len() != n {
+                return Some(format!("{} values of {name} for {n} points", values.len()));
+            }
+            let (p, v) = values.iter().enumerate().find(|(_, &v)| !fits(v))?;
+            Some(format!("point {p} has {name} {v}, which is {what}"))
+        })
     }
 
     /// The fewest points a writable line needs: three if closed, two if open.
@@ -273,11 +325,15 @@ impl FeatureLines {
                     line.points.len()
                 ));
             }
-            line.points.iter().enumerate().find_map(|(p, point)| {
+            let coordinate = line.points.iter().enumerate().find_map(|(p, point)| {
                 point
                     .iter()
                     .find(|&&v| !fits(v))
                     .map(|v| format!("line {index}: point {p} has coordinate {v}, which is {what}"))
+            });
+            coordinate.or_else(|| {
+                line.per_point_problem(&fits, what)
+                    .map(|m| format!("line {index}: {m}"))
             })
         })
     }

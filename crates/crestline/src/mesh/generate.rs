@@ -16,7 +16,7 @@ use rand::{Rng, SeedableRng};
 use spade::{DelaunayTriangulation, Triangulation};
 
 use super::{Mesh, TriangleSoup};
-use crate::curvature::{implicit_curvature, tangent_basis, PrincipalCurvatures};
+use crate::differential::{implicit_curvature, tangent_basis, PrincipalCurvatures};
 use crate::{Point, Result, Vector};
 
 /// How the vertices of a generated surface are placed.

@@ -24,6 +24,11 @@ pub enum Criterion {
     Persistence,
 }
 
+crate::named::named!(Criterion, "criterion", {
+    Feature => "feature",
+    Persistence => "persistence",
+});
+
 /// Which extremum a cancellation removes: the minimum or maximum at the end of
 /// branch `0` or `1` of the saddle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

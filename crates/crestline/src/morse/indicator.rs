@@ -1,6 +1,8 @@
 //! The scalar field whose Morse-Smale complex gives the feature lines (Sahner et
 //! al. 2008, §3.1).
 
+use std::str::FromStr;
+
 use crate::curvature::{estimate_curvature, CurvatureEstimator};
 use crate::mesh::Mesh;
 use crate::{Error, Result};
@@ -21,9 +23,9 @@ pub enum Indicator {
 
 impl Indicator {
     /// The indicator's value at every vertex, estimating curvature with `estimator`
-    /// where needed. Errors if a named property is missing or not finite.
+    /// where needed. Errors if a named property is missing.
     pub fn values(&self, mesh: &Mesh, estimator: &dyn CurvatureEstimator) -> Result<Vec<f64>> {
-        let values = match self {
+        Ok(match self {
             Indicator::Property(name) => mesh
                 .vertex_scalar(name)
                 .ok_or_else(|| {
@@ -50,12 +52,21 @@ impl Indicator {
                     _ => field.curvedness(),
                 }
             }
-        };
-        match values.iter().position(|x| !x.is_finite()) {
-            Some(v) => Err(Error::Mesh(format!(
-                "the indicator is not finite at vertex {v}"
-            ))),
-            None => Ok(values),
-        }
+        })
+    }
+}
+
+impl FromStr for Indicator {
+    type Err = Error;
+
+    /// `curvedness`, `kmax`, `kmin`, or else the name of a vertex property.
+    fn from_str(name: &str) -> Result<Indicator> {
+        Ok(match name {
+            "curvedness" => Indicator::Curvedness,
+            "kmax" => Indicator::KMax,
+            "kmin" => Indicator::KMin,
+            "" => return Err(Error::Argument("the indicator needs a name".into())),
+            property => Indicator::Property(property.to_string()),
+        })
     }
 }

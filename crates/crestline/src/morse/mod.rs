@@ -26,10 +26,10 @@ mod output;
 use std::sync::Arc;
 
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
-use crate::lines::{FeatureLines, LineExtractor};
+use crate::lines::{FeatureLines, LineExtractor, SurfaceWithValues};
 use crate::mesh::Mesh;
 use crate::progress::{stage, Observer, Silent};
-use crate::Result;
+use crate::{Error, Result};
 
 pub use cancel::{Cancellation, Criterion};
 pub use indicator::Indicator;
@@ -50,8 +50,11 @@ pub struct MorseSmale {
     /// Estimator for curvature indicators ([`ShapeOperator`] by default; on irregular
     /// meshes its spikes become long-lived maxima: prefer the jet fit there).
     pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
+    /// The scalar field whose complex is built.
     pub indicator: Indicator,
+    /// How saddles are ranked for cancellation.
     pub criterion: Criterion,
+    /// How far to simplify.
     pub simplification: Simplification,
     /// Which 1-cells to output.
     pub cells: Cells,
@@ -68,7 +71,7 @@ impl Default for MorseSmale {
             estimator: Arc::new(ShapeOperator),
             indicator: Indicator::Curvedness,
             criterion: Criterion::Feature,
-            simplification: Simplification::KeepSaddles(100),
+            simplification: Simplification::KeepSaddles(Self::DEFAULT_KEEP_SADDLES),
             cells: Cells::Ascending,
             hide_forced: true,
             smooth_iterations: 0,
@@ -79,15 +82,20 @@ impl Default for MorseSmale {
 /// Counts of critical points.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct CriticalCounts {
+    /// Minima (vertices).
     pub minima: usize,
+    /// Saddles (edges).
     pub saddles: usize,
+    /// Maxima (faces).
     pub maxima: usize,
 }
 
 /// What a run produced besides the lines.
 #[derive(Clone, Debug)]
 pub struct MorseSummary {
+    /// Critical points of the initial gradient.
     pub initial: CriticalCounts,
+    /// Critical points after the cancellations.
     pub after: CriticalCounts,
     /// The cancellation sequence.
     pub hierarchy: Vec<Cancellation>,
@@ -99,9 +107,20 @@ impl LineExtractor for MorseSmale {
     }
 }
 
+impl LineExtractor<SurfaceWithValues<'_>> for MorseSmale {
+    fn extract(&self, surface: &SurfaceWithValues<'_>) -> Result<FeatureLines> {
+        Ok(self
+            .run_with_values(surface.mesh, surface.values.to_vec(), &mut Silent)?
+            .0)
+    }
+}
+
 impl MorseSmale {
-    /// Build, simplify and output the complex of `mesh`, recording stage timings
-    /// in `report`.
+    /// Default number of saddles kept by [`Simplification::KeepSaddles`].
+    pub const DEFAULT_KEEP_SADDLES: usize = 100;
+
+    /// Compute the [`Self::indicator`] of `mesh`, then build, simplify and output its
+    /// complex ([`Self::run_with_values`]), telling `observer` each stage.
     pub fn run(
         &self,
         mesh: &Mesh,
@@ -110,6 +129,19 @@ impl MorseSmale {
         let values = stage(observer, "indicator", || {
             self.indicator.values(mesh, self.estimator.as_ref())
         })?;
+        self.run_with_values(mesh, values, observer)
+    }
+
+    /// Build, simplify and output the complex of `values` (one finite value per
+    /// vertex of `mesh`, e.g. an indicator computed elsewhere); [`Self::indicator`]
+    /// and [`Self::estimator`] are not used.
+    pub fn run_with_values(
+        &self,
+        mesh: &Mesh,
+        values: Vec<f64>,
+        observer: &mut dyn Observer,
+    ) -> Result<(FeatureLines, MorseSummary)> {
+        check_values(mesh, &values)?;
         let keys = gradient::Keys::new(mesh, values);
         let gradient = stage(observer, "gradient", || {
             gradient::Gradient::new(mesh, &keys)
@@ -136,7 +168,9 @@ impl MorseSmale {
             saddles: hierarchy.saddle_count(),
             maxima,
         };
-        let lines = stage(observer, "lines", || output::lines(mesh, &hierarchy, self));
+        let lines = stage(observer, "lines", || {
+            output::lines(mesh, &keys.vertex, &hierarchy, self)
+        });
         let summary = MorseSummary {
             initial,
             after,
@@ -157,5 +191,23 @@ impl MorseSmale {
             }
             count += 1;
         }
+    }
+}
+
+/// One finite value per vertex, or an error saying what is wrong.
+fn check_values(mesh: &Mesh, values: &[f64]) -> Result<()> {
+    if values.len() != mesh.vertex_count() {
+        return Err(Error::Argument(format!(
+            "{} values for the {} vertices of the mesh",
+            values.len(),
+            mesh.vertex_count()
+        )));
+    }
+    match values.iter().position(|x| !x.is_finite()) {
+        Some(v) => Err(Error::Argument(format!(
+            "the value at vertex {v} is {}, not a finite number",
+            values[v]
+        ))),
+        None => Ok(()),
     }
 }

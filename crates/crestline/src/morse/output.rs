@@ -1,8 +1,8 @@
 //! The 1-cells of the simplified complex as feature lines.
 
-use crate::lines::{FeatureLines, LineKind, Polyline};
+use crate::lines::fair::fair_polyline;
+use crate::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
-use crate::ridges::fair::fair_polyline;
 use crate::Point;
 
 use super::cancel::Hierarchy;
@@ -16,14 +16,28 @@ pub enum Cells {
     Ascending,
     /// Saddle-to-minimum lines: troughs of the indicator.
     Descending,
+    /// Both.
     Both,
 }
+
+crate::named::named!(Cells, "cells", {
+    Ascending => "ascending",
+    Descending => "descending",
+    Both => "both",
+});
 
 /// The live saddles' 1-cells, strongest first; each branch stops where it joins a
 /// line already drawn (including that point), so shared tails appear once. The
 /// strength of a line is its saddle's significance. Ascending lines pass through
-/// triangle centroids and the midpoints of the edges between them.
-pub fn lines(mesh: &Mesh, hierarchy: &Hierarchy<'_>, config: &MorseSmale) -> FeatureLines {
+/// triangle centroids and the midpoints of the edges between them, descending lines
+/// through vertices; each point keeps that location and the indicator there
+/// (`"indicator"`), unless the lines are faired off the surface.
+pub fn lines(
+    mesh: &Mesh,
+    values: &[f64],
+    hierarchy: &Hierarchy<'_>,
+    config: &MorseSmale,
+) -> FeatureLines {
     let last_t = hierarchy
         .cancelled
         .last()
@@ -55,22 +69,47 @@ pub fn lines(mesh: &Mesh, hierarchy: &Hierarchy<'_>, config: &MorseSmale) -> Fea
             let points = descending_points(mesh, hierarchy, saddle.vertices, &mut drawn_vertices);
             polylines.push((LineKind::Descending, points));
         }
-        for (kind, mut points) in polylines {
-            fair_polyline(&mut points, false, config.smooth_iterations, h);
-            lines.push(Polyline::new(kind, false, strength, points));
+        for (kind, locations) in polylines {
+            lines.push(polyline(mesh, values, kind, strength, locations, config, h));
         }
     }
     lines
 }
 
-fn centroid(mesh: &Mesh, f: FaceId) -> Point {
-    let [a, b, c] = mesh.face_points(f).map(|p| p.coords);
-    Point::from((a + b + c) / 3.0)
+/// One output line through `locations`: faired if asked (then its points leave the
+/// surface and keep no locations), else with the indicator at every point.
+fn polyline(
+    mesh: &Mesh,
+    values: &[f64],
+    kind: LineKind,
+    strength: f64,
+    locations: Vec<SurfaceLocation>,
+    config: &MorseSmale,
+    h: f64,
+) -> Polyline {
+    let mut points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
+    if config.smooth_iterations > 0 {
+        fair_polyline(&mut points, false, config.smooth_iterations, h);
+        return Polyline::new(kind, false, strength, points);
+    }
+    let indicator = locations
+        .iter()
+        .map(|at| at.interpolate(mesh, values))
+        .collect();
+    Polyline::new(kind, false, strength, points)
+        .with_values("indicator", indicator)
+        .with_locations(locations)
 }
 
-fn midpoint(mesh: &Mesh, e: EdgeId) -> Point {
-    let [a, b] = mesh.edge_vertices(e).map(|v| mesh.position(v));
-    nalgebra::center(&a, &b)
+fn centroid(f: FaceId) -> SurfaceLocation {
+    SurfaceLocation::Face {
+        face: f.0,
+        barycentric: [1.0 / 3.0; 3],
+    }
+}
+
+fn midpoint(e: EdgeId) -> SurfaceLocation {
+    SurfaceLocation::Edge { edge: e.0, t: 0.5 }
 }
 
 /// Follow the gradient from `start` with `step`, collecting `node_point` of every
@@ -81,9 +120,9 @@ fn walk<N: Copy>(
     drawn: &mut [bool],
     index: impl Fn(N) -> usize,
     step: impl Fn(N) -> Option<(EdgeId, N)>,
-    node_point: impl Fn(N) -> Point,
-    edge_point: impl Fn(EdgeId) -> Option<Point>,
-) -> Vec<Point> {
+    node_point: impl Fn(N) -> SurfaceLocation,
+    edge_point: impl Fn(EdgeId) -> Option<SurfaceLocation>,
+) -> Vec<SurfaceLocation> {
     let mut points = Vec::new();
     let mut current = start;
     loop {
@@ -101,14 +140,19 @@ fn walk<N: Copy>(
 }
 
 /// Centroids and crossed-edge midpoints from `start` up to its maximum.
-fn strip(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: FaceId, drawn: &mut [bool]) -> Vec<Point> {
+fn strip(
+    mesh: &Mesh,
+    hierarchy: &Hierarchy<'_>,
+    start: FaceId,
+    drawn: &mut [bool],
+) -> Vec<SurfaceLocation> {
     walk(
         start,
         drawn,
         FaceId::idx,
         |f| hierarchy.gradient.face_step(mesh, f),
-        |f| centroid(mesh, f),
-        |e| Some(midpoint(mesh, e)),
+        centroid,
+        |e| Some(midpoint(e)),
     )
 }
 
@@ -120,7 +164,7 @@ fn ascending_points(
     faces: [FaceId; 2],
     edge: EdgeId,
     drawn: &mut [bool],
-) -> Vec<Point> {
+) -> Vec<SurfaceLocation> {
     let [first, second] = faces.map(|f| {
         if f.is_valid() {
             strip(mesh, hierarchy, f, drawn)
@@ -128,20 +172,25 @@ fn ascending_points(
             Vec::new()
         }
     });
-    let mut points: Vec<Point> = first.into_iter().rev().collect();
-    points.push(midpoint(mesh, edge));
+    let mut points: Vec<SurfaceLocation> = first.into_iter().rev().collect();
+    points.push(midpoint(edge));
     points.extend(second);
     points
 }
 
 /// The vertex path from `start` down to its minimum.
-fn path(mesh: &Mesh, hierarchy: &Hierarchy<'_>, start: VertexId, drawn: &mut [bool]) -> Vec<Point> {
+fn path(
+    mesh: &Mesh,
+    hierarchy: &Hierarchy<'_>,
+    start: VertexId,
+    drawn: &mut [bool],
+) -> Vec<SurfaceLocation> {
     walk(
         start,
         drawn,
         VertexId::idx,
         |v| hierarchy.gradient.vertex_step(mesh, v),
-        |v| mesh.position(v),
+        |v| SurfaceLocation::Vertex { vertex: v.0 },
         |_| None,
     )
 }
@@ -152,7 +201,7 @@ fn descending_points(
     hierarchy: &Hierarchy<'_>,
     ends: [VertexId; 2],
     drawn: &mut [bool],
-) -> Vec<Point> {
+) -> Vec<SurfaceLocation> {
     let [first, second] = ends.map(|v| path(mesh, hierarchy, v, drawn));
     first.into_iter().rev().chain(second).collect()
 }

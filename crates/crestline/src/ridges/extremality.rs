@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
+use crate::lines::zero_set::direction_sign;
 use crate::mesh::{FaceId, Mesh};
 use crate::Vector;
 
@@ -11,7 +12,9 @@ use crate::Vector;
 /// valleys from `Min`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Principal {
+    /// k_max, d_max: ridges.
     Max,
+    /// k_min, d_min: valleys.
     Min,
 }
 
@@ -69,16 +72,6 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
             sum.dot(&d[v.idx()]) / star
         })
         .collect()
-}
-
-/// σ_pq = sign⟨d(p), d(q)⟩ as ±1 (a zero product counts as +1).
-#[inline]
-pub fn direction_sign(d: &[Vector], p: usize, q: usize) -> f64 {
-    if d[p].dot(&d[q]) >= 0.0 {
-        1.0
-    } else {
-        -1.0
-    }
 }
 
 /// Whether face `f` is regular for the direction field `d` (Definition 1): the

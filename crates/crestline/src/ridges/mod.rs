@@ -15,31 +15,43 @@
 //! Ridges are maxima of k_max along its direction (convex crests); valleys are
 //! minima of k_min (concave creases), with outward normals.
 
-pub mod chain;
 pub mod extremality;
-pub mod fair;
 pub mod smoothing;
 pub mod trace;
 
 use std::sync::Arc;
 
 use crate::curvature::{estimate_curvature, CurvatureEstimator, CurvatureField, ShapeOperator};
-use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
+use crate::lines::chain::chain;
+use crate::lines::fair::fair_polyline;
+use crate::lines::zero_set::LinePoint;
+use crate::lines::{
+    FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation, SurfaceWithCurvature,
+};
 use crate::mesh::Mesh;
 use crate::progress::{stage, Observer, Silent};
-use crate::{Error, Point, Result};
+use crate::{Error, Result};
 
 use extremality::{extremality, regular_faces, Principal};
-use trace::{Extremality, LinePoint};
+use trace::Extremality;
 
 /// Which lines to extract.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Kinds {
+    /// Ridges only (maxima of k_max: convex crests).
     Ridges,
+    /// Valleys only (minima of k_min: concave creases).
     Valleys,
+    /// Both.
     #[default]
     Both,
 }
+
+crate::named::named!(Kinds, "line kind", {
+    Ridges => "ridges",
+    Valleys => "valleys",
+    Both => "both",
+});
 
 impl Kinds {
     fn fields(self) -> &'static [Principal] {
@@ -76,12 +88,14 @@ impl Default for Fairing {
 pub struct ExtremalityTracer {
     /// Curvature estimator ([`ShapeOperator`] by default).
     pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
+    /// Which lines to extract.
     pub kinds: Kinds,
     /// Implicit smoothing steps of the extremalities.
     pub smooth_steps: usize,
     /// Time step τ of extremality smoothing, in units of the mean edge length squared.
     pub smooth_time: f64,
-    /// Keep connected lines with ∫ k ds ≥ this (dimensionless).
+    /// Keep connected lines whose strength is at least this (dimensionless): ∫ k_max ds
+    /// for ridges, ∫ |k_min| ds for valleys (Ohtake et al. 2004).
     pub threshold: f64,
     /// Implicit smoothing steps of the surface before curvature estimation; lines
     /// are traced on the smoothed surface and placed back on the input mesh.
@@ -98,14 +112,25 @@ pub struct ExtremalityTracer {
     pub feature_conditions: bool,
 }
 
+impl ExtremalityTracer {
+    /// Default number of implicit smoothing steps of the extremalities.
+    pub const DEFAULT_SMOOTH_STEPS: usize = 3;
+    /// Default smoothing time τ, in units of the mean edge length squared.
+    pub const DEFAULT_SMOOTH_TIME: f64 = 2.0;
+    /// Default strength threshold (dimensionless).
+    pub const DEFAULT_THRESHOLD: f64 = 2.0;
+    /// The most smoothing steps (of the surface or of the extremalities) accepted.
+    pub const MAX_STEPS: usize = 1000;
+}
+
 impl Default for ExtremalityTracer {
     fn default() -> Self {
         ExtremalityTracer {
             estimator: Arc::new(ShapeOperator),
             kinds: Kinds::Both,
-            smooth_steps: 3,
-            smooth_time: 2.0,
-            threshold: 2.0,
+            smooth_steps: Self::DEFAULT_SMOOTH_STEPS,
+            smooth_time: Self::DEFAULT_SMOOTH_TIME,
+            threshold: Self::DEFAULT_THRESHOLD,
             presmooth_steps: 0,
             fairing: None,
             smoothing_weights: None,
@@ -120,9 +145,17 @@ impl LineExtractor for ExtremalityTracer {
     }
 }
 
+impl LineExtractor<SurfaceWithCurvature<'_>> for ExtremalityTracer {
+    fn extract(&self, surface: &SurfaceWithCurvature<'_>) -> Result<FeatureLines> {
+        self.trace_with_curvature(surface.mesh, surface.curvature, &mut Silent)
+    }
+}
+
 impl ExtremalityTracer {
-    /// Extract the lines of `mesh`, recording stage timings, the share of singular
-    /// triangles per field and line counts in `report`.
+    /// Extract the lines of `mesh`: optional presmoothing, curvature by
+    /// [`Self::estimator`], then [`Self::trace_with_curvature`]'s steps. Stage
+    /// timings, the share of singular triangles per field and line counts go to
+    /// `observer`.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
         let smoothed = stage(observer, "presmooth", || self.presmoothed(mesh))?;
@@ -130,7 +163,40 @@ impl ExtremalityTracer {
         let field = stage(observer, "curvature", || {
             estimate_curvature(work, self.estimator.as_ref())
         })?;
-        let h = mesh.mean_edge_length();
+        self.trace_on(work, &field, mesh, observer)
+    }
+
+    /// Extract the lines of `mesh` whose principal curvatures and directions are
+    /// already known (`field`, one entry per vertex, e.g. from image derivatives or a
+    /// custom estimator): extremalities, their smoothing, tracing, chaining, the
+    /// strength filter and fairing. [`Self::estimator`] is not used, and
+    /// presmoothing is an error (it would change the surface the curvature belongs
+    /// to).
+    pub fn trace_with_curvature(
+        &self,
+        mesh: &Mesh,
+        field: &CurvatureField,
+        observer: &mut dyn Observer,
+    ) -> Result<FeatureLines> {
+        self.check()?;
+        if self.presmooth_steps > 0 {
+            return Err(Error::Argument(
+                "presmoothing needs the curvature of the smoothed surface: set presmooth_steps to 0 when the curvature is given".into(),
+            ));
+        }
+        field.check(mesh)?;
+        self.trace_on(mesh, field, mesh, observer)
+    }
+
+    /// The lines of `work` (whose curvature is `field`) placed on `input` (the same
+    /// connectivity, e.g. before presmoothing).
+    fn trace_on(
+        &self,
+        work: &Mesh,
+        field: &CurvatureField,
+        input: &Mesh,
+        observer: &mut dyn Observer,
+    ) -> Result<FeatureLines> {
         let mut lines = FeatureLines::new(String::new());
         let mut smoother = smoothing::ExtremalitySmoother::new(
             work,
@@ -138,19 +204,22 @@ impl ExtremalityTracer {
             self.smoothing_weights.as_deref(),
         )?;
         for &which in self.kinds.fields() {
-            for line in self.trace_field(work, &field, which, mesh, &mut smoother, observer)? {
+            for line in self.trace_field(work, field, which, input, &mut smoother, observer)? {
                 lines.push(line);
             }
         }
         if let Some(fairing) = self.fairing {
+            let h = input.mean_edge_length();
             stage(observer, "fairing", || {
                 for line in &mut lines.lines {
-                    fair::fair_polyline(
+                    fair_polyline(
                         &mut line.points,
                         line.closed,
                         fairing.iterations,
                         fairing.max_distance * h,
                     );
+                    // Faired points leave the surface.
+                    line.locations.clear();
                 }
             });
         }
@@ -176,10 +245,10 @@ impl ExtremalityTracer {
                 return Err(bad("fairing distance", f.max_distance));
             }
         }
-        const MAX_STEPS: usize = 1000;
-        if self.smooth_steps > MAX_STEPS || self.presmooth_steps > MAX_STEPS {
+        if self.smooth_steps > Self::MAX_STEPS || self.presmooth_steps > Self::MAX_STEPS {
             return Err(Error::Argument(format!(
-                "at most {MAX_STEPS} smoothing steps"
+                "at most {} smoothing steps",
+                Self::MAX_STEPS
             )));
         }
         Ok(())
@@ -228,48 +297,40 @@ impl ExtremalityTracer {
         let segments = stage(observer, &format!("{name}: tracing"), || {
             trace::trace(work, field, &ext)
         });
-        let place = |p: LinePoint| place(input, work, field, &ext, p);
+        let locate = |p: LinePoint| ext.zero_set.location(work, p);
+        let integrand = strength_integrand(field, which);
         let chains = stage(observer, &format!("{name}: chaining"), || {
-            chain::chain(&segments, place, self.threshold)
+            let position_and_k = |p: LinePoint| {
+                let at = locate(p);
+                (at.position(input), at.interpolate(work, &integrand))
+            };
+            chain(&segments, position_and_k, self.threshold)
         });
         Ok(chains
             .into_iter()
             .map(|c| {
-                let points = c.points.iter().map(|&p| place(p).0).collect();
+                let locations: Vec<SurfaceLocation> = c.points.iter().map(|&p| locate(p)).collect();
+                let points = locations.iter().map(|at| at.position(input)).collect();
+                let at_points = |values: &[f64]| {
+                    locations
+                        .iter()
+                        .map(|at| at.interpolate(work, values))
+                        .collect()
+                };
                 Polyline::new(kind, c.closed, c.strength, points)
+                    .with_values("k_max", at_points(&field.k_max))
+                    .with_values("k_min", at_points(&field.k_min))
+                    .with_locations(locations)
             })
             .collect())
     }
 }
 
-/// Position of a line point on the input mesh and the strength integrand there
-/// (k_max for ridges, |k_min| for valleys), interpolated from `work`'s curvature.
-fn place(
-    input: &Mesh,
-    work: &Mesh,
-    field: &CurvatureField,
-    ext: &Extremality<'_>,
-    p: LinePoint,
-) -> (Point, f64) {
-    let integrand = |v: usize| match ext.which {
-        Principal::Max => field.k_max[v],
-        Principal::Min => field.k_min[v].abs(),
-    };
-    match p {
-        LinePoint::Edge(e) => {
-            let [a, b] = input.edge_vertices(e);
-            let t = ext.crossing(work, e).unwrap_or(0.5);
-            let point = input.position(a) + (input.position(b) - input.position(a)) * t;
-            (
-                point,
-                (1.0 - t) * integrand(a.idx()) + t * integrand(b.idx()),
-            )
-        }
-        LinePoint::Face(f) => {
-            let corners = input.face_vertices(f);
-            let [a, b, c] = corners.map(|v| input.position(v).coords);
-            let k = corners.iter().map(|v| integrand(v.idx())).sum::<f64>() / 3.0;
-            (Point::from((a + b + c) / 3.0), k)
-        }
+/// The integrand of the strength ∫ k ds per vertex: k_max for ridges, |k_min| for
+/// valleys (Hildebrandt et al. §4, after Ohtake et al. 2004).
+fn strength_integrand(field: &CurvatureField, which: Principal) -> Vec<f64> {
+    match which {
+        Principal::Max => field.k_max.clone(),
+        Principal::Min => field.k_min.iter().map(|k| k.abs()).collect(),
     }
 }

@@ -8,7 +8,7 @@ use crate::linalg::{CholeskyFactor, SymmetricBuilder};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
 
-use super::extremality::direction_sign;
+use crate::lines::zero_set::direction_sign;
 
 /// M + t K for the cotan Laplacian with weights clamped at zero, where the edge
 /// (p, q) enters K as K_pp += c w, K_qq += c w, K_pq = −c w σ_pq with

@@ -1,37 +1,40 @@
 //! Chaining segments into polylines, and the strength filter of Ohtake, Belyaev and
-//! Seidel (2004) as used by Hildebrandt et al. (2005, §4).
+//! Seidel (2004) as used by Hildebrandt et al. (2005, §4). Generic over the key that
+//! names a point (an edge crossing on a mesh, a face centre, a point of a volume
+//! cell): segments that share a key are joined.
 
 use petgraph::unionfind::UnionFind;
 
 use crate::mesh::buckets::Buckets;
 use crate::Point;
 
-use super::trace::LinePoint;
-
 /// A chained line: its points in order, whether it closes on itself, and the
 /// strength of the connected piece it came from.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Chain {
-    pub points: Vec<LinePoint>,
+pub struct Chain<K> {
+    /// The keys of the points, in order (a closed chain does not repeat its first).
+    pub points: Vec<K>,
+    /// Whether the chain is a loop.
     pub closed: bool,
+    /// The strength of the connected piece the chain belongs to.
     pub strength: f64,
 }
 
 /// The segments as a graph on their distinct end points.
-struct Graph {
-    nodes: Vec<LinePoint>,
+struct Graph<K> {
+    nodes: Vec<K>,
     /// Each segment as a pair of node indices.
     segments: Vec<[u32; 2]>,
     /// The segments at each node.
     incident: Buckets,
 }
 
-impl Graph {
-    fn new(segments: &[[LinePoint; 2]]) -> Graph {
-        let mut nodes: Vec<LinePoint> = segments.iter().flatten().copied().collect();
+impl<K: Copy + Ord> Graph<K> {
+    fn new(segments: &[[K; 2]]) -> Graph<K> {
+        let mut nodes: Vec<K> = segments.iter().flatten().copied().collect();
         nodes.sort_unstable();
         nodes.dedup();
-        let index = |p: &LinePoint| nodes.binary_search(p).map_or(0, |i| i as u32);
+        let index = |p: &K| nodes.binary_search(p).map_or(0, |i| i as u32);
         let segments: Vec<[u32; 2]> = segments.iter().map(|s| s.map(|p| index(&p))).collect();
         // Half-segments 2s and 2s + 1 start at the segment's first and second node.
         let starts: Vec<u32> = segments.iter().flatten().copied().collect();
@@ -59,11 +62,11 @@ impl Graph {
 /// are dropped, and the rest split into polylines between nodes whose degree is not
 /// two (ends and junctions); pieces without such nodes are closed loops. Every
 /// polyline carries the strength of its piece.
-pub fn chain(
-    segments: &[[LinePoint; 2]],
-    locate: impl Fn(LinePoint) -> (Point, f64),
+pub fn chain<K: Copy + Ord>(
+    segments: &[[K; 2]],
+    locate: impl Fn(K) -> (Point, f64),
     threshold: f64,
-) -> Vec<Chain> {
+) -> Vec<Chain<K>> {
     let graph = Graph::new(segments);
     let located: Vec<(Point, f64)> = graph.nodes.iter().map(|&p| locate(p)).collect();
     let (piece_of, strength) = piece_strengths(&graph, &located);
@@ -92,7 +95,7 @@ pub fn chain(
 }
 
 /// Strength ∫ k ds of every connected piece, and each segment's piece.
-fn piece_strengths(graph: &Graph, located: &[(Point, f64)]) -> (Vec<usize>, Vec<f64>) {
+fn piece_strengths<K>(graph: &Graph<K>, located: &[(Point, f64)]) -> (Vec<usize>, Vec<f64>) {
     let mut pieces = UnionFind::<u32>::new(graph.nodes.len());
     for &[a, b] in &graph.segments {
         pieces.union(a, b);
@@ -113,13 +116,13 @@ fn piece_strengths(graph: &Graph, located: &[(Point, f64)]) -> (Vec<usize>, Vec<
 
 /// Follow the graph from the start of half-segment `half` until a node of degree
 /// other than two, or back to the start (a loop).
-fn walk(
-    graph: &Graph,
+fn walk<K: Copy + Ord>(
+    graph: &Graph<K>,
     half: u32,
     used: &mut [bool],
     strength: &[f64],
     piece_of: &[usize],
-) -> Chain {
+) -> Chain<K> {
     let start = graph.segments[(half / 2) as usize][(half % 2) as usize];
     let mut points = vec![graph.nodes[start as usize]];
     let mut current = half;

@@ -1,0 +1,42 @@
+//! Names for the options of the library's algorithms (estimators, line kinds,
+//! criteria), so that a command line, a configuration file or a Python caller
+//! spells them the same way: `NAMES`, `name()`, [`std::fmt::Display`] and
+//! [`std::str::FromStr`] from one table per enum.
+
+/// Give a fieldless enum its names: `named!(Kinds, "line kind", { Ridges =>
+/// "ridges", ... })` adds `Kinds::NAMES`, `Kinds::name`, `Display` and a `FromStr`
+/// whose error lists the names.
+macro_rules! named {
+    ($ty:ident, $what:literal, { $($variant:ident => $name:literal),+ $(,)? }) => {
+        impl $ty {
+            /// Every name, in the order of the variants.
+            pub const NAMES: &'static [&'static str] = &[$($name),+];
+
+            /// The name of this choice.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($ty::$variant => $name),+
+                }
+            }
+        }
+
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+
+        impl std::str::FromStr for $ty {
+            type Err = $crate::Error;
+
+            fn from_str(name: &str) -> $crate::Result<$ty> {
+                match name {
+                    $($name => Ok($ty::$variant),)+
+                    _ => Err($crate::Error::unknown_name($what, name, $ty::NAMES)),
+                }
+            }
+        }
+    };
+}
+
+pub(crate) use named;
