@@ -1,12 +1,13 @@
 //! Feature-line output: the `FeatureLines` helpers and the JSON, OBJ, PLY and VTK
 //! writers, each file parsed back by hand.
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crestline::lines::{
     read_json, write_json, write_lines, write_obj, write_ply, write_vtk, FeatureLines, LineFormat,
-    LineKind, Polyline, FORMAT,
+    LineKind, Polyline, SurfaceLocation, FORMAT,
 };
 use crestline::{Error, Point};
 use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
@@ -371,6 +372,8 @@ struct Vtk {
     cells: Vec<Vec<usize>>,
     strength: Vec<f64>,
     kind: Vec<i32>,
+    /// Per-point scalars by name.
+    point_data: BTreeMap<String, Vec<f64>>,
 }
 
 /// Whitespace-separated tokens of a text file.
@@ -438,12 +441,23 @@ fn parse_vtk(text: &str) -> Vtk {
             token.parse().unwrap_or_else(|e| panic!("{token}: {e}"))
         })
         .collect();
-    assert_eq!(tokens.0.next(), None);
+    let mut point_data = BTreeMap::new();
+    if let Some(word) = tokens.0.next() {
+        assert_eq!(word, "POINT_DATA");
+        assert_eq!(tokens.count(), n_points);
+        while let Some(word) = tokens.0.next() {
+            assert_eq!(word, "SCALARS");
+            let name = tokens.0.next().expect("a name").to_string();
+            tokens.expect(&["double", "1", "LOOKUP_TABLE", "default"]);
+            point_data.insert(name, (0..n_points).map(|_| tokens.number()).collect());
+        }
+    }
     Vtk {
         points,
         cells,
         strength,
         kind,
+        point_data,
     }
 }
 
@@ -564,4 +578,113 @@ fn missing_directory_is_an_error_naming_the_path() {
         assert!(matches!(err, Error::File { .. }), "{err:?}");
         assert!(err.to_string().contains(&*path.to_string_lossy()), "{err}");
     }
+}
+
+/// [`sample`] with surface locations on the ridge and per-point values on both
+/// lines: `k` on both (written by every format), `only_ridge` on one (JSON only).
+fn sample_with_point_data() -> FeatureLines {
+    let mut lines = sample();
+    let ridge = lines.lines[0].clone();
+    lines.lines[0] = ridge
+        .with_locations(vec![
+            SurfaceLocation::Vertex { vertex: 4 },
+            SurfaceLocation::Edge { edge: 9, t: 0.25 },
+            SurfaceLocation::Face {
+                face: 2,
+                barycentric: [0.5, 0.25, 0.25],
+            },
+            SurfaceLocation::Edge { edge: 1, t: 1.0 },
+        ])
+        .with_values("k", vec![1.0, 2.5, -3.0, 1e-3])
+        .with_values("only_ridge", vec![0.0; 4]);
+    let valley = lines.lines[1].clone();
+    lines.lines[1] = valley.with_values("k", vec![7.0, 8.0, 9.0]);
+    lines
+}
+
+#[test]
+fn point_locations_and_values_round_trip_through_json() {
+    let dir = temp_dir();
+    let path = dir.path().join("lines.json");
+    let lines = sample_with_point_data();
+    write_json(&path, &lines).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(
+        value["lines"][0]["locations"][1],
+        serde_json::json!({"edge": 9, "t": 0.25})
+    );
+    assert_eq!(value["lines"][0]["values"]["k"][2], -3.0);
+    assert!(value["lines"][1].get("locations").is_none());
+    assert_eq!(read_json(&path).unwrap(), lines);
+}
+
+#[test]
+fn shared_point_values_are_written_per_vertex_by_ply_and_vtk() {
+    let dir = temp_dir();
+    let lines = sample_with_point_data();
+    let k: Vec<f64> = vec![1.0, 2.5, -3.0, 1e-3, 7.0, 8.0, 9.0];
+    let path = dir.path().join("lines.vtk");
+    write_vtk(&path, &lines).unwrap();
+    let vtk = parse_vtk(&std::fs::read_to_string(&path).unwrap());
+    assert_eq!(vtk.point_data.keys().collect::<Vec<_>>(), ["k"]);
+    assert_eq!(vtk.point_data["k"], k);
+    let path = dir.path().join("lines.ply");
+    write_ply(&path, &lines).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let (header, body) = split_ply(&bytes);
+    let vertex = header.iter().position(|l| l == "element vertex 7").unwrap();
+    assert_eq!(
+        header[vertex + 1..vertex + 5],
+        [
+            "property float x",
+            "property float y",
+            "property float z",
+            "property float k"
+        ]
+    );
+    let mut body = Body(body);
+    for expected in k {
+        let [_, _, _, value] = [0; 4].map(|_| body.f32());
+        assert_eq!(value, expected as f32);
+    }
+}
+
+#[test]
+fn point_data_of_the_wrong_length_or_name_is_rejected_before_writing() {
+    let dir = temp_dir();
+    let bad = [
+        (
+            sample().lines[0].clone().with_values("k", vec![1.0]),
+            "1 values of k for 4 points",
+        ),
+        (
+            sample().lines[0]
+                .clone()
+                .with_values("two words", vec![0.0; 4]),
+            "value name",
+        ),
+        (
+            sample().lines[0]
+                .clone()
+                .with_values("k", vec![0.0, f64::NAN, 0.0, 0.0]),
+            "point 1 has k NaN",
+        ),
+        (
+            sample().lines[0]
+                .clone()
+                .with_locations(vec![SurfaceLocation::Vertex { vertex: 0 }]),
+            "1 locations for 4 points",
+        ),
+    ];
+    for (line, words) in bad {
+        let mut lines = FeatureLines::new("x");
+        lines.push(line);
+        for (extension, write) in writers() {
+            let path = dir.path().join(format!("bad.{extension}"));
+            let err = write(&path, &lines).unwrap_err().to_string();
+            assert!(err.contains(words), "{extension}: {err}");
+        }
+    }
+    assert!(dir_entries(dir.path()).is_empty());
 }

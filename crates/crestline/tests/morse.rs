@@ -365,3 +365,57 @@ fn feature_criterion_keeps_long_ridges_that_persistence_cuts() {
         );
     }
 }
+
+/// Values computed by the caller go through the same complex as the built-in
+/// indicator: curvedness from the jet fit, given as numbers, gives the very lines
+/// the extractor finds when it estimates curvedness itself; each point carries the
+/// indicator where it lies, and bad values are refused with a reason.
+#[test]
+fn user_values_drive_the_extractor_like_its_own_indicator() {
+    use crestline::curvature::{estimate_curvature, CurvatureEstimator};
+    use crestline::lines::{LineExtractor, SurfaceWithValues};
+    use crestline::morse::{Cells, MorseSmale};
+    use crestline::progress::Silent;
+    use std::sync::Arc;
+    let mesh = bundled("bunny_small.obj");
+    let extractor = MorseSmale {
+        estimator: Arc::new(JetFit::default()),
+        cells: Cells::Both,
+        ..Default::default()
+    };
+    let own = extractor.extract(&mesh).unwrap();
+    let field = estimate_curvature(&mesh, &JetFit::default() as &dyn CurvatureEstimator).unwrap();
+    let values = field.curvedness();
+    let given = extractor
+        .extract(&SurfaceWithValues {
+            mesh: &mesh,
+            values: &values,
+        })
+        .unwrap();
+    assert!(own.len() > 10, "{}", own.len());
+    assert_eq!(own, given);
+    for line in &given {
+        assert_eq!(line.locations.len(), line.points.len());
+        for ((at, p), value) in line
+            .locations
+            .iter()
+            .zip(&line.points)
+            .zip(&line.values["indicator"])
+        {
+            assert!((at.position(&mesh) - p).norm() < 1e-12);
+            assert!((at.interpolate(&mesh, &values) - value).abs() < 1e-12);
+        }
+    }
+    let mut short = values.clone();
+    short.pop();
+    let err = extractor
+        .run_with_values(&mesh, short, &mut Silent)
+        .unwrap_err();
+    assert!(err.to_string().contains("vertices"), "{err}");
+    let mut nan = values;
+    nan[7] = f64::NAN;
+    let err = extractor
+        .run_with_values(&mesh, nan, &mut Silent)
+        .unwrap_err();
+    assert!(err.to_string().contains("vertex 7"), "{err}");
+}

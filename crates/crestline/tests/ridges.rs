@@ -7,9 +7,12 @@ mod common;
 use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
 use crestline::lines::chain;
-use crestline::lines::{FeatureLines, LineExtractor, LineKind};
+use crestline::lines::{
+    FeatureLines, LineExtractor, LineKind, SurfaceLocation, SurfaceWithCurvature,
+};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
+use crestline::progress::Silent;
 use crestline::ridges::extremality::{extremality, regular_faces, Principal};
 use crestline::ridges::smoothing::smooth_extremality;
 use crestline::ridges::trace::{trace, Extremality};
@@ -346,4 +349,108 @@ fn real_meshes_give_lines() {
             assert!((0..3).all(|i| p[i] >= bbox.min[i] - slack && p[i] <= bbox.max[i] + slack));
         }
     }
+}
+
+/// The exact curvature of the analytic ellipsoid as a field, as a caller with
+/// curvature from elsewhere (an image, a formula) would build it.
+fn exact_field(surface: &generate::AnalyticMesh) -> CurvatureField {
+    CurvatureField::from_fn(surface.mesh.vertex_count(), |v| {
+        let k = surface.exact[v.idx()];
+        (k, k.d_max.cross(&k.d_min), false)
+    })
+}
+
+#[test]
+fn given_exact_curvature_traces_the_sharpest_principal_ellipse() {
+    let surface = generate::ellipsoid(AXES, 30_000, Sampling::jittered(1)).unwrap();
+    let field = exact_field(&surface);
+    let mesh = &surface.mesh;
+    let input = SurfaceWithCurvature {
+        mesh,
+        curvature: &field,
+    };
+    let lines = ExtremalityTracer::default().extract(&input).unwrap();
+    let points = all_points(&lines);
+    let mean = mean_plane_distance(&points) / diagonal();
+    eprintln!(
+        "exact curvature: {} lines, mean plane distance {:.4}% of the diagonal",
+        lines.len(),
+        100.0 * mean
+    );
+    assert_eq!(lines.len(), 1);
+    assert!(lines.lines[0].closed && lines.lines[0].kind == LineKind::Ridge);
+    assert!(mean < 0.0002, "{mean}");
+    assert!(coverage(&points, 2, 2.0 * mesh.mean_edge_length()) > 0.98);
+    // The estimator is not consulted: the same call with a failing one works.
+    let refuses = ExtremalityTracer {
+        estimator: Arc::new(Refuses),
+        ..Default::default()
+    };
+    assert_eq!(refuses.extract(&input).unwrap(), lines);
+}
+
+/// An estimator that always fails, to show which entry points use the estimator.
+struct Refuses;
+
+impl CurvatureEstimator for Refuses {
+    fn estimate(&self, _: &Mesh) -> crestline::Result<CurvatureField> {
+        Err(crestline::Error::Argument("not to be called".into()))
+    }
+}
+
+#[test]
+fn given_curvature_must_fit_the_mesh_and_excludes_presmoothing() {
+    let surface = generate::ellipsoid(AXES, 2_000, Sampling::Regular).unwrap();
+    let mut field = exact_field(&surface);
+    let presmoothing = ExtremalityTracer {
+        presmooth_steps: 2,
+        ..Default::default()
+    };
+    let err = presmoothing
+        .trace_with_curvature(&surface.mesh, &field, &mut Silent)
+        .unwrap_err();
+    assert!(err.to_string().contains("presmooth"), "{err}");
+    field.k_max.pop();
+    let err = ExtremalityTracer::default()
+        .trace_with_curvature(&surface.mesh, &field, &mut Silent)
+        .unwrap_err();
+    assert!(err.to_string().contains("vertices"), "{err}");
+}
+
+#[test]
+fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
+    let surface = generate::ellipsoid(AXES, 8_000, Sampling::jittered(3)).unwrap();
+    let mesh = &surface.mesh;
+    let field = ShapeOperator.estimate(mesh).unwrap();
+    for presmooth_steps in [0, 2] {
+        let tracer = ExtremalityTracer {
+            feature_conditions: false,
+            threshold: 0.5,
+            presmooth_steps,
+            ..Default::default()
+        };
+        let lines = tracer.extract(mesh).unwrap();
+        assert!(lines.len() >= 3);
+        for line in &lines {
+            assert_eq!(line.locations.len(), line.points.len());
+            for (at, p) in line.locations.iter().zip(&line.points) {
+                assert!((at.position(mesh) - p).norm() < 1e-12, "{at:?} vs {p}");
+                assert!(!matches!(at, SurfaceLocation::Vertex { .. }));
+            }
+            // Without presmoothing the values are the field's, interpolated.
+            if presmooth_steps == 0 {
+                for (at, k) in line.locations.iter().zip(&line.values["k_max"]) {
+                    assert!((at.interpolate(mesh, &field.k_max) - k).abs() < 1e-12);
+                }
+            }
+            assert_eq!(line.values["k_min"].len(), line.points.len());
+        }
+    }
+    // Faired points leave the surface: no locations then.
+    let faired = ExtremalityTracer {
+        fairing: Some(Default::default()),
+        ..Default::default()
+    };
+    let lines = faired.extract(mesh).unwrap();
+    assert!(!lines.is_empty() && lines.iter().all(|l| l.locations.is_empty()));
 }

@@ -9,18 +9,21 @@
 //! Their errors name the line (text formats) or the element and byte offset (binary
 //! formats) where the file goes wrong.
 //!
-//! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; like every writer of
-//! the crate they go through [`crate::atomic::write_atomically`].
+//! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
+//! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
+//! crate they go through [`crate::atomic::write_atomically`].
 
 mod obj;
 mod off;
 mod ply;
 mod ply_binary;
+mod soup;
 mod stl;
 
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
+pub use soup::write_soup;
 pub use stl::read_stl;
 
 use std::io::{BufRead, Read};

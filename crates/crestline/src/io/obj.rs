@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::{line_error, parse_number, parse_point, push_polygon, Input};
 use crate::mesh::{Mesh, TriangleSoup};
-use crate::Result;
+use crate::{Point, Result};
 
 /// Read an OBJ file from memory.
 ///
@@ -103,12 +103,21 @@ fn face_corner(token: &str, defined: usize) -> std::result::Result<u32, String> 
 /// so reading the file back gives the same coordinates) and one 1-based `f a b c`
 /// line per triangle. The file is written atomically.
 pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<()> {
+    write_triangles_obj(path, mesh.positions(), &mesh.triangles())
+}
+
+/// [`write_obj`] for any indexed triangles (checked by the caller to be in range).
+pub(super) fn write_triangles_obj(
+    path: &Path,
+    positions: &[Point],
+    triangles: &[[u32; 3]],
+) -> Result<()> {
     crate::atomic::write_atomically(path, |w| {
-        for p in mesh.positions() {
+        for p in positions {
             writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
         }
-        for f in mesh.faces() {
-            let [a, b, c] = mesh.face_vertices(f).map(|v| u64::from(v.0) + 1);
+        for triangle in triangles {
+            let [a, b, c] = triangle.map(|v| u64::from(v) + 1);
             writeln!(w, "f {a} {b} {c}")?;
         }
         Ok(())

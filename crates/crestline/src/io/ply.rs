@@ -532,7 +532,7 @@ fn write_f32(w: &mut impl Write, value: f64) -> std::io::Result<()> {
     w.write_all(&(value as f32).to_le_bytes())
 }
 
-/// Write `mesh` as a binary little-endian PLY file: a `vertex` element with float
+/// Write `mesh` as a binary little-endian PLY file: a `vertex` element with double
 /// `x`, `y`, `z` followed by the `attributes` in order (a scalar as one float
 /// property, a vector as three), and a `face` element with a
 /// `list uchar int vertex_indices`. The file is written atomically.
@@ -540,10 +540,21 @@ fn write_f32(w: &mut impl Write, value: f64) -> std::io::Result<()> {
 /// Fails with [`Error::Argument`] if an attribute does not have one value per
 /// vertex, or its name is empty, contains white space or repeats another property.
 pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<()> {
-    let header = ply_header(mesh, attributes)?;
+    write_triangles_ply(path, mesh.positions(), &mesh.triangles(), attributes)
+}
+
+/// [`write_ply`] for any indexed triangles (checked by the caller to be in range),
+/// orientable or not.
+pub(super) fn write_triangles_ply(
+    path: &Path,
+    positions: &[Point],
+    triangles: &[[u32; 3]],
+    attributes: &[VertexAttribute<'_>],
+) -> Result<()> {
+    let header = ply_header(positions.len(), triangles.len(), attributes)?;
     crate::atomic::write_atomically(path, |w| {
         w.write_all(header.as_bytes())?;
-        for (v, p) in mesh.positions().iter().enumerate() {
+        for (v, p) in positions.iter().enumerate() {
             p.coords
                 .iter()
                 .try_for_each(|&c| w.write_all(&c.to_le_bytes()))?;
@@ -551,11 +562,11 @@ pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -
                 attribute.write_vertex(v, w)?;
             }
         }
-        for f in mesh.faces() {
+        for triangle in triangles {
             w.write_all(&[3])?;
-            for v in mesh.face_vertices(f) {
+            for &v in triangle {
                 // Below i32::MAX: checked by `ply_header`.
-                w.write_all(&(v.0 as i32).to_le_bytes())?;
+                w.write_all(&(v as i32).to_le_bytes())?;
             }
         }
         Ok(())
@@ -563,8 +574,11 @@ pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -
 }
 
 /// The header of [`write_ply`]'s output, after checking the attributes.
-fn ply_header(mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<String> {
-    let vertex_count = mesh.vertex_count();
+fn ply_header(
+    vertex_count: usize,
+    face_count: usize,
+    attributes: &[VertexAttribute<'_>],
+) -> Result<String> {
     if i32::try_from(vertex_count).is_err() {
         return Err(Error::Argument(format!(
             "{vertex_count} vertices are too many for PLY int indices"
@@ -605,9 +619,7 @@ fn ply_header(mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<String>
     for name in &attribute_names {
         header += &format!("property float {name}\n");
     }
-    header += &format!(
-        "element face {}\nproperty list uchar int vertex_indices\nend_header\n",
-        mesh.face_count()
-    );
+    header +=
+        &format!("element face {face_count}\nproperty list uchar int vertex_indices\nend_header\n");
     Ok(header)
 }

@@ -53,3 +53,27 @@ pub(super) fn indexed(lines: &FeatureLines) -> impl Iterator<Item = IndexedLine<
 pub(super) fn points(lines: &FeatureLines) -> impl Iterator<Item = &Point> {
     lines.iter().flat_map(|line| line.points.iter())
 }
+
+/// The names of the per-point values every line has (none when there are no lines),
+/// in order: what the PLY and VTK writers can store per point.
+pub(super) fn shared_value_names(lines: &FeatureLines) -> Vec<&str> {
+    let Some(first) = lines.lines.first() else {
+        return Vec::new();
+    };
+    first
+        .values
+        .keys()
+        .filter(|name| lines.iter().all(|line| line.values.contains_key(*name)))
+        .map(String::as_str)
+        .collect()
+}
+
+/// The value `name` at every point, in the order of [`points`].
+pub(super) fn point_values<'a>(
+    lines: &'a FeatureLines,
+    name: &'a str,
+) -> impl Iterator<Item = f64> + 'a {
+    lines
+        .iter()
+        .flat_map(move |line| line.values[name].iter().copied())
+}

@@ -5,14 +5,15 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use super::indexing::{indexed, points};
+use super::indexing::{indexed, point_values, points, shared_value_names};
 use super::{one_line, write_checked, FeatureLines, LineKind, FORMAT};
 use crate::{Error, Result};
 
 /// Write `lines` to `path` as a binary little-endian PLY file:
 ///
 /// ```text
-/// element vertex <points>   property float x, y, z
+/// element vertex <points>   property float x, y, z, and one float property per
+///                           named per-point value that every line has
 /// element edge <segments>   property int vertex1, int vertex2, uchar kind,
 ///                           float strength, int line
 /// ```
@@ -49,6 +50,9 @@ fn write_header(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
     for axis in ["x", "y", "z"] {
         writeln!(w, "property float {axis}")?;
     }
+    for name in shared_value_names(lines) {
+        writeln!(w, "property float {name}")?;
+    }
     writeln!(w, "element edge {edge_count}")?;
     writeln!(w, "property int vertex1")?;
     writeln!(w, "property int vertex2")?;
@@ -58,10 +62,14 @@ fn write_header(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
     writeln!(w, "end_header")
 }
 
-/// The `vertex` element: x, y, z as little-endian 32-bit floats.
+/// The `vertex` element: x, y, z and the shared per-point values as little-endian
+/// 32-bit floats.
 fn write_vertices(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
+    let names = shared_value_names(lines);
+    let mut columns: Vec<_> = names.iter().map(|name| point_values(lines, name)).collect();
     for p in points(lines) {
-        for v in [p.x, p.y, p.z] {
+        let values = columns.iter_mut().filter_map(|column| column.next());
+        for v in [p.x, p.y, p.z].into_iter().chain(values) {
             // Range checked in `write_ply`.
             w.write_all(&(v as f32).to_le_bytes())?;
         }

@@ -4,7 +4,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use super::indexing::{indexed, points};
+use super::indexing::{indexed, point_values, points, shared_value_names};
 use super::{one_line, write_checked, FeatureLines, FORMAT};
 use crate::Result;
 
@@ -14,13 +14,16 @@ const MAX_TITLE: usize = 255;
 /// Write `lines` to `path` as a legacy ASCII VTK poly-data file: `POINTS` (double),
 /// one `LINES` cell per polyline (a closed line repeats its first point index at
 /// the end), and `CELL_DATA` with the scalars `strength` (double) and `kind` (int,
-/// the [`LineKind::code`](super::LineKind::code)). Checks as [`super::write_json`] does.
+/// the [`LineKind::code`](super::LineKind::code)), and `POINT_DATA` with one double
+/// scalar per named per-point value that every line has. Checks as
+/// [`super::write_json`] does.
 pub fn write_vtk(path: &Path, lines: &FeatureLines) -> Result<()> {
     write_checked(path, lines, |w| {
         write_header(w, lines)?;
         write_points(w, lines)?;
         write_cells(w, lines)?;
-        write_cell_data(w, lines)
+        write_cell_data(w, lines)?;
+        write_point_data(w, lines)
     })
 }
 
@@ -76,6 +79,23 @@ fn write_cell_data(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
     writeln!(w, "LOOKUP_TABLE default")?;
     for line in lines {
         writeln!(w, "{}", line.kind.code())?;
+    }
+    Ok(())
+}
+
+/// The shared per-point values as `POINT_DATA` scalars; nothing when there are none.
+fn write_point_data(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
+    let names = shared_value_names(lines);
+    if names.is_empty() {
+        return Ok(());
+    }
+    writeln!(w, "POINT_DATA {}", lines.point_count())?;
+    for name in names {
+        writeln!(w, "SCALARS {name} double 1")?;
+        writeln!(w, "LOOKUP_TABLE default")?;
+        for value in point_values(lines, name) {
+            writeln!(w, "{value}")?;
+        }
     }
     Ok(())
 }

@@ -6,7 +6,9 @@ use crate::Point;
 /// user's indicator field.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalarProperty {
+    /// The property name.
     pub name: String,
+    /// One value per vertex.
     pub values: Vec<f64>,
 }
 
@@ -15,7 +17,9 @@ pub struct ScalarProperty {
 /// the readers. Indices are in range (readers check that).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleSoup {
+    /// Vertex positions.
     pub positions: Vec<Point>,
+    /// Triangles as three vertex indices each.
     pub triangles: Vec<[u32; 3]>,
     /// Per-vertex scalars carried along through construction (same length as `positions`).
     pub vertex_scalars: Vec<ScalarProperty>,
