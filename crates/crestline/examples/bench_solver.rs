@@ -20,7 +20,7 @@
 
 use std::time::Instant;
 
-use crestline::linalg::{CholeskyFactor, SymmetricBuilder};
+use crestline::linalg::{CholeskyFactor, SymmetricBuilder, SymmetricMatrix};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
 use sprs::{CsMat, FillInReduction, SymmetryCheck};
@@ -64,8 +64,8 @@ fn main() -> crestline::Result<()> {
     let ((matrix, b), seconds) = timed(|| smoothing_system(&mesh, 2.0 * h * h));
     println!(
         "assembled M + t K: n = {}, nnz = {} ({seconds:.2} s)",
-        matrix.rows(),
-        matrix.nnz()
+        matrix.size(),
+        matrix.csc().1.len()
     );
 
     // A first, untimed run warms up the thread pool and the allocator.
@@ -116,7 +116,7 @@ fn parse_count(arg: Option<String>) -> crestline::Result<usize> {
 }
 
 /// The matrix `M + t K` and the right-hand side `M e` for a smooth test function `e`.
-fn smoothing_system(mesh: &Mesh, t: f64) -> (CsMat<f64>, Vec<f64>) {
+fn smoothing_system(mesh: &Mesh, t: f64) -> (SymmetricMatrix, Vec<f64>) {
     let masses = mesh.vertex_areas();
     let mut builder =
         SymmetricBuilder::with_capacity(mesh.vertex_count(), 4 * mesh.edge_count() + masses.len());
@@ -140,7 +140,7 @@ fn smoothing_system(mesh: &Mesh, t: f64) -> (CsMat<f64>, Vec<f64>) {
 /// analysis is the time of [`CholeskyFactor::new`] minus that of a numeric-only
 /// [`CholeskyFactor::refactor`] with the same matrix, each the best of a few runs.
 fn bench_faer(
-    matrix: &CsMat<f64>,
+    matrix: &SymmetricMatrix,
     b: &[f64],
     par: faer::Par,
 ) -> crestline::Result<(Timings, Vec<f64>)> {
@@ -171,7 +171,10 @@ fn bench_faer(
 
 /// Times sprs-ldl; the numeric stages only run if the factor has at most
 /// `max_fill` nonzeros.
-fn bench_ldl(matrix: &CsMat<f64>, b: &[f64], max_fill: usize) -> (Timings, Option<Vec<f64>>) {
+fn bench_ldl(matrix: &SymmetricMatrix, b: &[f64], max_fill: usize) -> (Timings, Option<Vec<f64>>) {
+    let (col_ptr, rows, values) = matrix.csc();
+    let n = matrix.size();
+    let matrix = CsMat::new_csc((n, n), col_ptr.to_vec(), rows.to_vec(), values.to_vec());
     let ldl = Ldl::new()
         .fill_in_reduction(FillInReduction::ReverseCuthillMcKee)
         .check_symmetry(SymmetryCheck::DontCheckSymmetry);
@@ -204,12 +207,10 @@ fn bench_ldl(matrix: &CsMat<f64>, b: &[f64], max_fill: usize) -> (Timings, Optio
 }
 
 /// Prints ‖A x − b‖ / ‖b‖ and fails if it is not below 1e-10.
-fn check(name: &str, matrix: &CsMat<f64>, x: &[f64], b: &[f64]) {
+fn check(name: &str, matrix: &SymmetricMatrix, x: &[f64], b: &[f64]) {
     let mut ax = vec![0.0; b.len()];
-    for (j, column) in matrix.outer_iterator().enumerate() {
-        for (i, &value) in column.iter() {
-            ax[i] += value * x[j];
-        }
+    for (i, j, value) in matrix.entries() {
+        ax[i] += value * x[j];
     }
     let residual = relative_difference(&ax, b);
     println!("{name}: ‖Ax − b‖ / ‖b‖ = {residual:.2e}");

@@ -19,6 +19,8 @@
 //! - Bad input is an [`Error`] naming the file and what is wrong, never a panic; output
 //!   files are written under a temporary name and renamed on success.
 
+#![warn(missing_docs)]
+
 pub mod atomic;
 pub mod curvature;
 pub mod differential;

@@ -9,15 +9,14 @@
 //!   ordering and symbolic analysis, and [`CholeskyFactor::solve_columns`] solves for
 //!   the three coordinates at once.
 //!
-//! Matrices are assembled with [`SymmetricBuilder`] into a [`sprs::CsMat`] and factored
-//! by a supernodal sparse Cholesky factorization `P A Pᵀ = L Lᵀ` (faer, approximate
-//! minimum degree ordering).
+//! Matrices are assembled with [`SymmetricBuilder`] into a [`SymmetricMatrix`]
+//! (compressed columns, bucketed in linear time) and factored by a supernodal sparse
+//! Cholesky factorization `P A Pᵀ = L Lᵀ` (faer, approximate minimum degree ordering).
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Mat, MatMut, Side};
-use sprs::{CsMat, TriMat};
 
 use crate::{Error, Result};
 
@@ -28,28 +27,29 @@ use crate::{Error, Result};
 /// the built matrix is symmetric by construction.
 #[derive(Debug)]
 pub struct SymmetricBuilder {
-    triplets: TriMat<f64>,
+    n: usize,
+    /// `(row, column, value)` entries, in the order added.
+    triplets: Vec<(usize, usize, f64)>,
 }
 
 impl SymmetricBuilder {
     /// An empty `n × n` matrix.
     pub fn new(n: usize) -> SymmetricBuilder {
-        SymmetricBuilder {
-            triplets: TriMat::new((n, n)),
-        }
+        SymmetricBuilder::with_capacity(n, 0)
     }
 
     /// An empty `n × n` matrix with room for `entries` stored entries (an
     /// off-diagonal [`add`](Self::add) stores two, [`add_edge`](Self::add_edge) four).
     pub fn with_capacity(n: usize, entries: usize) -> SymmetricBuilder {
         SymmetricBuilder {
-            triplets: TriMat::with_capacity((n, n), entries),
+            n,
+            triplets: Vec::with_capacity(entries),
         }
     }
 
     /// The matrix size `n`.
     pub fn size(&self) -> usize {
-        self.triplets.rows()
+        self.n
     }
 
     /// Adds `value` to entry `(i, j)` and, when `i ≠ j`, to `(j, i)`.
@@ -57,9 +57,14 @@ impl SymmetricBuilder {
     /// # Panics
     /// If `i` or `j` is not below [`size`](Self::size).
     pub fn add(&mut self, i: usize, j: usize, value: f64) {
-        self.triplets.add_triplet(i, j, value);
+        assert!(
+            i < self.n && j < self.n,
+            "entry ({i}, {j}) of a {n}×{n} matrix",
+            n = self.n
+        );
+        self.triplets.push((i, j, value));
         if i != j {
-            self.triplets.add_triplet(j, i, value);
+            self.triplets.push((j, i, value));
         }
     }
 
@@ -68,7 +73,7 @@ impl SymmetricBuilder {
     /// # Panics
     /// If `i` is not below [`size`](Self::size).
     pub fn add_diagonal(&mut self, i: usize, value: f64) {
-        self.triplets.add_triplet(i, i, value);
+        self.add(i, i, value);
     }
 
     /// Adds the stiffness of one edge `(i, j)` with weight `w`: `w` to both diagonal
@@ -84,9 +89,130 @@ impl SymmetricBuilder {
         self.add(i, j, -w);
     }
 
-    /// The assembled matrix in compressed sparse column form, repeated entries summed.
-    pub fn build(&self) -> CsMat<f64> {
-        self.triplets.to_csc()
+    /// The assembled matrix in compressed sparse column form, repeated entries
+    /// summed: entries are bucketed by column (linear time), then each column is
+    /// sorted by row.
+    pub fn build(&self) -> SymmetricMatrix {
+        let mut col_ptr = vec![0usize; self.n + 1];
+        for &(_, j, _) in &self.triplets {
+            col_ptr[j + 1] += 1;
+        }
+        for j in 0..self.n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut next = col_ptr.clone();
+        let mut entries = vec![(0usize, 0.0f64); self.triplets.len()];
+        for &(i, j, value) in &self.triplets {
+            entries[next[j]] = (i, value);
+            next[j] += 1;
+        }
+        let mut matrix = SymmetricMatrix {
+            n: self.n,
+            col_ptr: Vec::with_capacity(self.n + 1),
+            row_idx: Vec::with_capacity(entries.len()),
+            values: Vec::with_capacity(entries.len()),
+        };
+        matrix.col_ptr.push(0);
+        for j in 0..self.n {
+            let column = &mut entries[col_ptr[j]..col_ptr[j + 1]];
+            column.sort_unstable_by_key(|&(i, _)| i);
+            let start = matrix.row_idx.len();
+            for &(i, value) in column.iter() {
+                match matrix.values.last_mut() {
+                    Some(sum)
+                        if matrix.row_idx.len() > start && matrix.row_idx.last() == Some(&i) =>
+                    {
+                        *sum += value;
+                    }
+                    _ => {
+                        matrix.row_idx.push(i);
+                        matrix.values.push(value);
+                    }
+                }
+            }
+            matrix.col_ptr.push(matrix.row_idx.len());
+        }
+        matrix
+    }
+}
+
+/// A square sparse matrix in compressed sparse column form (both triangles stored),
+/// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`] reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SymmetricMatrix {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SymmetricMatrix {
+    /// A matrix from its compressed columns: `col_ptr` (n + 1 offsets), the row of
+    /// every entry and its value. Errors if the arrays do not describe an `n × n`
+    /// matrix with sorted, distinct rows in every column.
+    pub fn from_csc(
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Result<SymmetricMatrix> {
+        let bad = |what: String| Err(Error::Argument(what));
+        if col_ptr.len() != n + 1 {
+            return bad(format!(
+                "{} column offsets for a square matrix of {n} columns (it is not square)",
+                col_ptr.len()
+            ));
+        }
+        if col_ptr[0] != 0 || col_ptr.windows(2).any(|w| w[0] > w[1]) {
+            return bad("column offsets must start at 0 and not decrease".into());
+        }
+        if row_idx.len() != values.len() || col_ptr[n] != row_idx.len() {
+            return bad("column offsets, rows and values disagree in length".into());
+        }
+        if let Some(&i) = row_idx.iter().find(|&&i| i >= n) {
+            return bad(format!("row {i} in a {n}×{n} matrix"));
+        }
+        let matrix = SymmetricMatrix {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        };
+        let increasing = |j: usize| {
+            let rows = &matrix.row_idx[matrix.col_ptr[j]..matrix.col_ptr[j + 1]];
+            rows.windows(2).all(|w| w[0] < w[1])
+        };
+        match (0..n).find(|&j| !increasing(j)) {
+            Some(j) => bad(format!(
+                "column {j} of the matrix has unsorted or repeated row indices"
+            )),
+            None => Ok(matrix),
+        }
+    }
+
+    /// The size `n` of the `n × n` matrix.
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    /// The entries `(row, value)` of column `j`, by increasing row.
+    pub fn column(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let range = self.col_ptr[j]..self.col_ptr[j + 1];
+        self.row_idx[range.clone()]
+            .iter()
+            .copied()
+            .zip(self.values[range].iter().copied())
+    }
+
+    /// Every stored entry as `(row, column, value)`, column by column.
+    pub fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        (0..self.n).flat_map(move |j| self.column(j).map(move |(i, v)| (i, j, v)))
+    }
+
+    /// The compressed columns: offsets, rows and values (e.g. to hand the matrix to
+    /// another solver).
+    pub fn csc(&self) -> (&[usize], &[usize], &[f64]) {
+        (&self.col_ptr, &self.row_idx, &self.values)
     }
 }
 
@@ -101,47 +227,27 @@ struct LowerTriangle {
 }
 
 impl LowerTriangle {
-    /// Extracts the entries `(i, j)` with `i ≥ j` of `matrix`, checking that it is
-    /// square, finite and has strictly increasing indices in every column.
-    ///
-    /// For a symmetric matrix the compressed row form holds the same arrays as the
-    /// compressed column form, so either storage is accepted.
-    fn from_sprs(matrix: &CsMat<f64>) -> Result<LowerTriangle> {
-        let n = matrix.cols();
-        if matrix.rows() != n {
-            return Err(Error::Argument(format!(
-                "a {}×{} matrix is not square",
-                matrix.rows(),
-                n
-            )));
-        }
+    /// Extracts the entries `(i, j)` with `i ≥ j` of `matrix`, checking that they
+    /// are finite.
+    fn new(matrix: &SymmetricMatrix) -> Result<LowerTriangle> {
+        let n = matrix.size();
+        let stored = matrix.row_idx.len();
         let mut lower = LowerTriangle {
             n,
             col_ptr: Vec::with_capacity(n + 1),
-            row_idx: Vec::with_capacity(matrix.nnz() / 2 + n),
-            values: Vec::with_capacity(matrix.nnz() / 2 + n),
+            row_idx: Vec::with_capacity(stored / 2 + n),
+            values: Vec::with_capacity(stored / 2 + n),
         };
         lower.col_ptr.push(0);
-        for (j, column) in matrix.outer_iterator().enumerate() {
-            lower.push_column(j, column.iter())?;
+        for j in 0..n {
+            lower.push_column(j, matrix.column(j))?;
         }
         Ok(lower)
     }
 
     /// Appends the lower part (rows `≥ j`) of column `j`.
-    fn push_column<'a>(
-        &mut self,
-        j: usize,
-        entries: impl Iterator<Item = (usize, &'a f64)>,
-    ) -> Result<()> {
-        let mut previous = None;
-        for (i, &value) in entries {
-            if previous.is_some_and(|p| p >= i) {
-                return Err(Error::Argument(format!(
-                    "column {j} of the matrix has unsorted or repeated row indices"
-                )));
-            }
-            previous = Some(i);
+    fn push_column(&mut self, j: usize, entries: impl Iterator<Item = (usize, f64)>) -> Result<()> {
+        for (i, value) in entries {
             if !value.is_finite() {
                 return Err(Error::Argument(format!(
                     "matrix entry ({i}, {j}) is not finite ({value})"
@@ -193,8 +299,8 @@ impl CholeskyFactor {
     ///
     /// An [`Error::Argument`] if the matrix is not square, has a non-finite entry or
     /// is not positive definite (e.g. a zero lumped mass from a degenerate vertex).
-    pub fn new(matrix: &CsMat<f64>) -> Result<CholeskyFactor> {
-        let pattern = LowerTriangle::from_sprs(matrix)?;
+    pub fn new(matrix: &SymmetricMatrix) -> Result<CholeskyFactor> {
+        let pattern = LowerTriangle::new(matrix)?;
         let symbolic = analyze(&pattern)?;
         let numeric = factor_numeric(&symbolic, &pattern)?;
         Ok(CholeskyFactor {
@@ -210,8 +316,8 @@ impl CholeskyFactor {
     /// reused and only the numeric factorization runs; otherwise everything is redone.
     ///
     /// Errors as [`new`](Self::new); on error the previous factorization is kept.
-    pub fn refactor(&mut self, matrix: &CsMat<f64>) -> Result<()> {
-        let pattern = LowerTriangle::from_sprs(matrix)?;
+    pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        let pattern = LowerTriangle::new(matrix)?;
         let symbolic = if pattern.same_pattern(&self.pattern) {
             self.symbolic.clone()
         } else {

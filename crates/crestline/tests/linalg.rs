@@ -1,14 +1,13 @@
 //! Sparse Cholesky solves of `crestline::linalg` against dense solves and residuals.
 
-use crestline::linalg::{CholeskyFactor, SymmetricBuilder};
+use crestline::linalg::{CholeskyFactor, SymmetricBuilder, SymmetricMatrix};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
 use crestline::Error;
 use nalgebra::{DMatrix, DVector};
-use sprs::CsMat;
 
 /// The 1D Poisson matrix tridiag(−1, 2, −1) plus `shift` times the identity.
-fn poisson_1d(n: usize, shift: f64) -> CsMat<f64> {
+fn poisson_1d(n: usize, shift: f64) -> SymmetricMatrix {
     let mut builder = SymmetricBuilder::new(n);
     for i in 0..n {
         builder.add_diagonal(i, 2.0 + shift);
@@ -21,7 +20,7 @@ fn poisson_1d(n: usize, shift: f64) -> CsMat<f64> {
 
 /// `M + t K` of §5.1: lumped masses plus `t` times the cotan Laplacian with
 /// weights clamped at 0.
-fn mass_plus_stiffness(mesh: &Mesh, t: f64) -> CsMat<f64> {
+fn mass_plus_stiffness(mesh: &Mesh, t: f64) -> SymmetricMatrix {
     let mut builder = SymmetricBuilder::new(mesh.vertex_count());
     for (v, mass) in mesh.vertex_areas().into_iter().enumerate() {
         builder.add_diagonal(v, mass);
@@ -33,17 +32,17 @@ fn mass_plus_stiffness(mesh: &Mesh, t: f64) -> CsMat<f64> {
     builder.build()
 }
 
-fn dense(matrix: &CsMat<f64>) -> DMatrix<f64> {
-    let mut a = DMatrix::zeros(matrix.rows(), matrix.cols());
-    for (&value, (i, j)) in matrix {
+fn dense(matrix: &SymmetricMatrix) -> DMatrix<f64> {
+    let mut a = DMatrix::zeros(matrix.size(), matrix.size());
+    for (i, j, value) in matrix.entries() {
         a[(i, j)] += value;
     }
     a
 }
 
-fn relative_residual(matrix: &CsMat<f64>, x: &[f64], b: &[f64]) -> f64 {
-    let mut ax = vec![0.0; matrix.rows()];
-    for (&value, (i, j)) in matrix {
+fn relative_residual(matrix: &SymmetricMatrix, x: &[f64], b: &[f64]) -> f64 {
+    let mut ax = vec![0.0; matrix.size()];
+    for (i, j, value) in matrix.entries() {
         ax[i] += value * x[j];
     }
     let r: f64 = ax.iter().zip(b).map(|(p, q)| (p - q).powi(2)).sum();
@@ -110,8 +109,9 @@ fn indefinite_matrix_is_an_error() {
 
 #[test]
 fn non_square_and_nan_matrices_are_errors() {
-    let rectangular = CsMat::new_csc((3, 2), vec![0, 1, 2], vec![0, 1], vec![1.0, 1.0]);
-    assert!(CholeskyFactor::new(&rectangular).is_err());
+    // Two columns of three rows cannot be a square matrix.
+    let rectangular = SymmetricMatrix::from_csc(3, vec![0, 1, 2], vec![0, 1], vec![1.0, 1.0]);
+    assert!(rectangular.is_err());
     let mut builder = SymmetricBuilder::new(2);
     builder.add_diagonal(0, 1.0);
     builder.add_diagonal(1, f64::NAN);
@@ -170,4 +170,31 @@ fn multi_rhs_equals_single_solves() {
     for (multi, single) in columns.iter().zip(&singles) {
         assert!(max_abs_difference(multi, single) < 1e-13);
     }
+}
+
+#[test]
+fn the_builder_sums_repeated_entries_into_sorted_columns() {
+    let mut builder = SymmetricBuilder::new(3);
+    builder.add(2, 0, 1.5);
+    builder.add_diagonal(1, 4.0);
+    builder.add_edge(0, 1, 2.0);
+    builder.add(0, 2, 0.5);
+    let matrix = builder.build();
+    let entries: Vec<(usize, usize, f64)> = matrix.entries().collect();
+    assert_eq!(
+        entries,
+        [
+            (0, 0, 2.0),
+            (1, 0, -2.0),
+            (2, 0, 2.0),
+            (0, 1, -2.0),
+            (1, 1, 6.0),
+            (0, 2, 2.0),
+        ]
+    );
+    let (col_ptr, rows, values) = matrix.csc();
+    let copy = SymmetricMatrix::from_csc(3, col_ptr.to_vec(), rows.to_vec(), values.to_vec());
+    assert_eq!(copy.unwrap(), matrix);
+    let unsorted = SymmetricMatrix::from_csc(2, vec![0, 2, 2], vec![1, 0], vec![1.0, 1.0]);
+    assert!(unsorted.unwrap_err().to_string().contains("unsorted"));
 }

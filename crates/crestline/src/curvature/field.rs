@@ -11,7 +11,9 @@ use super::PrincipalCurvatures;
 /// as one array per quantity (indexed by [`VertexId`]).
 #[derive(Clone, Debug, Default)]
 pub struct CurvatureField {
+    /// The larger principal curvature (algebraically) per vertex.
     pub k_max: Vec<f64>,
+    /// The smaller principal curvature (algebraically) per vertex.
     pub k_min: Vec<f64>,
     /// Unit direction of `k_max`, defined up to sign.
     pub d_max: Vec<Vector>,

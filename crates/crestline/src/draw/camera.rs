@@ -15,13 +15,21 @@ use crate::{Error, Point, Result, Vector};
 pub enum View {
     /// A direction around the mesh, in degrees (see the module docs for the axes);
     /// the camera is placed and the drawing framed automatically.
-    Orbit { azimuth: f64, elevation: f64 },
+    Orbit {
+        /// Degrees around the vertical axis.
+        azimuth: f64,
+        /// Degrees above the horizontal plane.
+        elevation: f64,
+    },
     /// An explicit eye, target and up vector. With a perspective projection they are
     /// used as given; an orthographic projection uses only the direction and frames
     /// the mesh automatically.
     LookAt {
+        /// Where the camera is.
         eye: Point,
+        /// The point it looks at.
         target: Point,
+        /// The direction that is up on the screen.
         up: Vector,
     },
 }
@@ -43,7 +51,10 @@ pub enum Projection {
     Orthographic,
     /// Central projection with the field of view `fov` in degrees, across the
     /// shorter side of the canvas.
-    Perspective { fov: f64 },
+    Perspective {
+        /// Vertical field of view, in degrees.
+        fov: f64,
+    },
 }
 
 /// The largest canvas side, in pixels.

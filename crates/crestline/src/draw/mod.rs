@@ -13,7 +13,8 @@
 //!    and the visible runs kept and simplified (Douglas–Peucker)
 //!    ([`visible_drawing`]);
 //! 5. the [`Drawing`] is written as SVG in a [`Style`] ([`svg_document`],
-//!    [`write_svg`]) and optionally rendered to PNG ([`write_png`]).
+//!    [`write_svg`]) and optionally rendered to PNG (`write_png`, with the `png`
+//!    feature).
 //!
 //! [`draw`] runs steps 2–4 with [`DrawOptions`].
 //!
@@ -60,7 +61,9 @@ pub struct ScreenPath {
 /// The visible pieces of the lines of one kind.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Group {
+    /// The kind of every line in the group.
     pub kind: LineKind,
+    /// The visible pieces, in screen coordinates.
     pub paths: Vec<ScreenPath>,
 }
 
@@ -74,6 +77,7 @@ pub struct Drawing {
     pub width: u32,
     /// Canvas height in pixels.
     pub height: u32,
+    /// One group per kind of line, in drawing order.
     pub groups: Vec<Group>,
 }
 

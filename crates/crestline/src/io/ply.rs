@@ -487,10 +487,20 @@ impl PropertyAccess for FaceRecord {
 #[derive(Clone, Copy, Debug)]
 pub enum VertexAttribute<'a> {
     /// One value per vertex, written as the float property `name`.
-    Scalar { name: &'a str, values: &'a [f64] },
+    Scalar {
+        /// The property name.
+        name: &'a str,
+        /// One value per vertex.
+        values: &'a [f64],
+    },
     /// One vector per vertex, written as the float properties `name_x`, `name_y`,
     /// `name_z`.
-    Vector { name: &'a str, values: &'a [Vector] },
+    Vector {
+        /// The name before the `_x`, `_y`, `_z` suffixes.
+        name: &'a str,
+        /// One vector per vertex.
+        values: &'a [Vector],
+    },
 }
 
 impl VertexAttribute<'_> {

@@ -27,7 +27,12 @@ pub enum Sampling {
     /// The regular pattern with every vertex moved at random along the surface by
     /// up to `amount` (a fraction of the local spacing, below 0.5), reproducibly
     /// from `seed`.
-    Jittered { amount: f64, seed: u64 },
+    Jittered {
+        /// The largest move, as a fraction of the local spacing (below 0.5).
+        amount: f64,
+        /// The seed of the random moves.
+        seed: u64,
+    },
 }
 
 impl Sampling {
@@ -47,6 +52,7 @@ impl Sampling {
 /// A generated mesh and the exact principal curvatures at its vertices.
 #[derive(Clone, Debug)]
 pub struct AnalyticMesh {
+    /// The triangulated surface.
     pub mesh: Mesh,
     /// Exact curvature per vertex, indexed like the mesh's vertices.
     pub exact: Vec<PrincipalCurvatures>,
@@ -68,6 +74,7 @@ pub trait ImplicitSurface {
 /// The ellipsoid x²/a² + y²/b² + z²/c² = 1 (a sphere when all axes are equal).
 #[derive(Clone, Copy, Debug)]
 pub struct Ellipsoid {
+    /// The semi-axes along x, y and z.
     pub axes: [f64; 3],
 }
 
@@ -84,7 +91,9 @@ impl ImplicitSurface for Ellipsoid {
 /// The torus (√(x² + y²) − R)² + z² = r² around the z axis.
 #[derive(Clone, Copy, Debug)]
 pub struct Torus {
+    /// Distance from the centre to the centre of the tube.
     pub major: f64,
+    /// Radius of the tube.
     pub minor: f64,
 }
 
@@ -137,7 +146,9 @@ impl<F: HeightFunction + ?Sized> ImplicitSurface for Graph<'_, F> {
 /// normal, so its curvatures are −a, −b > 0).
 #[derive(Clone, Copy, Debug)]
 pub struct Paraboloid {
+    /// Coefficient of x².
     pub a: f64,
+    /// Coefficient of y².
     pub b: f64,
 }
 

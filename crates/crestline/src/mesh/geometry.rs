@@ -10,7 +10,9 @@ use crate::{Point, Vector};
 /// Axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct BoundingBox {
+    /// The smallest coordinates.
     pub min: Point,
+    /// The largest coordinates.
     pub max: Point,
 }
 

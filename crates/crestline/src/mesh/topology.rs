@@ -7,9 +7,13 @@ use super::{HalfedgeId, Mesh};
 /// Counts and topological type of one connected component of a mesh.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct ComponentInfo {
+    /// Number of vertices.
     pub vertices: usize,
+    /// Number of edges.
     pub edges: usize,
+    /// Number of faces.
     pub faces: usize,
+    /// Number of closed boundary curves.
     pub boundary_loops: usize,
     /// χ = V − E + F.
     pub euler_characteristic: i64,

@@ -33,7 +33,9 @@ crate::named::named!(Criterion, "criterion", {
 /// branch `0` or `1` of the saddle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Partner {
+    /// The minimum at the end of this descending branch.
     Minimum(usize),
+    /// The maximum at the end of this ascending branch.
     Maximum(usize),
 }
 
@@ -44,6 +46,7 @@ pub struct Cancellation {
     pub saddle: u32,
     /// `"minimum"` (a vertex id) or `"maximum"` (a face id).
     pub extremum_kind: &'static str,
+    /// The vertex (minimum) or face (maximum) id of the extremum removed.
     pub extremum: u32,
     /// The criterion's value when cancelled.
     pub t: f64,
@@ -165,8 +168,11 @@ impl PartialOrd for Entry {
 pub struct Hierarchy<'a> {
     mesh: &'a Mesh,
     keys: &'a Keys,
+    /// The discrete gradient, updated by every cancellation.
     pub gradient: Gradient,
+    /// Every saddle of the initial gradient, with its measured 1-cells.
     pub saddles: Vec<Saddle>,
+    /// Whether each saddle is still critical.
     pub alive: Vec<bool>,
     minima: Extrema,
     maxima: Extrema,

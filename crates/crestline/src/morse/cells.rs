@@ -9,7 +9,9 @@ use super::gradient::{Gradient, Keys};
 /// measure (area or length): their ratio is the part's mean indicator.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Integral {
+    /// ∫ I over the region or line.
     pub integral: f64,
+    /// Its area or length.
     pub measure: f64,
 }
 
@@ -44,11 +46,15 @@ impl Integral {
 /// branch is empty.
 #[derive(Clone, Debug)]
 pub struct Saddle {
+    /// The saddle edge.
     pub edge: EdgeId,
     /// The faces on either side ([`FaceId::INVALID`] on the boundary).
     pub faces: [FaceId; 2],
+    /// The two vertices of the edge, where the descending branches start.
     pub vertices: [VertexId; 2],
+    /// The measured ascending branches (triangle strips).
     pub ascending: [Integral; 2],
+    /// The measured descending branches (vertex paths).
     pub descending: [Integral; 2],
 }
 

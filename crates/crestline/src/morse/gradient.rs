@@ -18,8 +18,11 @@ use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 /// two vertices', a face's the mean of its three, each computed once in a fixed
 /// order; ties are broken by element id (simulation of simplicity).
 pub struct Keys {
+    /// The value per vertex.
     pub vertex: Vec<f64>,
+    /// The mean of its two vertices per edge.
     pub edge: Vec<f64>,
+    /// The mean of its three vertices per face.
     pub face: Vec<f64>,
 }
 
@@ -53,14 +56,17 @@ impl Keys {
         }
     }
 
+    /// The (value, id) key of vertex `v`.
     pub fn vertex_key(&self, v: VertexId) -> (f64, u32) {
         (self.vertex[v.idx()], v.0)
     }
 
+    /// The (value, id) key of edge `e`.
     pub fn edge_key(&self, e: EdgeId) -> (f64, u32) {
         (self.edge[e.idx()], e.0)
     }
 
+    /// The (value, id) key of face `f`.
     pub fn face_key(&self, f: FaceId) -> (f64, u32) {
         (self.face[f.idx()], f.0)
     }
@@ -80,6 +86,7 @@ pub enum EdgeRole {
 /// The discrete gradient: both forests, oriented towards their roots.
 #[derive(Clone, Debug)]
 pub struct Gradient {
+    /// What each edge is in the gradient.
     pub edge_role: Vec<EdgeRole>,
     /// The edge from each vertex towards its minimum ([`EdgeId::INVALID`] at minima).
     pub vertex_parent: Vec<EdgeId>,
@@ -89,8 +96,11 @@ pub struct Gradient {
     pub vertex_root: Vec<VertexId>,
     /// The maximum whose tree holds each face.
     pub face_root: Vec<FaceId>,
+    /// The critical vertices.
     pub minima: Vec<VertexId>,
+    /// The critical faces.
     pub maxima: Vec<FaceId>,
+    /// The critical edges.
     pub saddles: Vec<EdgeId>,
 }
 

@@ -1,16 +1,20 @@
 //! Ridge and valley lines by extremality tracing (Hildebrandt, Polthier, Wardetzky:
 //! "Smooth feature lines on surface meshes", SGP 2005).
 //!
-//! The steps of the paper's Table 1, each in its own module:
+//! The steps of the paper's Table 1, each in its own module (chaining and fairing are
+//! the shared line tools of [`crate::lines`]):
 //! 1. optional implicit smoothing of the surface ([`smoothing::presmooth_surface`]);
 //! 2. principal curvatures and directions (any [`CurvatureEstimator`]), extremalities
-//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`extremality`]);
+//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`mod@extremality`]);
 //! 3. sign-aware implicit smoothing of the extremalities (§5.1)
 //!    ([`smoothing::smooth_extremality`]);
 //! 4. tracing the zero sets in regular triangles under the feature conditions (eqs. 5,
-//!    6), then bridging singular triangles (§4.2) ([`trace`]);
-//! 5. chaining into polylines and the strength filter ∫ k ds ≥ T ([`chain`]);
-//! 6. optional fairing of the lines as space curves (§5.2) ([`fair`]).
+//!    6), then bridging singular triangles (§4.2) ([`mod@trace`]), with the shared
+//!    zero-set tracer ([`crate::lines::zero_set`]);
+//! 5. chaining into polylines and the strength filter ∫ k ds ≥ T
+//!    ([`crate::lines::chain`]);
+//! 6. optional fairing of the lines as space curves (§5.2)
+//!    ([`crate::lines::fair`]).
 //!
 //! Ridges are maxima of k_max along its direction (convex crests); valleys are
 //! minima of k_min (concave creases), with outward normals.

@@ -2,9 +2,7 @@
 //! (Hildebrandt, Polthier, Wardetzky 2005, §5.1) and of the surface itself (step 1
 //! of their Table 1, implicit fairing after Desbrun et al. 1999).
 
-use sprs::CsMat;
-
-use crate::linalg::{CholeskyFactor, SymmetricBuilder};
+use crate::linalg::{CholeskyFactor, SymmetricBuilder, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
 
@@ -18,7 +16,7 @@ fn implicit_system(
     mesh: &Mesh,
     time: f64,
     edge_terms: impl Fn(usize, usize) -> (f64, f64),
-) -> (CsMat<f64>, Vec<f64>) {
+) -> (SymmetricMatrix, Vec<f64>) {
     let n = mesh.vertex_count();
     let mass = mesh.vertex_areas();
     let mut system = SymmetricBuilder::with_capacity(n, n + 4 * mesh.edge_count());
@@ -101,7 +99,7 @@ impl<'a> ExtremalitySmoother<'a> {
 /// already there (same sparsity pattern).
 fn factor_into<'s>(
     slot: &'s mut Option<CholeskyFactor>,
-    system: &CsMat<f64>,
+    system: &SymmetricMatrix,
 ) -> Result<&'s CholeskyFactor> {
     match slot {
         Some(f) => {
