@@ -3,13 +3,19 @@
 //! The steps, in order:
 //! 1. reject non-finite coordinates and out-of-range indices;
 //! 2. weld vertices with exactly equal positions (STL files repeat every vertex);
-//! 3. drop degenerate (zero-area) and repeated faces;
+//! 3. drop degenerate (zero-area) and repeated faces, and back-to-back pairs (a face
+//!    and its reverse on the same three corners: a sheet of zero thickness);
 //! 4. pair the faces along each edge; an edge with three or more faces is split so
 //!    that at most two faces share each copy;
-//! 5. orient every edge-connected component consistently (an unorientable one is an
-//!    error) and turn closed components with negative volume outside-out;
-//! 6. split vertices whose faces form several fans (bow-ties) into one vertex per fan;
+//! 5. orient every edge-connected component consistently and turn closed components
+//!    with negative volume outside-out. A component that cannot be oriented
+//!    (Möbius-like) is cut along the edges where its faces still disagree, which
+//!    leaves orientable patches ([`Mesh::from_soup_strict`] refuses it instead);
+//! 6. split vertices whose faces form several fans (bow-ties, and vertices on a cut)
+//!    into one vertex per fan;
 //! 7. drop unreferenced vertices and connect the halfedges.
+//!
+//! Every step takes time linear in the size of the soup.
 //!
 //! Faces are addressed by *corners*: corner `3f + i` is corner `i` of face `f`, and
 //! also names the directed edge from corner `i` to corner `i + 1` of that face.
@@ -32,14 +38,25 @@ pub struct RepairReport {
     pub unreferenced_vertices: usize,
     /// Faces with a repeated corner or zero area, removed.
     pub degenerate_faces: usize,
-    /// Faces with the same three corners as an earlier face, removed.
+    /// Faces with the same three corners as a face that is kept, removed. Of the
+    /// faces on the same corners, one with the orientation most of them have is kept.
     pub duplicate_faces: usize,
+    /// Back-to-back pairs removed: a face and its reverse on the same three corners,
+    /// e.g. (a, b, c) and (a, c, b). Where the corners appear equally often in both
+    /// orientations nothing tells which side is the surface, and every one of those
+    /// faces is removed (each pair counted once).
+    pub back_to_back_pairs: usize,
     /// Edges shared by three or more faces, split into manifold edges.
     pub non_manifold_edges: usize,
-    /// Vertices where several fans of faces met, split into one vertex per fan.
+    /// Vertices where several fans of faces met, in the input or after cutting edges
+    /// (see `cut_edges`), split into one vertex per fan.
     pub non_manifold_vertices: usize,
     /// Faces whose orientation disagreed with the rest of their component, flipped.
     pub flipped_faces: usize,
+    /// Edges cut open (each side becomes a boundary edge) so that a component that
+    /// could not be oriented consistently (it was Möbius-like) falls into orientable
+    /// patches: the edges across which its faces still disagreed once oriented.
+    pub cut_edges: usize,
     /// Closed components with negative signed volume, turned outside-out.
     pub inverted_components: usize,
 }
@@ -60,11 +77,19 @@ impl RepairReport {
                 "degenerate (zero-area) faces dropped",
             ),
             (self.duplicate_faces, "repeated faces dropped"),
+            (
+                self.back_to_back_pairs,
+                "back-to-back face pairs dropped (a face and its reverse on the same corners)",
+            ),
             (self.non_manifold_edges, "non-manifold edges split"),
             (self.non_manifold_vertices, "non-manifold vertices split"),
             (
                 self.flipped_faces,
                 "faces re-oriented to agree with their component",
+            ),
+            (
+                self.cut_edges,
+                "edges cut open to make non-orientable (Möbius-like) components orientable",
             ),
             (
                 self.inverted_components,
@@ -95,50 +120,80 @@ const NONE: u32 = u32::MAX;
 
 impl Mesh {
     /// Build a manifold, consistently oriented halfedge mesh from `soup`, repairing
-    /// duplicate vertices, degenerate and repeated faces, non-manifold edges and
-    /// vertices, and inconsistent or inside-out orientation. Every repair is counted
-    /// in the returned [`RepairReport`].
+    /// duplicate vertices, degenerate, repeated and back-to-back faces, non-manifold
+    /// edges and vertices, and inconsistent or inside-out orientation. A component
+    /// that cannot be oriented at all (Möbius-like) is cut open along the edges where
+    /// its faces disagree, into orientable patches. Every repair is counted in the
+    /// returned [`RepairReport`].
     ///
     /// Errors: a non-finite coordinate or out-of-range index (naming the vertex or
-    /// face), a component that cannot be oriented, or no faces left.
+    /// face), or no faces left.
     pub fn from_soup(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
-        let TriangleSoup {
-            positions,
-            triangles,
-            vertex_scalars,
-        } = soup;
-        validate(&positions, &triangles, &vertex_scalars)?;
-        let mut report = RepairReport::default();
-
-        let weld = weld_coincident(&positions);
-        report.welded_vertices = positions.len() - weld.distinct;
-        let welded: Vec<[u32; 3]> = triangles
-            .iter()
-            .map(|t| t.map(|v| weld.representative[v as usize]))
-            .collect();
-        let mut tris = drop_bad_faces(&positions, positions.len(), welded, &mut report);
-        if tris.is_empty() {
-            return Err(Error::Mesh(
-                "no faces (after dropping degenerate and repeated faces)".into(),
-            ));
-        }
-
-        let mut partner = pair_edges(&tris, positions.len(), &mut report);
-        orient(&positions, &mut tris, &mut partner, &mut report)?;
-        let mut positions = positions;
-        let mut scalars = vertex_scalars;
-        split_fans(
-            &mut tris,
-            &partner,
-            &mut positions,
-            &mut scalars,
-            &mut report,
-        );
-        let referenced = compact_vertices(&mut tris, &mut positions, &mut scalars);
-        report.unreferenced_vertices = weld.distinct - (referenced - report.non_manifold_vertices);
-
-        Ok((connect(positions, &tris, &partner, scalars), report))
+        build(soup, Unorientable::Cut)
     }
+
+    /// [`Mesh::from_soup`] for callers who would rather be told than have a surface
+    /// cut: a component that cannot be oriented consistently is an error naming it,
+    /// instead of being cut open. Every other repair is made as by
+    /// [`Mesh::from_soup`].
+    pub fn from_soup_strict(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
+        build(soup, Unorientable::Refuse)
+    }
+}
+
+/// What to do with a component that cannot be oriented consistently.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Unorientable {
+    /// Cut it open along the edges where its faces disagree.
+    Cut,
+    /// Return an error naming it.
+    Refuse,
+}
+
+/// The steps of the module documentation, in order.
+fn build(soup: TriangleSoup, unorientable: Unorientable) -> Result<(Mesh, RepairReport)> {
+    let TriangleSoup {
+        positions,
+        triangles,
+        vertex_scalars,
+    } = soup;
+    validate(&positions, &triangles, &vertex_scalars)?;
+    let mut report = RepairReport::default();
+
+    let weld = weld_coincident(&positions);
+    report.welded_vertices = positions.len() - weld.distinct;
+    let welded: Vec<[u32; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|v| weld.representative[v as usize]))
+        .collect();
+    let mut tris = drop_bad_faces(&positions, positions.len(), welded, &mut report);
+    if tris.is_empty() {
+        return Err(Error::Mesh(
+            "no faces (after dropping degenerate, repeated and back-to-back faces)".into(),
+        ));
+    }
+
+    let mut partner = pair_edges(&tris, positions.len(), &mut report);
+    orient(
+        &positions,
+        &mut tris,
+        &mut partner,
+        unorientable,
+        &mut report,
+    )?;
+    let mut positions = positions;
+    let mut scalars = vertex_scalars;
+    split_fans(
+        &mut tris,
+        &partner,
+        &mut positions,
+        &mut scalars,
+        &mut report,
+    );
+    let referenced = compact_vertices(&mut tris, &mut positions, &mut scalars);
+    report.unreferenced_vertices = weld.distinct - (referenced - report.non_manifold_vertices);
+
+    Ok((connect(positions, &tris, &partner, scalars), report))
 }
 
 /// Reject non-finite coordinates, out-of-range indices and mis-sized properties.
@@ -224,8 +279,8 @@ fn weld_coincident(positions: &[Point]) -> Weld {
     }
 }
 
-/// Remove faces with a repeated corner or zero area, then faces whose corner set
-/// repeats an earlier face (whatever its orientation).
+/// Remove faces with a repeated corner or zero area, then settle the faces that share
+/// their three corners with others (see [`settle_same_corners`]).
 fn drop_bad_faces(
     positions: &[Point],
     vertex_count: usize,
@@ -252,19 +307,52 @@ fn drop_bad_faces(
         group.clear();
         group.extend(bucket.iter().map(|&f| (sorted_key(f), f)));
         group.sort_unstable();
-        for w in group.windows(2) {
-            if w[0].0 == w[1].0 {
-                keep[w[1].1 as usize] = false;
+        for same_corners in group.chunk_by(|x, y| x.0 == y.0) {
+            if same_corners.len() > 1 {
+                let faces = same_corners.iter().map(|&(_, f)| f);
+                settle_same_corners(&tris, faces, &mut keep, report);
             }
         }
     }
-    let kept: Vec<[u32; 3]> = tris
-        .iter()
+    tris.iter()
         .zip(&keep)
         .filter_map(|(t, &k)| k.then_some(*t))
-        .collect();
-    report.duplicate_faces = tris.len() - kept.len();
-    kept
+        .collect()
+}
+
+/// Decide which of several faces on the same three corners (given in input order)
+/// survive. Faces in opposite orientations cancel in pairs, as a sheet of zero
+/// thickness: if both orientations are equally frequent all the faces go (counted as
+/// back-to-back pairs); otherwise the first face of the more frequent orientation is
+/// kept and the others go (counted as duplicates).
+fn settle_same_corners(
+    tris: &[[u32; 3]],
+    faces: impl Iterator<Item = u32> + Clone,
+    keep: &mut [bool],
+    report: &mut RepairReport,
+) {
+    let winds_up = |f: &u32| winds_upwards(&tris[*f as usize]);
+    let count = faces.clone().count();
+    let upwards = faces.clone().filter(winds_up).count();
+    let survivor = match (2 * upwards).cmp(&count) {
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => faces.clone().find(winds_up),
+        std::cmp::Ordering::Less => faces.clone().find(|f| !winds_up(f)),
+    };
+    for f in faces.filter(|&f| Some(f) != survivor) {
+        keep[f as usize] = false;
+    }
+    match survivor {
+        None => report.back_to_back_pairs += upwards,
+        Some(_) => report.duplicate_faces += count - 1,
+    }
+}
+
+/// Whether the corners of `t` run through its vertex numbers in increasing cyclic
+/// order, (a, b, c) with a < b < c up to rotation; its reverse does not.
+fn winds_upwards(t: &[u32; 3]) -> bool {
+    let rises = (t[0] < t[1]) as u8 + (t[1] < t[2]) as u8 + (t[2] < t[0]) as u8;
+    rises == 2
 }
 
 /// A face is degenerate if two corners coincide or its area vanishes relative to
@@ -349,11 +437,15 @@ const FLIPPED_CORNER: [usize; 3] = [2, 1, 0];
 
 /// Orient every edge-connected component consistently, keeping the orientation of
 /// the majority of its faces, and turn closed components with negative volume
-/// outside-out. Flips faces in `tris` and renumbers `partner` to match.
+/// outside-out. A component that cannot be oriented is cut open along the edges
+/// where its faces still disagree (their corners are unpaired in `partner`), or
+/// refused, as `unorientable` says. Flips faces in `tris` and renumbers `partner` to
+/// match.
 fn orient(
     positions: &[Point],
     tris: &mut [[u32; 3]],
     partner: &mut [u32],
+    unorientable: Unorientable,
     report: &mut RepairReport,
 ) -> Result<()> {
     let already_consistent = (0..partner.len()).into_par_iter().all(|c| {
@@ -363,7 +455,9 @@ fn orient(
     let flip = if already_consistent {
         outward_flips(tris, partner, positions, report)
     } else {
-        consistent_flips(tris, partner, positions, report)?
+        let flip = consistent_flips(tris, partner, positions, unorientable, report)?;
+        report.cut_edges = cut_disagreeing_edges(tris, partner, &flip);
+        flip
     };
     if !flip.iter().any(|&f| f) {
         return Ok(());
@@ -428,63 +522,173 @@ fn outward_flips(
 
 /// Decide which faces to flip: a breadth-first search over each component makes
 /// neighbours agree; the component then keeps its majority orientation, unless it
-/// is closed and that orientation encloses negative volume.
+/// is closed and that orientation encloses negative volume. Where the search finds
+/// that a component cannot be oriented, it is an error if `unorientable` says so;
+/// otherwise the flips are improved locally so that few edges disagree, and
+/// [`cut_disagreeing_edges`] cuts the rest.
 fn consistent_flips(
     tris: &[[u32; 3]],
     partner: &[u32],
     positions: &[Point],
+    unorientable: Unorientable,
     report: &mut RepairReport,
 ) -> Result<Vec<bool>> {
     let face_count = tris.len();
     let mut flip = vec![false; face_count];
     let mut visited = vec![false; face_count];
-    let mut queue = Vec::new();
-    let mut component_faces = Vec::new();
-    for (component, seed) in (0..face_count).enumerate() {
+    let mut faces = Vec::new();
+    let mut component = 0usize;
+    for seed in 0..face_count {
         if visited[seed] {
             continue;
         }
-        visited[seed] = true;
-        queue.push(seed);
-        component_faces.clear();
-        let mut closed = true;
-        while let Some(f) = queue.pop() {
-            component_faces.push(f);
-            for (c, &d) in partner.iter().enumerate().skip(3 * f).take(3) {
-                if d == NONE {
-                    closed = false;
-                    continue;
-                }
-                let g = d as usize / 3;
-                // Neighbours must run along the shared edge in opposite directions.
-                let same_direction = corner_edge(tris, c) == corner_edge(tris, d as usize);
-                let want = flip[f] ^ same_direction;
-                if !visited[g] {
-                    visited[g] = true;
-                    flip[g] = want;
-                    queue.push(g);
-                } else if flip[g] != want {
-                    return Err(Error::Mesh(format!(
-                        "component {component} (the faces connected to face {seed}) cannot be \
-                         oriented consistently (it is Möbius-like)"
-                    )));
-                }
+        let spread = spread_orientation(tris, partner, seed, &mut flip, &mut visited, &mut faces);
+        if spread.disagreement {
+            if unorientable == Unorientable::Refuse {
+                return Err(Error::Mesh(format!(
+                    "component {component} (the faces connected to face {seed}) cannot be \
+                     oriented consistently (it is Möbius-like)"
+                )));
             }
+            reduce_disagreement(tris, partner, &faces, &mut flip);
         }
-        let flipped = component_faces.iter().filter(|&&f| flip[f]).count();
-        let mut invert = 2 * flipped > component_faces.len();
-        report.flipped_faces += flipped.min(component_faces.len() - flipped);
-        if closed && signed_volume(positions, tris, &component_faces, &flip) * sign(invert) < 0.0 {
-            invert = !invert;
-            report.inverted_components += 1;
-        }
-        if invert {
-            for &f in &component_faces {
-                flip[f] = !flip[f];
+        // A component that is cut open is no longer closed.
+        let closed = spread.closed && !spread.disagreement;
+        choose_side(positions, tris, &faces, closed, &mut flip, report);
+        component += 1;
+    }
+    Ok(flip)
+}
+
+/// What [`spread_orientation`] found about a component.
+struct Spread {
+    /// Every edge of the component has two faces.
+    closed: bool,
+    /// Some paired faces disagree however the faces are flipped (it is Möbius-like).
+    disagreement: bool,
+}
+
+/// Breadth-first search from `seed` over paired edges, setting `flip` of each face
+/// reached so that it agrees with the face it was reached from. `faces` receives the
+/// component's faces in the order they were reached.
+fn spread_orientation(
+    tris: &[[u32; 3]],
+    partner: &[u32],
+    seed: usize,
+    flip: &mut [bool],
+    visited: &mut [bool],
+    faces: &mut Vec<usize>,
+) -> Spread {
+    faces.clear();
+    faces.push(seed);
+    visited[seed] = true;
+    let mut spread = Spread {
+        closed: true,
+        disagreement: false,
+    };
+    let mut head = 0;
+    while let Some(&f) = faces.get(head) {
+        head += 1;
+        for (c, &d) in partner.iter().enumerate().skip(3 * f).take(3) {
+            if d == NONE {
+                spread.closed = false;
+                continue;
+            }
+            let g = d as usize / 3;
+            // Neighbours must run along the shared edge in opposite directions.
+            let want = flip[f] ^ same_direction(tris, c, d as usize);
+            if !visited[g] {
+                visited[g] = true;
+                flip[g] = want;
+                faces.push(g);
+            } else if flip[g] != want {
+                spread.disagreement = true;
             }
         }
     }
-    Ok(flip)
+    spread
+}
+
+/// Whether the paired corners `c` and `d` run along their edge in the same direction
+/// (so that one of their faces must be flipped for them to agree).
+#[inline]
+fn same_direction(tris: &[[u32; 3]], c: usize, d: usize) -> bool {
+    corner_edge(tris, c) == corner_edge(tris, d)
+}
+
+/// Whether the faces of paired corners `c` and `d`, flipped as `flip` says, still run
+/// along their edge in the same direction.
+#[inline]
+fn disagree(tris: &[[u32; 3]], flip: &[bool], c: usize, d: usize) -> bool {
+    same_direction(tris, c, d) ^ (flip[c / 3] != flip[d / 3])
+}
+
+/// The number of edges of face `f` across which it disagrees with its neighbour.
+fn disagreeing_edges(tris: &[[u32; 3]], partner: &[u32], flip: &[bool], f: usize) -> usize {
+    (3 * f..3 * f + 3)
+        .filter(|&c| partner[c] != NONE && disagree(tris, flip, c, partner[c] as usize))
+        .count()
+}
+
+/// Shorten the cut of a component that cannot be oriented: flip each face that
+/// disagrees with its neighbours across two or three of its edges, until no face
+/// does. Every flip lowers the number of disagreeing edges, so this ends after
+/// fewer flips than there are such edges.
+fn reduce_disagreement(tris: &[[u32; 3]], partner: &[u32], faces: &[usize], flip: &mut [bool]) {
+    let mut pending: Vec<usize> = faces
+        .iter()
+        .copied()
+        .filter(|&f| disagreeing_edges(tris, partner, flip, f) >= 2)
+        .collect();
+    while let Some(f) = pending.pop() {
+        if disagreeing_edges(tris, partner, flip, f) < 2 {
+            continue;
+        }
+        flip[f] = !flip[f];
+        let neighbours = partner[3 * f..3 * f + 3].iter().filter(|&&d| d != NONE);
+        pending.extend(neighbours.map(|&d| d as usize / 3));
+    }
+}
+
+/// Keep the majority orientation of a component's `faces` (counting the faces that
+/// disagreed with it as flipped), or, for a closed component, the orientation that
+/// encloses positive volume.
+fn choose_side(
+    positions: &[Point],
+    tris: &[[u32; 3]],
+    faces: &[usize],
+    closed: bool,
+    flip: &mut [bool],
+    report: &mut RepairReport,
+) {
+    let flipped = faces.iter().filter(|&&f| flip[f]).count();
+    let mut invert = 2 * flipped > faces.len();
+    report.flipped_faces += flipped.min(faces.len() - flipped);
+    if closed && signed_volume(positions, tris, faces, flip) * sign(invert) < 0.0 {
+        invert = !invert;
+        report.inverted_components += 1;
+    }
+    if invert {
+        for &f in faces {
+            flip[f] = !flip[f];
+        }
+    }
+}
+
+/// Unpair the corners whose faces, flipped as `flip` says, still disagree across their
+/// edge: the edge becomes a boundary edge on both sides. Returns the number of edges
+/// cut.
+fn cut_disagreeing_edges(tris: &[[u32; 3]], partner: &mut [u32], flip: &[bool]) -> usize {
+    let mut cut = 0;
+    for c in 0..partner.len() {
+        let d = partner[c];
+        if d != NONE && disagree(tris, flip, c, d as usize) {
+            partner[c] = NONE;
+            partner[d as usize] = NONE;
+            cut += 1;
+        }
+    }
+    cut
 }
 
 fn sign(negative: bool) -> f64 {

@@ -2,9 +2,11 @@
 //!
 //! A [`Mesh`] is built from a [`TriangleSoup`] by [`Mesh::from_soup`], which repairs
 //! what real files contain (duplicate vertices, inconsistent orientation,
-//! non-manifold edges and vertices, degenerate and repeated faces) and reports each
-//! repair in a [`RepairReport`]. The result is always an oriented 2-manifold, possibly
-//! with boundary and several components.
+//! non-manifold edges and vertices, degenerate, repeated and back-to-back faces, and
+//! Möbius-like components, which are cut open into orientable patches) and reports
+//! each repair in a [`RepairReport`]; [`Mesh::from_soup_strict`] refuses a component
+//! that cannot be oriented instead. The result is always an oriented 2-manifold,
+//! possibly with boundary and several components.
 //!
 //! Storage is a set of plain arrays indexed by u32 ids. Halfedges come in pairs:
 //! halfedge `2e` and `2e + 1` are the two sides of edge `e`, so the twin of `h` is
