@@ -1,5 +1,10 @@
 //! The one error type of the crate. Every fallible call returns [`Result`].
+//!
+//! Messages are shown on one line: control characters in them (which can come from
+//! a malformed input file quoted in a message) are written as escapes such as `\x07`
+//! when an [`Error`] is displayed.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong in crestline, each variant naming what is wrong
@@ -8,7 +13,7 @@ use std::path::{Path, PathBuf};
 pub enum Error {
     /// A problem tied to a file: it could not be read or written, or its content is
     /// malformed. The message names the line or element where that is known.
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {}", escape_control(&path.display().to_string()), escape_control(message))]
     File {
         /// The file.
         path: PathBuf,
@@ -17,13 +22,13 @@ pub enum Error {
     },
     /// Malformed content read from a stream with no file name (yet). Readers return
     /// this and [`crate::io::read_mesh`] turns it into [`Error::File`].
-    #[error("{0}")]
+    #[error("{}", escape_control(.0))]
     Parse(String),
     /// The mesh cannot be used: no faces, a NaN coordinate, a non-orientable component.
-    #[error("{0}")]
+    #[error("{}", escape_control(.0))]
     Mesh(String),
     /// A parameter outside its meaningful range.
-    #[error("invalid argument: {0}")]
+    #[error("invalid argument: {}", escape_control(.0))]
     Argument(String),
 }
 
@@ -57,5 +62,36 @@ impl Error {
     }
 }
 
+/// `text` with every control character (line breaks, tabs, NUL, bell, escape, ...)
+/// written as `\xNN`, so that a message quoting bytes of a malformed file stays on
+/// one line and cannot drive a terminal.
+pub fn escape_control(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut escaped = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            escaped.push_str(&format!("\\x{:02x}", u32::from(c)));
+        } else {
+            escaped.push(c);
+        }
+    }
+    Cow::Owned(escaped)
+}
+
 /// Shorthand for results of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_when_displayed() {
+        let err = Error::Parse("cannot read 'a\u{7}b\nc' as a number".to_string());
+        assert_eq!(err.to_string(), r"cannot read 'a\x07b\x0ac' as a number");
+        let err = Error::Parse("plain words".to_string()).in_file(Path::new("m\u{1b}.ply"));
+        assert_eq!(err.to_string(), r"m\x1b.ply: plain words");
+    }
+}

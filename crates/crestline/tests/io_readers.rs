@@ -553,6 +553,188 @@ fn ascii_stl_malformed_inputs() {
 }
 
 // ---------------------------------------------------------------------------
+// Hostile inputs: absurd counts, duplicate elements, control bytes
+
+/// An ASCII PLY triangle whose face line is `face`.
+fn ascii_ply_triangle(face: &str) -> String {
+    format!(
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n\
+         0 0 0\n1 0 0\n0 1 0\n{face}\n"
+    )
+}
+
+/// The error of reading `bytes` as the file `name`, checked to be one line naming
+/// the file, without control characters or Rust debug text.
+fn file_error(name: &str, bytes: &[u8]) -> String {
+    let (path, _dir) = temp_file(name, bytes);
+    let message = read_mesh(&path)
+        .expect_err("input should be rejected")
+        .to_string();
+    assert!(
+        message.starts_with(&format!("{}: ", path.display())),
+        "{message}"
+    );
+    assert!(!message.chars().any(char::is_control), "{message:?}");
+    for debug in ["{ ", "kind:", "Some(", "PropertyDef", "ParseIntError"] {
+        assert!(!message.contains(debug), "{message}");
+    }
+    message
+}
+
+#[test]
+fn ply_list_count_of_2_pow_62_is_rejected() {
+    let huge = format!("{} 0 1 2", 1u64 << 62);
+    let message = file_error("huge_list.ply", ascii_ply_triangle(&huge).as_bytes());
+    for words in [
+        "line 13: face 0",
+        "'4611686018427387904' is out of range for the type uint",
+    ] {
+        assert!(message.contains(words), "{message}");
+    }
+    assert_error(
+        read_ply(ascii_ply_triangle("4294967295 0 1 2").as_bytes()),
+        &["line 13", "face 0", "4294967295 corners", "at most 1024"],
+    );
+    assert_error(
+        read_ply(ascii_ply_triangle("2 0 1").as_bytes()),
+        &["face 0", "at least 3 corners, found 2"],
+    );
+    assert_error(
+        read_off(format!("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n{huge}\n").as_bytes()),
+        &["line 6", "face 0", "at most 1024"],
+    );
+    // A binary face list with a count of 2^32 - 1, in both readers (the single-list
+    // fast path and the record-by-record path of a face with a second property).
+    for extra in ["", "property uchar flags\n"] {
+        let mut bytes = format!(
+            "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+             property float y\nproperty float z\nelement face 1\n\
+             property list uint int vertex_indices\n{extra}end_header\n"
+        )
+        .into_bytes();
+        bytes.extend([0u8; 36]);
+        let offset = format!("face 0 (byte {})", bytes.len());
+        bytes.extend(u32::MAX.to_le_bytes());
+        bytes.extend([0u8; 13]);
+        assert_error(read_ply(&bytes), &[&offset, "4294967295 corners"]);
+    }
+}
+
+#[test]
+fn ply_duplicate_element_names_are_rejected() {
+    let text = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                element vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n";
+    let message = assert_error(
+        read_ply(text.as_bytes()),
+        &["line 9", "a second element 'vertex'", "line 3", "unique"],
+    );
+    assert!(!message.contains("corners"), "{message}");
+    let twice = ASCII_PLY.replace("property float y\n", "property float y\nproperty float x\n");
+    assert_error(
+        read_ply(twice.as_bytes()),
+        &["line 7", "a second property 'x' in element 'vertex'"],
+    );
+}
+
+#[test]
+fn ply_huge_element_count_in_a_tiny_file_fails_at_once() {
+    let mut text = ascii_ply_triangle("3 0 1 2").replace("vertex 3", "vertex 1000000000000000");
+    text += &"# padding to about a kilobyte\n".repeat(30);
+    let start = std::time::Instant::now();
+    assert_error(
+        read_ply(text.as_bytes()),
+        &["ends after 34 of 1000000000000000 'vertex' elements"],
+    );
+    let mut binary = b"ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty double x\n\
+                       property double y\nproperty double z\nelement face 1000000000000000\n\
+                       property list uchar int vertex_indices\nend_header\n"
+        .to_vec();
+    binary.resize(1000, 0);
+    assert_error(read_ply(&binary), &["of 1000000000000000 'face' elements"]);
+    assert!(start.elapsed().as_secs_f64() < 1.0);
+}
+
+#[test]
+fn ply_header_count_overflow_and_value_overflow_are_plain_words() {
+    let text = ascii_ply_triangle("3 0 1 2").replace("vertex 3", "vertex 99999999999999999999");
+    assert_error(
+        read_ply(text.as_bytes()),
+        &[
+            "line 3",
+            "count of element 'vertex' is too large",
+            "99999999999999999999",
+        ],
+    );
+    let text = ascii_ply_triangle("3 0 1 2").replace("vertex 3", "vertex -3");
+    assert_error(
+        read_ply(text.as_bytes()),
+        &["line 3", "'-3' is not a non-negative integer"],
+    );
+    let uchar = ASCII_PLY.replace("1 1 0 1 30 2.5", "1 1 0 1 300 2.5");
+    assert_error(
+        read_ply(uchar.as_bytes()),
+        &[
+            "line 19",
+            "vertex 2",
+            "'300' is out of range for the type uchar",
+        ],
+    );
+    let message = file_error(
+        "overflow.ply",
+        ascii_ply_triangle("99999999999999999999999 0 1 2").as_bytes(),
+    );
+    assert!(
+        message.contains("out of range for the type uint"),
+        "{message}"
+    );
+    let message = file_error(
+        "orphan.ply",
+        b"ply\nformat ascii 1.0\nproperty float x\nend_header\n",
+    );
+    assert!(
+        message.contains("line 3: a 'property' line before any 'element'"),
+        "{message}"
+    );
+    let message = file_error(
+        "two_formats.ply",
+        b"ply\nformat ascii 1.0\nformat binary_big_endian 1.0\nend_header\n",
+    );
+    assert!(
+        message.contains("line 3: a second 'format' line"),
+        "{message}"
+    );
+}
+
+#[test]
+fn control_bytes_of_the_input_are_escaped_in_messages() {
+    let message = file_error("bell.obj", b"v 0 0 0\nv 1 0 0\nv 0 1\x07 0\nf 1 2 3\n");
+    assert!(
+        message.contains(r"line 3: cannot read '1\x07' as a number"),
+        "{message}"
+    );
+    let message = file_error(
+        "escape.off",
+        b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 \x1b[2J\n",
+    );
+    assert!(message.contains(r"'\x1b[2J'"), "{message}");
+    let header = ascii_ply_triangle("3 0 1 2").replace("property float y", "property flo\u{7}at y");
+    let message = file_error("bell.ply", header.as_bytes());
+    assert!(
+        message.contains(r"line 5: unknown PLY type 'flo\x07at'"),
+        "{message}"
+    );
+    let token = ascii_ply_triangle("3 0 1\x00 2");
+    let message = file_error("nul_token.ply", token.as_bytes());
+    assert!(message.contains(r"'1\x00'"), "{message}");
+    let long = format!("v 0 0 {}\n", "7".repeat(200) + "x");
+    let message = file_error("long.obj", long.as_bytes());
+    assert!(message.len() < 200, "{message}");
+}
+
+// ---------------------------------------------------------------------------
 // Writers
 
 fn bunny() -> Mesh {

@@ -7,7 +7,11 @@
 //! numbers) and fan polygons into triangles, but keep coordinates as written: a NaN
 //! or infinite coordinate is left to [`crate::mesh::Mesh::from_soup`] to reject.
 //! Their errors name the line (text formats) or the element and byte offset (binary
-//! formats) where the file goes wrong.
+//! formats) where the file goes wrong, on one line and in plain words (input text
+//! they quote is shortened, and its control characters escaped when the error is
+//! displayed). Counts announced by a header are checked against the size of the
+//! file before anything is allocated for them, and a polygon declaring more than
+//! [`MAX_FACE_CORNERS`] corners is rejected before its indices are read.
 //!
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
 //! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
@@ -17,6 +21,8 @@ mod obj;
 mod off;
 mod ply;
 mod ply_binary;
+mod ply_header;
+mod ply_records;
 mod soup;
 mod stl;
 
@@ -26,7 +32,6 @@ pub use ply::{read_ply, write_ply, VertexAttribute};
 pub use soup::write_soup;
 pub use stl::read_stl;
 
-use std::io::{BufRead, Read};
 use std::path::Path;
 
 use crate::mesh::TriangleSoup;
@@ -123,8 +128,7 @@ fn parse_bytes(
 const PROGRESS_STEP: usize = 1 << 20;
 
 /// The bytes of a mesh file being parsed: a cursor that hands out lines or byte
-/// blocks, counts lines for error messages and reports progress. It is also a
-/// [`BufRead`] for parsers that want one.
+/// blocks, counts lines for error messages and reports progress.
 struct Input<'a> {
     bytes: &'a [u8],
     pos: usize,
@@ -163,12 +167,6 @@ impl<'a> Input<'a> {
     /// The 1-based number of the line last returned by [`Input::next_line`].
     fn line(&self) -> usize {
         self.line
-    }
-
-    /// Declare that `line` lines have been read by other means (e.g. a header parser
-    /// reading through [`BufRead`]), so that later line numbers are right.
-    fn set_line(&mut self, line: usize) {
-        self.line = line;
     }
 
     fn advance(&mut self, n: usize) {
@@ -224,25 +222,6 @@ impl<'a> Input<'a> {
     }
 }
 
-impl Read for Input<'_> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = buf.len().min(self.remaining());
-        buf[..n].copy_from_slice(&self.bytes[self.pos..self.pos + n]);
-        self.advance(n);
-        Ok(n)
-    }
-}
-
-impl BufRead for Input<'_> {
-    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
-        Ok(&self.bytes[self.pos..])
-    }
-
-    fn consume(&mut self, amount: usize) {
-        self.advance(amount.min(self.remaining()));
-    }
-}
-
 /// A parse error located at a line of a text file.
 fn line_error(line: usize, message: impl std::fmt::Display) -> Error {
     Error::Parse(format!("line {line}: {message}"))
@@ -267,7 +246,37 @@ fn capped_capacity(claimed: usize, remaining_bytes: usize, min_bytes: usize) -> 
 fn parse_number<T: std::str::FromStr>(token: &str) -> std::result::Result<T, String> {
     token
         .parse()
-        .map_err(|_| format!("cannot read '{token}' as a number"))
+        .map_err(|_| format!("cannot read {} as a number", quoted(token)))
+}
+
+/// Longest piece of input text quoted in a message, in characters.
+const MAX_QUOTED_CHARS: usize = 40;
+
+/// `text` in single quotes for a message, shortened to its first
+/// [`MAX_QUOTED_CHARS`] characters if longer (control characters are escaped when
+/// the error is displayed).
+fn quoted(text: &str) -> String {
+    match text.char_indices().nth(MAX_QUOTED_CHARS) {
+        Some((end, _)) => format!("'{}...'", &text[..end]),
+        None => format!("'{text}'"),
+    }
+}
+
+/// Most corners a polygon may have: far more than any real mesh uses, few enough
+/// that a corrupt count cannot make a reader loop or allocate for long.
+pub const MAX_FACE_CORNERS: usize = 1024;
+
+/// Check the corner count a file declares for a polygon before reading it.
+fn check_corner_count(count: u64) -> std::result::Result<usize, String> {
+    if count < 3 {
+        return Err(format!("a face needs at least 3 corners, found {count}"));
+    }
+    if count > MAX_FACE_CORNERS as u64 {
+        return Err(format!(
+            "a face of {count} corners (at most {MAX_FACE_CORNERS} are supported; a corrupt count?)"
+        ));
+    }
+    Ok(count as usize)
 }
 
 /// The next three tokens as a point.

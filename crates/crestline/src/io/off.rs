@@ -1,7 +1,8 @@
 //! Object File Format (OFF) reading.
 
 use super::{
-    capped_capacity, line_error, parse_number, parse_point, push_polygon, truncated, Input,
+    capped_capacity, check_corner_count, line_error, parse_number, parse_point, push_polygon,
+    quoted, truncated, Input,
 };
 use crate::mesh::TriangleSoup;
 use crate::{Error, Result};
@@ -20,8 +21,8 @@ const MIN_FACE_BYTES: usize = 8;
 /// Accepts the `OFF`, `COFF`, `NOFF`, `CNOFF` and `NCOFF` headers (or none, as the format
 /// allows), counts on the header line or the next one, `#` comments and blank
 /// lines, one vertex per line (values after x, y, z are ignored) and one face per
-/// line (`n i1 ... in`, 0-based, optionally followed by a colour). Polygons are
-/// fanned into triangles.
+/// line (`n i1 ... in`, 0-based, optionally followed by a colour; 3 to
+/// [`super::MAX_FACE_CORNERS`] corners). Polygons are fanned into triangles.
 pub fn read_off(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }
@@ -75,7 +76,8 @@ fn read_header(input: &mut Input<'_>) -> Result<(usize, usize)> {
         return Err(line_error(
             input.line(),
             format!(
-                "unsupported OFF variant '{keyword}' (supported: {})",
+                "unsupported OFF variant {} (supported: {})",
+                quoted(keyword),
                 KEYWORDS.join(", ")
             ),
         ));
@@ -84,7 +86,7 @@ fn read_header(input: &mut Input<'_>) -> Result<(usize, usize)> {
     } else {
         return Err(line_error(
             input.line(),
-            format!("not an OFF file: expected 'OFF', found '{keyword}'"),
+            format!("not an OFF file: expected 'OFF', found {}", quoted(keyword)),
         ));
     };
     parse_counts(counts).map_err(|m| line_error(input.line(), m))
@@ -99,7 +101,7 @@ fn parse_counts(line: &str) -> std::result::Result<(usize, usize), String> {
             .ok_or_else(|| format!("the header has no {what} count"))?;
         token
             .parse::<usize>()
-            .map_err(|_| format!("cannot read the {what} count '{token}'"))
+            .map_err(|_| format!("cannot read the {what} count {}", quoted(token)))
     };
     Ok((count("vertex")?, count("face")?))
 }
@@ -120,7 +122,7 @@ impl FaceBuffers {
         triangles: &mut Vec<[u32; 3]>,
     ) -> std::result::Result<(), String> {
         let mut tokens = record.split_ascii_whitespace();
-        let n: usize = parse_number(tokens.next().unwrap_or(record))?;
+        let n = check_corner_count(parse_number(tokens.next().unwrap_or(record))?)?;
         self.corners.clear();
         for k in 0..n {
             let token = tokens

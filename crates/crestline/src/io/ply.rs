@@ -1,17 +1,17 @@
-//! Stanford PLY: reading (ASCII and binary, through `ply-rs-bw`) and writing
-//! (binary little endian).
+//! Stanford PLY: reading (ASCII and binary) and writing (binary little endian).
+//!
+//! The header is checked line by line ([`super::ply_header`]) and its element counts
+//! against the size of the file before anything is allocated; binary files of the
+//! common layout are decoded by [`super::ply_binary`], every other layout record by
+//! record ([`super::ply_records`]).
 
 use std::io::Write;
 use std::path::Path;
 
-use ply_rs_bw::parser::{ParseError, Parser, Reader};
-use ply_rs_bw::ply::{
-    BeginList, ElementDef, Encoding, Header, PropertyAccess, PropertyAccessResult, PropertyType,
-    ScalarType,
-};
-
-use super::ply_binary::{self, scalar_size, Endian};
-use super::{capped_capacity, line_error, push_polygon, truncated, Input};
+use super::ply_binary::{self, Endian};
+use super::ply_header::{self, Element, Encoding, Header, PropertyType};
+use super::ply_records::read_element;
+use super::{push_polygon, Input};
 use crate::mesh::{Mesh, ScalarProperty, TriangleSoup};
 use crate::{Error, Point, Result, Vector};
 
@@ -23,109 +23,40 @@ const DROPPED_VERTEX_PROPERTIES: &[&str] = &["x", "y", "z", "nx", "ny", "nz"];
 /// Read a PLY file from memory: ASCII, binary little endian or binary big endian.
 ///
 /// Needs a `vertex` element with scalar `x`, `y`, `z` and a `face` element with an
-/// integer list `vertex_indices` (or `vertex_index`); polygons are fanned into
-/// triangles and other elements are skipped. Every other scalar vertex property
-/// (`quality`, `red`, user fields, ...) except the normal `nx`, `ny`, `nz` is kept
-/// as a [`ScalarProperty`] of the same name, converted to `f64`.
+/// integer list `vertex_indices` (or `vertex_index`) of 3 to
+/// [`super::MAX_FACE_CORNERS`] corners; polygons are fanned into triangles and
+/// other elements are skipped. Every other scalar vertex property (`quality`,
+/// `red`, user fields, ...) except the normal `nx`, `ny`, `nz` is kept as a
+/// [`ScalarProperty`] of the same name, converted to `f64`.
+///
+/// Element names must be unique, and the counts of the header must fit in the
+/// file: a header announcing more records than the file can hold is an error
+/// before anything is read.
 pub fn read_ply(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }
 
 pub(super) fn parse(input: &mut Input<'_>) -> Result<TriangleSoup> {
-    if !input.rest().starts_with(b"ply") {
-        return Err(Error::Parse(
-            "not a PLY file: it does not start with 'ply'".to_string(),
-        ));
-    }
-    let mut reader = Reader::new(input);
-    let header = Parser::<Skipped>::new()
-        .read_header(&mut reader)
-        .map_err(|e| header_error(&e, reader.line()))?;
+    let header = ply_header::read_header(input)?;
     let layout = Layout::new(&header)?;
-    let next_line = reader.line();
-    reader.get_mut().set_line(next_line.saturating_sub(1));
-    let mut payload = Payload {
-        reader,
-        encoding: header.encoding,
-    };
+    ply_header::check_counts_fit(&header, input.rest())?;
     let mut soup = TriangleSoup::default();
-    let endian = match header.encoding {
-        Encoding::Ascii => None,
-        Encoding::BinaryLittleEndian => Some(Endian::Little),
-        Encoding::BinaryBigEndian => Some(Endian::Big),
-    };
-    for def in header.elements.values() {
-        let fixed = endian.zip(ply_binary::fixed_layout(def));
-        let index_list = endian.zip(single_list(def));
-        match (def.name.as_str(), fixed, index_list) {
-            ("vertex", Some((endian, (columns, stride))), _) => {
-                let extras: Vec<usize> = layout.vertex.extras.iter().map(|(_, c)| *c).collect();
-                let input = payload.reader.get_mut();
-                let (positions, values) = ply_binary::read_vertices(
-                    input,
-                    def,
-                    (&columns, stride),
-                    layout.vertex.xyz,
-                    &extras,
-                    endian,
-                )?;
-                soup.positions = positions;
-                soup.vertex_scalars = named_columns(&layout.vertex, values);
-            }
-            ("vertex", None, _) => read_vertices(&mut payload, def, &layout.vertex, &mut soup)?,
-            ("face", _, Some((endian, (count, index)))) => {
-                let input = payload.reader.get_mut();
-                let vertex_count = layout.vertex_count;
-                ply_binary::read_faces(
-                    input,
-                    def,
-                    (&count, &index),
-                    vertex_count,
-                    endian,
-                    &mut soup.triangles,
-                )?;
-            }
-            ("face", _, None) => {
-                read_faces(&mut payload, def, layout.vertex_count, &mut soup.triangles)?
-            }
-            _ => payload.records(def, |_, _: Skipped| Ok(()))?,
+    for element in &header.elements {
+        match element.name.as_str() {
+            "vertex" => read_vertices(input, header.encoding, element, &layout, &mut soup)?,
+            "face" => read_faces(input, header.encoding, element, &layout, &mut soup)?,
+            _ => read_element(input, header.encoding, element, None, |_| Ok(()))?,
         }
     }
     Ok(soup)
-}
-
-/// The error for a malformed header.
-fn header_error(e: &ParseError, line: usize) -> Error {
-    line_error(e.line().unwrap_or(line), library_message(e))
-}
-
-/// A `ply-rs-bw` error message on one line, without its own line prefix and
-/// without the grammar's internal diagnostics: "Couldn't parse line: 'property
-/// floot x'".
-fn library_message(e: &ParseError) -> String {
-    let text = e.to_string();
-    let text = match e.line() {
-        Some(line) => text
-            .strip_prefix(&format!("Line {line}: "))
-            .unwrap_or(&text)
-            .to_string(),
-        None => text,
-    };
-    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
-    match text.split_once(" String: ") {
-        Some((reason, rest)) => {
-            let quoted = rest.split(" Error: ").next().unwrap_or(rest).trim();
-            let quoted = quoted.replace(" '", "'");
-            format!("{}: {quoted}", reason.trim_end_matches('.'))
-        }
-        None => text,
-    }
 }
 
 /// What the header says about the elements the reader uses.
 struct Layout {
     vertex: VertexLayout,
     vertex_count: usize,
+    /// The position of the index list among the face element's properties.
+    face_list: usize,
 }
 
 /// Where the values of a vertex record go: the columns are positions among the
@@ -139,27 +70,27 @@ struct VertexLayout {
 
 impl Layout {
     fn new(header: &Header) -> Result<Layout> {
-        let vertex = header
-            .elements
-            .get("vertex")
+        let element = |name: &str| header.elements.iter().find(|e| e.name == name);
+        let vertex = element("vertex")
             .ok_or_else(|| Error::Parse("the PLY file has no 'vertex' element".to_string()))?;
-        let face = header.elements.get("face").ok_or_else(|| {
+        let face = element("face").ok_or_else(|| {
             Error::Parse("the PLY file has no 'face' element (point clouds are not meshes)".into())
         })?;
-        check_face_indices(face)?;
+        let face_list = face_index_list(face)?;
         Ok(Layout {
             vertex: VertexLayout::new(vertex)?,
             vertex_count: vertex.count,
+            face_list,
         })
     }
 }
 
 impl VertexLayout {
-    fn new(def: &ElementDef) -> Result<VertexLayout> {
+    fn new(def: &Element) -> Result<VertexLayout> {
         let scalars: Vec<&str> = def
             .properties
-            .values()
-            .filter(|p| matches!(p.data_type, PropertyType::Scalar(_)))
+            .iter()
+            .filter(|p| matches!(p.kind, PropertyType::Scalar(_)))
             .map(|p| p.name.as_str())
             .collect();
         let column = |name: &str| {
@@ -184,18 +115,19 @@ impl VertexLayout {
     }
 }
 
-/// The face element must have exactly one vertex index list, of an integer type.
-fn check_face_indices(def: &ElementDef) -> Result<()> {
-    let lists: Vec<&PropertyType> = FACE_INDEX_NAMES
+/// The position of the face element's vertex index list, which must be the only
+/// one and of an integer type.
+fn face_index_list(def: &Element) -> Result<usize> {
+    let lists: Vec<(usize, PropertyType)> = FACE_INDEX_NAMES
         .iter()
-        .filter_map(|name| def.properties.get(*name))
-        .map(|p| &p.data_type)
+        .filter_map(|name| def.property(name))
+        .map(|(k, p)| (k, p.kind))
         .collect();
     let problem = match lists.as_slice() {
-        [PropertyType::List(_, ScalarType::Float | ScalarType::Double)] => {
+        [(_, PropertyType::List { item, .. })] if item.is_float() => {
             "its vertex index list has a floating-point type"
         }
-        [PropertyType::List(_, _)] => return Ok(()),
+        [(k, PropertyType::List { .. })] => return Ok(*k),
         [_] => "its vertex indices are not a list",
         [] => "it has no 'vertex_indices' list",
         _ => "it has both 'vertex_indices' and 'vertex_index'",
@@ -205,135 +137,34 @@ fn check_face_indices(def: &ElementDef) -> Result<()> {
     )))
 }
 
-/// The outcome of reading one record.
-enum Next<E> {
-    Record(E),
-    Malformed(String),
-    /// The file ended before the record.
-    End,
-}
-
-/// The payload of a PLY file, read one record at a time.
-struct Payload<'i, 'a> {
-    reader: Reader<&'i mut Input<'a>>,
-    encoding: Encoding,
-}
-
-impl Payload<'_, '_> {
-    /// Read every record of `def`, passing each to `sink`. Errors name the record and
-    /// where it is: the line (ASCII) or the byte offset (binary).
-    fn records<E: PropertyAccess>(
-        &mut self,
-        def: &ElementDef,
-        mut sink: impl FnMut(usize, E) -> std::result::Result<(), String>,
-    ) -> Result<()> {
-        if def.properties.is_empty() {
-            // Records without properties take no bytes: nothing to read, however
-            // large the count.
-            return Ok(());
-        }
-        let parser = Parser::<E>::new();
-        for i in 0..def.count {
-            let offset = self.reader.get_ref().position();
-            let record = match self.read_record(&parser, def)? {
-                Next::Record(record) => Ok(record),
-                Next::Malformed(message) => Err(message),
-                Next::End => {
-                    return Err(truncated(i, def.count, &format!("'{}' elements", def.name)))
-                }
-            };
-            record
-                .and_then(|r| sink(i, r))
-                .map_err(|message| self.locate(def, i, offset, message))?;
-        }
-        Ok(())
-    }
-
-    /// The next record of `def`.
-    fn read_record<E: PropertyAccess>(
-        &mut self,
-        parser: &Parser<E>,
-        def: &ElementDef,
-    ) -> Result<Next<E>> {
-        let input = self.reader.get_mut();
-        let result = match self.encoding {
-            Encoding::Ascii => match input.next_line()? {
-                Some(line) => parser.read_ascii_element(line, def),
-                None => return Ok(Next::End),
-            },
-            Encoding::BinaryLittleEndian => parser.read_little_endian_element(input, def),
-            Encoding::BinaryBigEndian => parser.read_big_endian_element(input, def),
-        };
-        Ok(match result {
-            Ok(record) => Next::Record(record),
-            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => Next::End,
-            Err(e) => Next::Malformed(library_message(&e)),
-        })
-    }
-
-    /// An error about record `i` of `def`, which starts at byte `offset`.
-    fn locate(&self, def: &ElementDef, i: usize, offset: usize, message: String) -> Error {
-        match self.encoding {
-            Encoding::Ascii => line_error(
-                self.reader.get_ref().line(),
-                format!("{} {i}: {message}", def.name),
-            ),
-            _ => Error::Parse(format!("{} {i} (byte {offset}): {message}", def.name)),
-        }
-    }
-
-    /// Fewest bytes a record of `def` can take, to cap allocations.
-    fn min_record_bytes(&self, def: &ElementDef) -> usize {
-        match self.encoding {
-            // A digit and a separator per property.
-            Encoding::Ascii => 2 * def.properties.len(),
-            _ => def
-                .properties
-                .values()
-                .map(|p| match &p.data_type {
-                    PropertyType::Scalar(t) | PropertyType::List(t, _) => scalar_size(t),
-                })
-                .sum(),
-        }
-    }
-
-    /// A capacity for the records of `def` that the rest of the file could hold.
-    fn capacity(&self, def: &ElementDef) -> usize {
-        capped_capacity(
-            def.count,
-            self.reader.get_ref().remaining(),
-            self.min_record_bytes(def),
-        )
-    }
-}
-
-/// The count and index types of an element made of a single list property.
-fn single_list(def: &ElementDef) -> Option<(ScalarType, ScalarType)> {
-    match def.properties.values().collect::<Vec<_>>().as_slice() {
-        [p] => match &p.data_type {
-            PropertyType::List(count, index) => Some((count.clone(), index.clone())),
-            PropertyType::Scalar(_) => None,
-        },
-        _ => None,
-    }
-}
-
+/// Read the vertex element: binary records of scalars column by column, any other
+/// layout record by record.
 fn read_vertices(
-    payload: &mut Payload<'_, '_>,
-    def: &ElementDef,
-    layout: &VertexLayout,
+    input: &mut Input<'_>,
+    encoding: Encoding,
+    def: &Element,
+    layout: &Layout,
     soup: &mut TriangleSoup,
 ) -> Result<()> {
-    let capacity = payload.capacity(def);
-    soup.positions.reserve(capacity);
-    let mut extras: Vec<Vec<f64>> = layout
-        .extras
-        .iter()
-        .map(|_| Vec::with_capacity(capacity))
-        .collect();
+    let layout = &layout.vertex;
+    if let Some((endian, fixed)) = binary(encoding).zip(ply_binary::fixed_layout(def)) {
+        let extras: Vec<usize> = layout.extras.iter().map(|(_, c)| *c).collect();
+        let (positions, values) = ply_binary::read_vertices(
+            input,
+            def,
+            (&fixed.0, fixed.1),
+            layout.xyz,
+            &extras,
+            endian,
+        )?;
+        soup.positions = positions;
+        soup.vertex_scalars = named_columns(layout, values);
+        return Ok(());
+    }
+    let mut extras: Vec<Vec<f64>> = layout.extras.iter().map(|_| Vec::new()).collect();
     let [x, y, z] = layout.xyz;
-    payload.records(def, |_, record: VertexRecord| {
-        let values = record.0;
+    read_element(input, encoding, def, None, |record| {
+        let values = &record.scalars;
         if values.len() != layout.scalar_count {
             return Err(format!(
                 "{} values, expected {}",
@@ -352,6 +183,14 @@ fn read_vertices(
     Ok(())
 }
 
+/// The byte order of a binary encoding.
+fn binary(encoding: Encoding) -> Option<Endian> {
+    match encoding {
+        Encoding::Ascii => None,
+        Encoding::Binary(endian) => Some(endian),
+    }
+}
+
 /// The kept vertex properties, named.
 fn named_columns(layout: &VertexLayout, columns: Vec<Vec<f64>>) -> Vec<ScalarProperty> {
     layout
@@ -365,122 +204,26 @@ fn named_columns(layout: &VertexLayout, columns: Vec<Vec<f64>>) -> Vec<ScalarPro
         .collect()
 }
 
+/// Read the face element, fanning polygons into `soup.triangles`: binary records
+/// made of the index list alone straight from the bytes, any other layout record
+/// by record.
 fn read_faces(
-    payload: &mut Payload<'_, '_>,
-    def: &ElementDef,
-    vertex_count: usize,
-    triangles: &mut Vec<[u32; 3]>,
+    input: &mut Input<'_>,
+    encoding: Encoding,
+    def: &Element,
+    layout: &Layout,
+    soup: &mut TriangleSoup,
 ) -> Result<()> {
-    triangles.reserve(payload.capacity(def));
+    let vertex_count = layout.vertex_count;
+    let triangles = &mut soup.triangles;
+    if let Some((endian, list)) = binary(encoding).zip(ply_binary::single_list(def)) {
+        return ply_binary::read_faces(input, def, list, vertex_count, endian, triangles);
+    }
     let mut scratch = Vec::new();
-    payload.records(def, |_, face: FaceRecord| {
-        push_polygon(face.corners(), vertex_count, &mut scratch, triangles)
+    read_element(input, encoding, def, Some(layout.face_list), |record| {
+        let corners = record.corners.iter().copied();
+        push_polygon(corners, vertex_count, &mut scratch, triangles)
     })
-}
-
-/// A record of an element the reader does not use.
-struct Skipped;
-
-impl PropertyAccess for Skipped {
-    fn new() -> Self {
-        Skipped
-    }
-}
-
-/// The scalar values of a vertex record, in header order, as `f64`. List properties
-/// are ignored.
-struct VertexRecord(Vec<f64>);
-
-impl PropertyAccess for VertexRecord {
-    fn new() -> Self {
-        VertexRecord(Vec::with_capacity(8))
-    }
-    fn set_char(&mut self, _: &str, value: i8) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_uchar(&mut self, _: &str, value: u8) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_short(&mut self, _: &str, value: i16) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_ushort(&mut self, _: &str, value: u16) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_int(&mut self, _: &str, value: i32) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_uint(&mut self, _: &str, value: u32) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_float(&mut self, _: &str, value: f32) -> PropertyAccessResult {
-        self.push(value)
-    }
-    fn set_double(&mut self, _: &str, value: f64) -> PropertyAccessResult {
-        self.push(value)
-    }
-}
-
-impl VertexRecord {
-    fn push(&mut self, value: impl Into<f64>) -> PropertyAccessResult {
-        self.0.push(value.into());
-        PropertyAccessResult::Set
-    }
-}
-
-/// The vertex index list of a face record. `int` and `uint` lists (the usual
-/// types) are filled in place; narrower types are widened into `signed`.
-#[derive(Default)]
-struct FaceRecord {
-    signed: Vec<i32>,
-    unsigned: Vec<u32>,
-}
-
-impl FaceRecord {
-    fn corners(&self) -> impl Iterator<Item = i64> + '_ {
-        let signed = self.signed.iter().map(|&i| i64::from(i));
-        signed.chain(self.unsigned.iter().map(|&i| i64::from(i)))
-    }
-
-    fn widen<T: Copy + Into<i32>>(&mut self, name: &str, values: &[T]) -> PropertyAccessResult {
-        if !FACE_INDEX_NAMES.contains(&name) {
-            return PropertyAccessResult::Ignored;
-        }
-        self.signed.extend(values.iter().map(|&v| v.into()));
-        PropertyAccessResult::Set
-    }
-}
-
-impl PropertyAccess for FaceRecord {
-    fn new() -> Self {
-        FaceRecord::default()
-    }
-    fn begin_list_int(&mut self, name: &str, _: usize) -> BeginList<'_, i32> {
-        if FACE_INDEX_NAMES.contains(&name) {
-            BeginList::Fill(&mut self.signed)
-        } else {
-            BeginList::UseSetter
-        }
-    }
-    fn begin_list_uint(&mut self, name: &str, _: usize) -> BeginList<'_, u32> {
-        if FACE_INDEX_NAMES.contains(&name) {
-            BeginList::Fill(&mut self.unsigned)
-        } else {
-            BeginList::UseSetter
-        }
-    }
-    fn set_list_char(&mut self, name: &str, values: Vec<i8>) -> PropertyAccessResult {
-        self.widen(name, &values)
-    }
-    fn set_list_uchar(&mut self, name: &str, values: Vec<u8>) -> PropertyAccessResult {
-        self.widen(name, &values)
-    }
-    fn set_list_short(&mut self, name: &str, values: Vec<i16>) -> PropertyAccessResult {
-        self.widen(name, &values)
-    }
-    fn set_list_ushort(&mut self, name: &str, values: Vec<u16>) -> PropertyAccessResult {
-        self.widen(name, &values)
-    }
 }
 
 /// A per-vertex quantity to store in a PLY file next to the positions.

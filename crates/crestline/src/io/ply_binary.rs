@@ -4,32 +4,23 @@
 //! properties and whose face element has only its index list (the layout every
 //! common tool writes); other layouts go through the general record reader.
 
-use ply_rs_bw::ply::{ElementDef, PropertyType, ScalarType};
 use rayon::prelude::*;
 
+use super::ply_header::{Element, PropertyType, ScalarType};
+use super::ply_records::corner_count;
 use super::{push_polygon, truncated, Input};
 use crate::{Error, Point, Result};
 
 /// Byte order of a binary payload.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(super) enum Endian {
     Little,
     Big,
 }
 
-/// Size in bytes of a binary scalar.
-pub(super) fn scalar_size(t: &ScalarType) -> usize {
-    match t {
-        ScalarType::Char | ScalarType::UChar => 1,
-        ScalarType::Short | ScalarType::UShort => 2,
-        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
-        ScalarType::Double => 8,
-    }
-}
-
 /// The scalar of type `t` at the start of `b` (which holds at least its size).
 #[inline]
-fn decode(t: &ScalarType, b: &[u8], endian: Endian) -> f64 {
+pub(super) fn decode(t: ScalarType, b: &[u8], endian: Endian) -> f64 {
     macro_rules! read {
         ($ty:ty, $n:expr) => {{
             let mut raw = [0u8; $n];
@@ -54,24 +45,35 @@ fn decode(t: &ScalarType, b: &[u8], endian: Endian) -> f64 {
 
 /// The byte offset and type of each scalar property of a vertex record, and the
 /// record size; `None` if a property is a list (records of varying size).
-pub(super) fn fixed_layout(def: &ElementDef) -> Option<(Vec<(usize, ScalarType)>, usize)> {
+pub(super) fn fixed_layout(def: &Element) -> Option<(Vec<(usize, ScalarType)>, usize)> {
     let mut offset = 0;
     let mut columns = Vec::with_capacity(def.properties.len());
-    for p in def.properties.values() {
-        let PropertyType::Scalar(t) = &p.data_type else {
+    for p in &def.properties {
+        let PropertyType::Scalar(t) = p.kind else {
             return None;
         };
-        columns.push((offset, t.clone()));
-        offset += scalar_size(t);
+        columns.push((offset, t));
+        offset += t.size();
     }
     Some((columns, offset))
+}
+
+/// The count and item types of an element made of a single list property.
+pub(super) fn single_list(def: &Element) -> Option<(ScalarType, ScalarType)> {
+    match def.properties.as_slice() {
+        [p] => match p.kind {
+            PropertyType::List { count, item } => Some((count, item)),
+            PropertyType::Scalar(_) => None,
+        },
+        _ => None,
+    }
 }
 
 /// Decode `def.count` fixed-size vertex records: positions from the columns `xyz`
 /// and one `f64` column per entry of `extras`.
 pub(super) fn read_vertices(
     input: &mut Input<'_>,
-    def: &ElementDef,
+    def: &Element,
     (columns, stride): (&[(usize, ScalarType)], usize),
     xyz: [usize; 3],
     extras: &[usize],
@@ -83,8 +85,8 @@ pub(super) fn read_vertices(
     }
     let bytes = input.take(def.count * stride).unwrap_or_default();
     let value = |record: &[u8], column: usize| {
-        let (offset, t) = &columns[column];
-        decode(t, &record[*offset..], endian)
+        let (offset, t) = columns[column];
+        decode(t, &record[offset..], endian)
     };
     let positions = bytes
         .par_chunks_exact(stride)
@@ -106,24 +108,30 @@ pub(super) fn read_vertices(
 /// type), fanning polygons into `triangles`. Errors name the face and its offset.
 pub(super) fn read_faces(
     input: &mut Input<'_>,
-    def: &ElementDef,
-    (count_type, index_type): (&ScalarType, &ScalarType),
+    def: &Element,
+    (count_type, index_type): (ScalarType, ScalarType),
     vertex_count: usize,
     endian: Endian,
     triangles: &mut Vec<[u32; 3]>,
 ) -> Result<()> {
     let bytes = input.rest();
-    let (count_size, index_size) = (scalar_size(count_type), scalar_size(index_type));
+    let (count_size, index_size) = (count_type.size(), index_type.size());
     triangles.reserve(def.count.min(bytes.len() / (count_size + 3 * index_size)));
     let mut scratch = Vec::new();
     let mut at = 0;
     for face in 0..def.count {
         let start = at;
-        let corners = bytes
+        let locate = |message: String| {
+            Error::Parse(format!(
+                "face {face} (byte {}): {message}",
+                input.position() + start
+            ))
+        };
+        let count = bytes
             .get(at..at + count_size)
             .map(|b| decode(count_type, b, endian))
             .ok_or_else(|| truncated(face, def.count, "'face' elements"))?;
-        let n = corners as usize;
+        let n = corner_count(count).map_err(locate)?;
         let end = at + count_size + n * index_size;
         let Some(list) = bytes.get(at + count_size..end) else {
             return Err(truncated(face, def.count, "'face' elements"));
@@ -131,12 +139,7 @@ pub(super) fn read_faces(
         let indices = list
             .chunks_exact(index_size)
             .map(|b| decode(index_type, b, endian) as i64);
-        push_polygon(indices, vertex_count, &mut scratch, triangles).map_err(|message| {
-            Error::Parse(format!(
-                "face {face} (byte {}): {message}",
-                input.position() + start
-            ))
-        })?;
+        push_polygon(indices, vertex_count, &mut scratch, triangles).map_err(locate)?;
         at = end;
     }
     input.advance(at);

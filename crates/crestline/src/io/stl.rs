@@ -1,6 +1,6 @@
 //! STL (stereolithography) reading, ASCII and binary.
 
-use super::{line_error, parse_point, push_polygon, truncated, Input};
+use super::{line_error, parse_point, push_polygon, quoted, truncated, Input};
 use crate::mesh::TriangleSoup;
 use crate::{Error, Point, Result};
 
@@ -130,7 +130,7 @@ fn parse_ascii(input: &mut Input<'_>) -> Result<TriangleSoup> {
             (other, _) => {
                 return Err(line_error(
                     line,
-                    format!("unexpected '{other}' in an ASCII STL file"),
+                    format!("unexpected {} in an ASCII STL file", quoted(other)),
                 ))
             }
         };

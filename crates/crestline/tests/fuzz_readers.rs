@@ -1,0 +1,659 @@
+//! Mutation fuzzing of the mesh readers, on stable Rust and without extra crates.
+//!
+//! Small valid files of every format (a cube written as ASCII PLY, binary PLY in
+//! both byte orders, OBJ, OFF, ASCII and binary STL) are mutated with a seeded
+//! generator (bit flips, interesting bytes, truncation, duplicated and deleted
+//! chunks, swapped numbers, huge numbers) and read back through
+//! [`read_mesh`] and [`Mesh::from_soup`]. No mutant may panic or hang, and every
+//! error is one line naming the file, in plain words.
+//!
+//! `cargo test` runs [`DEFAULT_MUTANTS`] mutants per format. For a longer run set
+//! `CRESTLINE_FUZZ_MUTANTS=N` (and optionally `CRESTLINE_FUZZ_SEED=S`; with
+//! `CRESTLINE_FUZZ_SHOW=1` every error message is printed for review), e.g.
+//! `CRESTLINE_FUZZ_MUTANTS=20000 cargo test --release -p crestline --test
+//! fuzz_readers -- --nocapture`; the table of outcomes is printed either way.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use crestline::io::read_mesh;
+use crestline::mesh::Mesh;
+
+/// Mutants per format in a plain `cargo test`.
+const DEFAULT_MUTANTS: usize = 300;
+/// A mutant taking longer than this to read and build is a hang.
+const HANG: Duration = Duration::from_secs(5);
+/// Text that only Rust's debug formatting would put in a message.
+const DEBUG_TEXT: &[&str] = &["{ ", "kind:", "Some(", "PropertyDef"];
+
+// ---------------------------------------------------------------------------
+// Random numbers
+
+/// SplitMix64: a tiny, good-enough generator, reproducible from its seed.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// A number in `0..n` (`n` > 0).
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Seed files: a unit cube with quad faces
+
+const CUBE_VERTICES: [[f32; 3]; 8] = [
+    [0.0, 0.0, 0.0],
+    [1.5, 0.0, 0.0],
+    [1.5, 1.5, 0.0],
+    [0.0, 1.5, 0.0],
+    [0.0, 0.0, -1.25],
+    [1.5, 0.0, -1.25],
+    [1.5, 1.5, -1.25],
+    [0.0, 1.5, -1.25],
+];
+
+/// Counter-clockwise seen from outside (the cube lies below z = 0).
+const CUBE_QUADS: [[u32; 4]; 6] = [
+    [0, 1, 2, 3],
+    [4, 7, 6, 5],
+    [0, 4, 5, 1],
+    [1, 5, 6, 2],
+    [2, 6, 7, 3],
+    [3, 7, 4, 0],
+];
+
+fn cube_triangles() -> impl Iterator<Item = [u32; 3]> {
+    CUBE_QUADS
+        .iter()
+        .flat_map(|[a, b, c, d]| [[*a, *b, *c], [*a, *c, *d]])
+}
+
+fn ascii_ply() -> Vec<u8> {
+    let mut text = String::from(
+        "ply\nformat ascii 1.0\ncomment a cube\nelement vertex 8\nproperty float x\n\
+         property float y\nproperty float z\nproperty uchar red\nelement face 6\n\
+         property list uchar int vertex_indices\nelement edge 2\nproperty int vertex1\n\
+         property int vertex2\nend_header\n",
+    );
+    for (i, [x, y, z]) in CUBE_VERTICES.iter().enumerate() {
+        text += &format!("{x} {y} {z:e} {}\n", 30 * i);
+    }
+    for [a, b, c, d] in CUBE_QUADS {
+        text += &format!("4 {a} {b} {c} {d}\n");
+    }
+    text += "0 1\n1 2\n";
+    text.into_bytes()
+}
+
+/// A binary PLY: little endian with the common layout (fast decoders), or big
+/// endian with a face colour and a vertex list (record-by-record reader).
+fn binary_ply(big_endian: bool) -> Vec<u8> {
+    let (format, vertex_extra, face_extra) = if big_endian {
+        (
+            "binary_big_endian",
+            "property list uchar short tags\n",
+            "property uchar flags\n",
+        )
+    } else {
+        ("binary_little_endian", "property ushort quality\n", "")
+    };
+    let mut bytes = format!(
+        "ply\nformat {format} 1.0\nelement vertex 8\nproperty float x\nproperty float y\n\
+         property float z\n{vertex_extra}element face 6\n\
+         property list uchar uint vertex_indices\n{face_extra}end_header\n"
+    )
+    .into_bytes();
+    let word = |b: [u8; 4]| {
+        if big_endian {
+            b
+        } else {
+            [b[3], b[2], b[1], b[0]]
+        }
+    };
+    for (i, corner) in CUBE_VERTICES.iter().enumerate() {
+        for c in corner {
+            bytes.extend(word(c.to_be_bytes()));
+        }
+        if big_endian {
+            bytes.extend([1, 0, i as u8]);
+        } else {
+            bytes.extend((7 * i as u16).to_le_bytes());
+        }
+    }
+    for quad in CUBE_QUADS {
+        bytes.push(4);
+        for i in quad {
+            bytes.extend(word(i.to_be_bytes()));
+        }
+        if big_endian {
+            bytes.push(0xff);
+        }
+    }
+    bytes
+}
+
+fn obj() -> Vec<u8> {
+    let mut text = String::from("# a cube\no cube\n");
+    for [x, y, z] in CUBE_VERTICES {
+        text += &format!("v {x} {y} {z}\n");
+    }
+    text += "vn 0 0 1\n";
+    for [a, b, c, d] in CUBE_QUADS {
+        text += &format!("f {}//1 {} {} -{}\n", a + 1, b + 1, c + 1, 8 - d);
+    }
+    text.into_bytes()
+}
+
+fn off() -> Vec<u8> {
+    let mut text = String::from("OFF\n# a cube\n8 6 12\n");
+    for [x, y, z] in CUBE_VERTICES {
+        text += &format!("{x} {y} {z}\n");
+    }
+    for [a, b, c, d] in CUBE_QUADS {
+        text += &format!("4 {a} {b} {c} {d}\n");
+    }
+    text.into_bytes()
+}
+
+fn ascii_stl() -> Vec<u8> {
+    let mut text = String::from("solid cube\n");
+    for triangle in cube_triangles() {
+        text += "  facet normal 0 0 0\n    outer loop\n";
+        for v in triangle {
+            let [x, y, z] = CUBE_VERTICES[v as usize];
+            text += &format!("      vertex {x} {y} {z:e}\n");
+        }
+        text += "    endloop\n  endfacet\n";
+    }
+    text += "endsolid cube\n";
+    text.into_bytes()
+}
+
+fn binary_stl() -> Vec<u8> {
+    let mut bytes = b"binary cube".to_vec();
+    bytes.resize(80, b' ');
+    bytes.extend(12u32.to_le_bytes());
+    for triangle in cube_triangles() {
+        bytes.extend([0u8; 12]);
+        for v in triangle {
+            bytes.extend(
+                CUBE_VERTICES[v as usize]
+                    .iter()
+                    .flat_map(|c| c.to_le_bytes()),
+            );
+        }
+        bytes.extend([0u8; 2]);
+    }
+    bytes
+}
+
+/// A valid file to mutate.
+struct Seed {
+    name: &'static str,
+    extension: &'static str,
+    bytes: Vec<u8>,
+}
+
+fn seeds() -> Vec<Seed> {
+    let seed = |name, extension, bytes| Seed {
+        name,
+        extension,
+        bytes,
+    };
+    vec![
+        seed("ASCII PLY", "ply", ascii_ply()),
+        seed("binary PLY (LE)", "ply", binary_ply(false)),
+        seed("binary PLY (BE, lists)", "ply", binary_ply(true)),
+        seed("OBJ", "obj", obj()),
+        seed("OFF", "off", off()),
+        seed("ASCII STL", "stl", ascii_stl()),
+        seed("binary STL", "stl", binary_stl()),
+    ]
+}
+
+// ---------------------------------------------------------------------------
+// Mutations
+
+const INTERESTING_BYTES: &[u8] = &[
+    0, 0xff, b'-', b'9', b'e', b'\n', b' ', b'.', b'#', b'/', 0x7f, 0x80, 0x07, 0x1b,
+];
+const HUGE_NUMBERS: &[&str] = &[
+    "0",
+    "-1",
+    "2147483648",
+    "4294967295",
+    "4294967296",
+    "1000000000000000",
+    "4611686018427387904",
+    "18446744073709551615",
+    "99999999999999999999999",
+    "1e308",
+    "nan",
+];
+const INTERESTING_WORDS: &[u32] = &[
+    0,
+    1,
+    2,
+    3,
+    0x7f,
+    0xff,
+    0x100,
+    0xffff,
+    0x7fff_ffff,
+    0x8000_0000,
+    0xffff_ffff,
+    0x4000_0000,
+    0x7f80_0000, // +inf as f32
+    0x7fc0_0000, // NaN as f32
+];
+
+/// The mutations, each applied to a file's bytes.
+#[derive(Clone, Copy, Debug)]
+enum Mutation {
+    BitFlip,
+    InterestingByte,
+    Truncate,
+    DuplicateChunk,
+    DeleteChunk,
+    SwapNumbers,
+    SwapWords,
+    HugeNumber,
+    HugeWord,
+}
+
+const MUTATIONS: &[Mutation] = &[
+    Mutation::BitFlip,
+    Mutation::InterestingByte,
+    Mutation::Truncate,
+    Mutation::DuplicateChunk,
+    Mutation::DeleteChunk,
+    Mutation::SwapNumbers,
+    Mutation::SwapWords,
+    Mutation::HugeNumber,
+    Mutation::HugeWord,
+];
+
+impl Mutation {
+    fn apply(self, bytes: &mut Vec<u8>, rng: &mut Rng) {
+        if bytes.is_empty() {
+            return;
+        }
+        let at = rng.below(bytes.len());
+        match self {
+            Mutation::BitFlip => bytes[at] ^= 1 << rng.below(8),
+            Mutation::InterestingByte => bytes[at] = *rng.pick(INTERESTING_BYTES),
+            Mutation::Truncate => bytes.truncate(at),
+            Mutation::DuplicateChunk => {
+                let chunk = bytes[at..chunk_end(bytes, at, rng)].to_vec();
+                let to = rng.below(bytes.len() + 1);
+                bytes.splice(to..to, chunk);
+            }
+            Mutation::DeleteChunk => {
+                let end = chunk_end(bytes, at, rng);
+                bytes.drain(at..end);
+            }
+            Mutation::SwapNumbers => swap_numbers(bytes, rng),
+            Mutation::SwapWords => swap_words(bytes, rng),
+            Mutation::HugeNumber => huge_number(bytes, rng),
+            Mutation::HugeWord => huge_word(bytes, rng),
+        }
+    }
+}
+
+/// The end of a chunk of up to 64 bytes starting at `start`.
+fn chunk_end(bytes: &[u8], start: usize, rng: &mut Rng) -> usize {
+    (start + 1 + rng.below(64)).min(bytes.len())
+}
+
+/// The byte ranges of the runs of ASCII digits.
+fn digit_runs(bytes: &[u8]) -> Vec<(usize, usize)> {
+    let mut runs = Vec::new();
+    let mut start = None;
+    for (i, b) in bytes.iter().chain([&b' ']).enumerate() {
+        match (b.is_ascii_digit(), start) {
+            (true, None) => start = Some(i),
+            (false, Some(s)) => {
+                runs.push((s, i));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    runs
+}
+
+/// A digit run, often one of the first (where the counts of a header are).
+fn pick_run(runs: &[(usize, usize)], rng: &mut Rng) -> (usize, usize) {
+    let early = runs.len().min(6);
+    if rng.below(2) == 0 {
+        runs[rng.below(early)]
+    } else {
+        *rng.pick(runs)
+    }
+}
+
+fn swap_numbers(bytes: &mut Vec<u8>, rng: &mut Rng) {
+    let runs = digit_runs(bytes);
+    if runs.len() < 2 {
+        return;
+    }
+    let (a, b) = (pick_run(&runs, rng), *rng.pick(&runs));
+    let (first, second) = if a.0 <= b.0 { (a, b) } else { (b, a) };
+    if first == second {
+        return;
+    }
+    let mut out = bytes[..first.0].to_vec();
+    out.extend(&bytes[second.0..second.1]);
+    out.extend(&bytes[first.1..second.0]);
+    out.extend(&bytes[first.0..first.1]);
+    out.extend(&bytes[second.1..]);
+    *bytes = out;
+}
+
+fn swap_words(bytes: &mut [u8], rng: &mut Rng) {
+    if bytes.len() < 8 {
+        return;
+    }
+    let (a, b) = (rng.below(bytes.len() - 3), rng.below(bytes.len() - 3));
+    let (wa, wb) = (bytes[a..a + 4].to_vec(), bytes[b..b + 4].to_vec());
+    bytes[a..a + 4].copy_from_slice(&wb);
+    bytes[b..b + 4].copy_from_slice(&wa);
+}
+
+fn huge_number(bytes: &mut Vec<u8>, rng: &mut Rng) {
+    let runs = digit_runs(bytes);
+    if runs.is_empty() {
+        return;
+    }
+    let (start, end) = pick_run(&runs, rng);
+    bytes.splice(start..end, rng.pick(HUGE_NUMBERS).bytes());
+}
+
+fn huge_word(bytes: &mut [u8], rng: &mut Rng) {
+    if bytes.len() < 4 {
+        return;
+    }
+    let at = rng.below(bytes.len() - 3);
+    let word = *rng.pick(INTERESTING_WORDS);
+    let raw = if rng.below(2) == 0 {
+        word.to_le_bytes()
+    } else {
+        word.to_be_bytes()
+    };
+    bytes[at..at + 4].copy_from_slice(&raw);
+}
+
+/// A mutant of `seed`: one to three mutations; returns their names.
+fn mutate(seed: &[u8], rng: &mut Rng) -> (Vec<u8>, Vec<Mutation>) {
+    let mut bytes = seed.to_vec();
+    let applied: Vec<Mutation> = (0..1 + rng.below(3))
+        .map(|_| *rng.pick(MUTATIONS))
+        .collect();
+    for mutation in &applied {
+        mutation.apply(&mut bytes, rng);
+    }
+    (bytes, applied)
+}
+
+// ---------------------------------------------------------------------------
+// Running mutants
+
+/// What reading a mutant gave.
+enum Outcome {
+    /// Read and built into a mesh.
+    Mesh,
+    /// Rejected by the reader.
+    ReadError(String),
+    /// Read, but rejected by the mesh builder.
+    MeshError(String),
+    Panic(String),
+}
+
+/// Read `path` and build a mesh, as a program would.
+fn read_and_build(path: &Path) -> Outcome {
+    let soup = match read_mesh(path) {
+        Ok(soup) => soup,
+        Err(e) => return Outcome::ReadError(e.to_string()),
+    };
+    match Mesh::from_soup(soup) {
+        Ok(_) => Outcome::Mesh,
+        Err(e) => Outcome::MeshError(e.in_file(path).to_string()),
+    }
+}
+
+/// Run one mutant file, timing it.
+fn run(path: &Path) -> (Outcome, Duration) {
+    let start = Instant::now();
+    let outcome = catch_unwind(AssertUnwindSafe(|| read_and_build(path))).unwrap_or_else(|p| {
+        let message = p
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_default();
+        Outcome::Panic(message)
+    });
+    (outcome, start.elapsed())
+}
+
+/// What is wrong with an error message, if anything.
+fn message_problem(message: &str, path: &Path) -> Option<String> {
+    if !message.contains(&path.display().to_string()) {
+        return Some("does not name the file".to_string());
+    }
+    if message.chars().any(char::is_control) {
+        return Some("contains a control character".to_string());
+    }
+    let unquoted = without_quoted_input(message);
+    DEBUG_TEXT
+        .iter()
+        .find(|text| unquoted.contains(*text))
+        .map(|text| format!("contains debug text '{text}'"))
+}
+
+/// `message` without the input text it quotes between single quotes (which may
+/// hold anything a mutant contains).
+fn without_quoted_input(message: &str) -> String {
+    message
+        .split('\'')
+        .step_by(2)
+        .collect::<Vec<_>>()
+        .join("''")
+}
+
+/// Tallies of one format.
+#[derive(Default)]
+struct Tally {
+    mutants: usize,
+    meshes: usize,
+    read_errors: usize,
+    mesh_errors: usize,
+    total: Duration,
+    slowest: Slowest,
+    failures: Vec<String>,
+}
+
+/// The slowest mutant of a format.
+#[derive(Default)]
+struct Slowest {
+    time: Duration,
+    label: String,
+    bytes: Vec<u8>,
+    /// The fastest of a few more runs, to tell a slow input from a busy machine.
+    rerun: Duration,
+}
+
+impl Tally {
+    fn record(&mut self, outcome: &Outcome, elapsed: Duration, label: &str, path: &Path) {
+        self.mutants += 1;
+        self.total += elapsed;
+        if elapsed > HANG {
+            self.failures
+                .push(format!("{label}: took {elapsed:?} (a hang)"));
+        }
+        let problem = match outcome {
+            Outcome::Mesh => {
+                self.meshes += 1;
+                None
+            }
+            Outcome::ReadError(message) => {
+                self.read_errors += 1;
+                message_problem(message, path).map(|p| format!("{p}: {message}"))
+            }
+            Outcome::MeshError(message) => {
+                self.mesh_errors += 1;
+                message_problem(message, path).map(|p| format!("{p}: {message}"))
+            }
+            Outcome::Panic(message) => Some(format!("panicked: {message}")),
+        };
+        if let Some(problem) = problem {
+            self.failures.push(format!("{label}: {problem}"));
+        }
+    }
+}
+
+/// Keep a failing mutant where it can be read again.
+fn save_failure(bytes: &[u8], seed: &Seed, index: usize) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz_readers_failures");
+    std::fs::create_dir_all(&dir).unwrap();
+    let name = format!("{}-{index}.{}", seed.name, seed.extension);
+    let path = dir.join(name.replace([' ', '(', ')', ','], "_"));
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// Run `count` mutants of `seed`.
+fn fuzz(seed: &Seed, count: usize, rng: &mut Rng, dir: &Path) -> Tally {
+    let path = dir.join(format!("mutant.{}", seed.extension));
+    let show = std::env::var_os("CRESTLINE_FUZZ_SHOW").is_some();
+    let mut tally = Tally::default();
+    for index in 0..count {
+        let (bytes, mutations) = mutate(&seed.bytes, rng);
+        std::fs::write(&path, &bytes).unwrap();
+        let (outcome, elapsed) = run(&path);
+        let label = format!("{} mutant {index} {mutations:?}", seed.name);
+        if show {
+            show_message(&outcome);
+        }
+        let failures_before = tally.failures.len();
+        tally.record(&outcome, elapsed, &label, &path);
+        if tally.failures.len() > failures_before {
+            let kept = save_failure(&bytes, seed, index);
+            let note = format!("  (kept as {})", kept.display());
+            tally.failures.push(note);
+        }
+        if elapsed > tally.slowest.time {
+            tally.slowest = Slowest {
+                time: elapsed,
+                label,
+                bytes,
+                rerun: Duration::ZERO,
+            };
+        }
+    }
+    tally.slowest.rerun = rerun(&tally.slowest.bytes, &path);
+    tally
+}
+
+/// The fastest of three more runs of a mutant.
+fn rerun(bytes: &[u8], path: &Path) -> Duration {
+    std::fs::write(path, bytes).unwrap();
+    (0..3).map(|_| run(path).1).min().unwrap_or_default()
+}
+
+/// Print the error message of an outcome, if it has one.
+fn show_message(outcome: &Outcome) {
+    if let Outcome::ReadError(message) | Outcome::MeshError(message) = outcome {
+        println!("{message}");
+    }
+}
+
+fn env_number(name: &str) -> Option<u64> {
+    std::env::var(name).ok().and_then(|v| v.trim().parse().ok())
+}
+
+fn print_table(tallies: &[(&str, Tally)], seed: u64) {
+    println!("\nreader fuzzing, seed {seed}");
+    println!(
+        "{:<24} {:>8} {:>8} {:>11} {:>11} {:>9} {:>11} {:>9}",
+        "format",
+        "mutants",
+        "mesh",
+        "read error",
+        "mesh error",
+        "mean µs",
+        "slowest ms",
+        "re-run ms"
+    );
+    for (name, t) in tallies {
+        let mean = t.total.as_secs_f64() * 1e6 / t.mutants.max(1) as f64;
+        println!(
+            "{:<24} {:>8} {:>8} {:>11} {:>11} {:>9.1} {:>11.3} {:>9.3}",
+            name,
+            t.mutants,
+            t.meshes,
+            t.read_errors,
+            t.mesh_errors,
+            mean,
+            t.slowest.time.as_secs_f64() * 1e3,
+            t.slowest.rerun.as_secs_f64() * 1e3
+        );
+    }
+    if let Some((_, t)) = tallies.iter().max_by_key(|(_, t)| t.slowest.time) {
+        println!(
+            "slowest mutant: {} ({:?}; {:?} when run again)",
+            t.slowest.label, t.slowest.time, t.slowest.rerun
+        );
+    }
+}
+
+#[test]
+fn seed_files_are_valid_meshes() {
+    let dir = tempfile::tempdir().unwrap();
+    for seed in seeds() {
+        let path = dir.path().join(format!("seed.{}", seed.extension));
+        std::fs::write(&path, &seed.bytes).unwrap();
+        let soup = read_mesh(&path).unwrap_or_else(|e| panic!("{}: {e}", seed.name));
+        assert_eq!(soup.triangles.len(), 12, "{}", seed.name);
+        let (mesh, _) = Mesh::from_soup(soup).unwrap();
+        assert_eq!(mesh.vertex_count(), 8, "{}", seed.name);
+    }
+}
+
+#[test]
+fn mutants_never_panic_hang_or_garble_their_errors() {
+    let count = env_number("CRESTLINE_FUZZ_MUTANTS").map_or(DEFAULT_MUTANTS, |n| n as usize);
+    let seed = env_number("CRESTLINE_FUZZ_SEED").unwrap_or(0x0c2e_571e);
+    let dir = tempfile::tempdir().unwrap();
+    let mut tallies = Vec::new();
+    for (k, file) in seeds().iter().enumerate() {
+        let mut rng = Rng(seed ^ (k as u64).wrapping_mul(0x1000_0001));
+        tallies.push((file.name, fuzz(file, count, &mut rng, dir.path())));
+    }
+    print_table(&tallies, seed);
+    let failures: Vec<&String> = tallies.iter().flat_map(|(_, t)| &t.failures).collect();
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures
+            .iter()
+            .take(40)
+            .map(|f| f.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
