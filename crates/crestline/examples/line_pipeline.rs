@@ -36,12 +36,7 @@ impl LineExtractor<SurfaceWithValues<'_>> for IsoLines {
         for &level in &self.levels {
             let shifted = surface.values.iter().map(|v| v - level).collect();
             let zero_set = ZeroSet::new(shifted);
-            let segments: Vec<[LinePoint; 2]> = zero_set
-                .face_segments(mesh, |_, _| true)
-                .into_iter()
-                .flatten()
-                .map(|[a, b]| [LinePoint::Edge(a), LinePoint::Edge(b)])
-                .collect();
+            let segments = zero_set.segments(mesh);
             // Strength ∫ 1 ds: the length of each connected piece.
             let locate = |p: LinePoint| (zero_set.location(mesh, p).position(mesh), 1.0);
             for piece in chain(&segments, locate, 0.0) {

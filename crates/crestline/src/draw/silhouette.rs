@@ -32,12 +32,7 @@ pub fn silhouettes(mesh: &Mesh, camera: &Camera, min_length: f64) -> FeatureLine
         })
         .collect();
     let zero_set = ZeroSet::new(facing);
-    let segments: Vec<[LinePoint; 2]> = zero_set
-        .face_segments(mesh, |_, _| true)
-        .into_iter()
-        .flatten()
-        .map(|[a, b]| [LinePoint::Edge(a), LinePoint::Edge(b)])
-        .collect();
+    let segments = zero_set.segments(mesh);
     let h = mesh.mean_edge_length();
     let locate = |point: LinePoint| (zero_set.location(mesh, point).position(mesh), 1.0 / h);
     let mut lines = FeatureLines::new(String::new());

@@ -109,6 +109,16 @@ impl<'a> ZeroSet<'a> {
             .collect()
     }
 
+    /// The segments of the zero set in every face, as pairs of edge crossings
+    /// (chain them with [`super::chain::chain`]).
+    pub fn segments(&self, mesh: &Mesh) -> Vec<[LinePoint; 2]> {
+        self.face_segments(mesh, |_, _| true)
+            .into_iter()
+            .flatten()
+            .map(|[a, b]| [LinePoint::Edge(a), LinePoint::Edge(b)])
+            .collect()
+    }
+
     /// Where a line point lies on the mesh: the crossing parameter on its edge, or
     /// the barycenter of its face.
     pub fn location(&self, mesh: &Mesh, point: LinePoint) -> SurfaceLocation {
