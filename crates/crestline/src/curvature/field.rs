@@ -61,6 +61,14 @@ impl CurvatureField {
         field
     }
 
+    /// Multiply both principal curvatures by `factor` (e.g. 2^k for a field
+    /// estimated on the mesh scaled by 2^k); directions and normals are unchanged.
+    pub fn scale_curvature(&mut self, factor: f64) {
+        for k in self.k_max.iter_mut().chain(&mut self.k_min) {
+            *k *= factor;
+        }
+    }
+
     /// Number of vertices.
     pub fn len(&self) -> usize {
         self.k_max.len()
