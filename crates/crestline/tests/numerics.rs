@@ -6,7 +6,8 @@
 use std::time::Instant;
 
 use crestline::curvature::{
-    estimate_curvature, write_curvature_ply, CurvatureEstimator, JetFit, ShapeOperator,
+    estimate_curvature, repair_outliers, write_curvature_ply, CurvatureEstimator, JetFit,
+    ShapeOperator,
 };
 use crestline::draw::{draw, Camera, DrawOptions, Projection, View};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
@@ -132,17 +133,59 @@ fn a_spike_is_flagged_unreliable_and_ridges_still_run() {
 
 #[test]
 fn a_non_finite_estimate_is_flagged_not_fatal() {
-    // A vertex whose whole star is flat and folded onto itself has no normal.
-    let ball = sphere(1.0, 500, Sampling::Regular).unwrap().mesh;
-    let v = VertexId(7);
-    let mut positions = ball.positions().to_vec();
-    let ring: Vec<VertexId> = ball.neighbors(v).collect();
-    positions[v.idx()] =
-        ball.position(ring[0]) + (ball.position(ring[0]) - Point::origin()) * 1e-300;
-    let mesh = mesh_from(positions, ball.triangles());
-    let field = estimate_curvature(&mesh, &ShapeOperator).unwrap();
-    assert!(field.k_max.iter().all(|k| k.is_finite()));
-    assert!(ExtremalityTracer::default().extract(&mesh).is_ok());
+    // A vertex whose link is a bow-tie with parallel diagonals: the area vectors of
+    // its four (sound) triangles sum to zero, so it has no normal.
+    let mesh = mesh_from(
+        vec![
+            Point::new(1.0, 0.5, 1.0),
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+            Point::new(2.0, 0.0, 0.0),
+            Point::new(3.0, 1.0, 0.0),
+        ],
+        vec![[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]],
+    );
+    assert_eq!(mesh.face_count(), 4);
+    let centre = VertexId(0);
+    assert!(!mesh.is_boundary_vertex(centre));
+    for estimator in [
+        &ShapeOperator as &dyn CurvatureEstimator,
+        &JetFit::default(),
+    ] {
+        let field = estimate_curvature(&mesh, estimator).unwrap();
+        assert!(field.unreliable[centre.idx()]);
+        assert!(field
+            .k_max
+            .iter()
+            .chain(&field.k_min)
+            .all(|k| k.is_finite()));
+    }
+    let mut counts = Counts::default();
+    ExtremalityTracer::default()
+        .trace(&mesh, &mut counts)
+        .unwrap();
+    assert_eq!(counts.get("unreliable_vertices"), Some(1));
+}
+
+#[test]
+fn repairs_replace_a_value_by_the_median_of_its_ring() {
+    let mesh = sphere(1.0, 500, Sampling::Regular).unwrap().mesh;
+    let mut field = ShapeOperator.estimate(&mesh).unwrap();
+    assert_eq!(repair_outliers(&mesh, &mut field), 0);
+    let ring: Vec<f64> = mesh
+        .neighbors(VertexId(3))
+        .map(|w| field.k_max[w.idx()])
+        .collect();
+    field.k_max[3] = f64::NAN;
+    field.k_min[9] = 1e9;
+    assert_eq!(repair_outliers(&mesh, &mut field), 2);
+    assert!(field.unreliable[3] && field.unreliable[9]);
+    let (low, high) = ring
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &k| (l.min(k), h.max(k)));
+    assert!((low..=high).contains(&field.k_max[3]), "{}", field.k_max[3]);
+    assert!(field.k_min[9] < 1.5, "{}", field.k_min[9]);
+    field.check(&mesh).unwrap();
 }
 
 /// A sphere of radius `radius` (mesh positions scaled from the unit sphere).
@@ -171,7 +214,7 @@ fn spheres_at_extreme_scales_keep_their_faces_and_curvature() {
         .iter()
         .map(|e| estimate_curvature(&unit, *e).unwrap())
         .collect();
-    for radius in [1e154, 1e-160, 1e300, 1e-300] {
+    for radius in [1e154, 1e-160, 1e300, 1e-300, 1e307] {
         let (mesh, faces) = scaled_sphere(radius);
         assert_eq!(mesh.face_count(), faces, "{radius:e}");
         let diagonal = mesh.bounding_box().diagonal();

@@ -22,8 +22,9 @@ pub struct CurvatureField {
     pub d_min: Vec<Vector>,
     /// The unit normal the estimator used (outward).
     pub normal: Vec<Vector>,
-    /// Vertices whose values are not to be trusted (on the boundary, or where the
-    /// estimator had too little data).
+    /// Vertices whose values are not to be trusted: on the boundary, where the
+    /// estimator had too little data, or where its estimate was not finite or an
+    /// outlier and was replaced ([`super::repair_outliers`]).
     pub unreliable: Vec<bool>,
 }
 

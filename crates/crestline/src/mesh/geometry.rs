@@ -141,8 +141,16 @@ impl Mesh {
     }
 
     /// Mean edge length h̄: the length unit of every mesh-relative parameter.
+    /// (Where the plain sum of the lengths overflows, near f64::MAX, each length is
+    /// divided by the count before summing.)
     pub fn mean_edge_length(&self) -> f64 {
-        self.edge_lengths().iter().sum::<f64>() / self.edge_count() as f64
+        let lengths = self.edge_lengths();
+        let n = lengths.len() as f64;
+        let mean = lengths.iter().sum::<f64>() / n;
+        if mean.is_finite() {
+            return mean;
+        }
+        lengths.iter().map(|l| l / n).sum()
     }
 
     /// Interior angle of the face of `h` at the corner opposite `h`.

@@ -18,6 +18,14 @@
 //!
 //! Ridges are maxima of k_max along its direction (convex crests); valleys are
 //! minima of k_min (concave creases), with outward normals.
+//!
+//! Degrading instead of aborting: the built-in estimators flag non-finite and
+//! outlying curvatures unreliable and replace them by the median of their 1-ring
+//! ([`crate::curvature::repair_outliers`]), so such a vertex enters the extremality,
+//! its smoothing and the tracing with its neighbourhood's values, and a run never
+//! fails on one; their number is reported as `unreliable_vertices`. The geometry
+//! of every step is computed on the mesh scaled by a power of two into the unit
+//! frame ([`Mesh::in_unit_frame`]), so coordinates of any magnitude work.
 
 pub mod extremality;
 pub mod smoothing;
