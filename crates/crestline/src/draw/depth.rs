@@ -25,10 +25,10 @@ const BAND_ROWS: usize = 32;
 const MAX_BUFFER_SIDE: f64 = 8192.0;
 
 /// Buffer pixels any triangle may cover at full resolution, however many there are.
-pub const MIN_TRIANGLE_PIXELS: f64 = 1024.0;
+const MIN_TRIANGLE_PIXELS: f64 = 1024.0;
 
 /// The budget of rasterized pixels per buffer pixel, shared by the triangles.
-pub const WORK_PER_PIXEL: f64 = 16.0;
+const WORK_PER_PIXEL: f64 = 16.0;
 
 /// The nearest surface depth per pixel, on a grid `resolution` times finer than the
 /// canvas; pixels the mesh does not cover hold +∞.

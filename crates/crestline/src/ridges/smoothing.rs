@@ -158,8 +158,9 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 /// (M + tL) x' = M x with t = h̄² (h̄ the mean edge length of the input, so t has
 /// the units of M / L: length²); weights and masses are recomputed from the
 /// current positions at every step, weights clamped and masses bounded below
-/// ([`implicit_system`]), so every step's system is positive definite. Works in
-/// the unit frame ([`Mesh::in_unit_frame`]) at any coordinate scale. Returns the
+/// ([`Mesh::clamped_cotan_weight`]; masses at least 10⁻⁶ t), so every step's
+/// system is positive definite, with boundary or obtuse triangles. Works in the
+/// unit frame ([`Mesh::in_unit_frame`]) at any coordinate scale. Returns the
 /// smoothed mesh; connectivity is unchanged.
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
     let (unit, factor) = mesh.in_unit_frame();
