@@ -22,8 +22,9 @@ pub struct CurvatureField {
     pub d_min: Vec<Vector>,
     /// The unit normal the estimator used (outward).
     pub normal: Vec<Vector>,
-    /// Vertices whose values are not to be trusted (on the boundary, or where the
-    /// estimator had too little data).
+    /// Vertices whose values are not to be trusted: on the boundary, where the
+    /// estimator had too little data, or where its estimate was not finite or an
+    /// outlier and was replaced ([`super::repair_outliers`]).
     pub unreliable: Vec<bool>,
 }
 
@@ -59,6 +60,14 @@ impl CurvatureField {
                     (k.k_max, k.k_min, k.d_max, k.d_min, n, flag);
             });
         field
+    }
+
+    /// Multiply both principal curvatures by `factor` (e.g. 2^k for a field
+    /// estimated on the mesh scaled by 2^k); directions and normals are unchanged.
+    pub fn scale_curvature(&mut self, factor: f64) {
+        for k in self.k_max.iter_mut().chain(&mut self.k_min) {
+            *k *= factor;
+        }
     }
 
     /// Number of vertices.

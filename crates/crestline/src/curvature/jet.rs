@@ -18,12 +18,23 @@ use super::{implicit_curvature, tangent_basis, CurvatureEstimator, CurvatureFiel
 /// determine the quartic), a cubic (10 points) or a quadric (6 points) is fitted,
 /// and with fewer than 6 the vertex is flagged unreliable.
 ///
+/// Bounded work: gathering costs time linear in the size of the rings gathered
+/// (each vertex is marked when found), and a fit uses at most `max_points` of
+/// them (or `min_points`, if larger): the inner rings whole and, from the last
+/// ring, points evenly spaced in its order, so a vertex of valence 10,000 costs a
+/// pass over its ring and one small fit.
+///
 /// Error on a smooth surface sampled with spacing h is O(h²), independent of the
-/// triangulation's regularity, unlike the discrete shape operator.
+/// triangulation's regularity, unlike the discrete shape operator. Estimates are
+/// computed in the unit frame ([`Mesh::in_unit_frame`]) and scaled back, and
+/// non-finite or outlying ones are flagged and replaced
+/// ([`super::robust::repair_outliers`]).
 #[derive(Clone, Copy, Debug)]
 pub struct JetFit {
     /// Smallest number of vertices to fit to (the vertex itself included).
     pub min_points: usize,
+    /// Largest number of vertices one fit uses.
+    pub max_points: usize,
     /// Largest number of rings to gather.
     pub max_rings: usize,
 }
@@ -32,6 +43,7 @@ impl Default for JetFit {
     fn default() -> Self {
         JetFit {
             min_points: 18,
+            max_points: 60,
             max_rings: 4,
         }
     }
@@ -39,48 +51,111 @@ impl Default for JetFit {
 
 impl CurvatureEstimator for JetFit {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let normals = area_weighted_normals(mesh);
-        thread_local! {
-            static RING: std::cell::RefCell<Vec<VertexId>> = const { std::cell::RefCell::new(Vec::new()) };
-        }
-        Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
-            RING.with_borrow_mut(|ring_buffer| {
-                let points = self.neighbourhood(mesh, v, ring_buffer);
-                let (k, normal, fitted) = fit_vertex(mesh, v, &normals[v.idx()], points);
-                (k, normal, !fitted || mesh.is_boundary_vertex(v))
-            })
-        }))
+        let (unit, factor) = mesh.in_unit_frame();
+        let mut field = self.estimate_unit(&unit);
+        field.scale_curvature(factor);
+        super::robust::repair_outliers(mesh, &mut field);
+        Ok(field)
     }
 }
 
+thread_local! {
+    static GATHERER: std::cell::RefCell<Gatherer> = std::cell::RefCell::new(Gatherer::default());
+}
+
 impl JetFit {
-    /// The vertices of the smallest ring neighbourhood of `v` with at least
-    /// `min_points` vertices (or `max_rings` rings), `v` first.
-    fn neighbourhood<'a>(
-        &self,
-        mesh: &Mesh,
-        v: VertexId,
-        found: &'a mut Vec<VertexId>,
-    ) -> &'a [VertexId] {
-        found.clear();
-        found.push(v);
+    /// The field of a mesh in the unit frame, before repairs.
+    fn estimate_unit(&self, mesh: &Mesh) -> CurvatureField {
+        let normals = area_weighted_normals(mesh);
+        CurvatureField::from_fn(mesh.vertex_count(), |v| {
+            GATHERER.with_borrow_mut(|gatherer| {
+                let points = gatherer.gather(self, mesh, v);
+                let (k, normal, fitted) = fit_vertex(mesh, v, &normals[v.idx()], points);
+                (k, normal, !fitted || mesh.is_boundary_vertex(v))
+            })
+        })
+    }
+
+    /// The vertices the fit at `v` uses, `v` first: the smallest ring neighbourhood
+    /// with at least `min_points` vertices (or `max_rings` rings), its last ring
+    /// thinned so that at most `max_points` (or `min_points`) remain.
+    pub fn fit_points(&self, mesh: &Mesh, v: VertexId) -> Vec<VertexId> {
+        GATHERER.with_borrow_mut(|gatherer| gatherer.gather(self, mesh, v).to_vec())
+    }
+
+    /// The most points one fit uses.
+    fn point_cap(&self) -> usize {
+        self.max_points.max(self.min_points)
+    }
+}
+
+/// Gathers ring neighbourhoods with a per-vertex marker: a vertex is found when
+/// its stamp equals the current generation, so a gather costs time linear in what
+/// it visits and needs no clearing.
+#[derive(Default)]
+struct Gatherer {
+    found: Vec<VertexId>,
+    stamp: Vec<u32>,
+    generation: u32,
+}
+
+impl Gatherer {
+    /// The fit points of `v` (see [`JetFit::fit_points`]).
+    fn gather(&mut self, jet: &JetFit, mesh: &Mesh, v: VertexId) -> &[VertexId] {
+        self.start(mesh.vertex_count());
+        self.visit(v);
         let mut ring_start = 0;
-        for _ in 0..self.max_rings {
-            let ring_end = found.len();
+        for _ in 0..jet.max_rings {
+            let ring_end = self.found.len();
             for i in ring_start..ring_end {
-                for w in mesh.neighbors(found[i]) {
-                    if !found.contains(&w) {
-                        found.push(w);
-                    }
+                for w in mesh.neighbors(self.found[i]) {
+                    self.visit(w);
                 }
             }
             ring_start = ring_end;
-            if found.len() >= self.min_points || found.len() == ring_end {
+            if self.found.len() >= jet.min_points || self.found.len() == ring_end {
                 break;
             }
         }
-        found
+        thin_last_ring(&mut self.found, ring_start, jet.point_cap());
+        &self.found
     }
+
+    /// Forget the last gather: a new generation (stamps reset when it wraps).
+    fn start(&mut self, vertex_count: usize) {
+        self.found.clear();
+        if self.stamp.len() != vertex_count || self.generation == u32::MAX {
+            self.stamp.clear();
+            self.stamp.resize(vertex_count, 0);
+            self.generation = 0;
+        }
+        self.generation += 1;
+    }
+
+    /// Add `w` unless this gather found it already.
+    fn visit(&mut self, w: VertexId) {
+        let stamp = &mut self.stamp[w.idx()];
+        if *stamp != self.generation {
+            *stamp = self.generation;
+            self.found.push(w);
+        }
+    }
+}
+
+/// Keep at most `cap` points: those before `last_ring` (fewer than the cap, since
+/// gathering stopped at the first ring that reached `min_points`) and points of
+/// the last ring at evenly spaced positions in its order, which keeps them spread
+/// around the vertex.
+fn thin_last_ring(found: &mut Vec<VertexId>, last_ring: usize, cap: usize) {
+    if found.len() <= cap || last_ring >= cap {
+        found.truncate(cap.max(last_ring));
+        return;
+    }
+    let (room, ring) = (cap - last_ring, found.len() - last_ring);
+    for i in 0..room {
+        found[last_ring + i] = found[last_ring + i * ring / room];
+    }
+    found.truncate(cap);
 }
 
 /// Unit normals from the sum of the area vectors of the faces around each vertex.

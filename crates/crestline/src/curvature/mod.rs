@@ -18,6 +18,7 @@ mod choice;
 mod field;
 mod jet;
 mod output;
+mod robust;
 mod shape_operator;
 
 pub use accuracy::relative_rms_error;
@@ -25,6 +26,7 @@ pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply};
+pub use robust::{repair_outliers, OUTLIER_SCALES};
 pub use shape_operator::ShapeOperator;
 
 pub use crate::differential::{

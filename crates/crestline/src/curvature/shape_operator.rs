@@ -18,6 +18,11 @@ use super::{CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 ///
 /// Cost: one parallel pass over the faces and one over the vertices, each edge
 /// evaluated from both of its ends (cheaper than storing per-edge operators).
+///
+/// Robustness: the operator is computed in the unit frame ([`Mesh::in_unit_frame`])
+/// and the curvatures scaled back, so any coordinate scale works; non-finite and
+/// outlying estimates (e.g. at a vertex whose star has collapsed) are flagged
+/// unreliable and replaced ([`super::robust::repair_outliers`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ShapeOperator;
 
@@ -32,31 +37,39 @@ struct EdgeOperator {
 
 impl CurvatureEstimator for ShapeOperator {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let area_vectors: Vec<Vector> =
-            mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
-        Ok(CurvatureField::from_fn(mesh.vertex_count(), |v| {
-            let mut area_vector = Vector::zeros();
-            for h in mesh.outgoing(v) {
-                let f = mesh.face(h);
-                if f.is_valid() {
-                    area_vector += area_vectors[f.idx()];
-                }
-            }
-            let normal = area_vector.normalize();
-            let star_area = 0.5 * area_vector.norm();
-            let mut operator = nalgebra::Matrix3::zeros();
-            for h in mesh.outgoing(v) {
-                // Each edge is evaluated from both of its ends: cheaper than storing it.
-                let e = edge_operator(mesh, mesh.edge(h), &area_vectors);
-                let weight = normal.dot(&e.normal) * e.mean_curvature;
-                operator += e.across * e.across.transpose() * weight;
-            }
-            // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
-            operator *= 0.5 * 3.0 / star_area;
-            let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
-            (k, normal, mesh.is_boundary_vertex(v))
-        }))
+        let (unit, factor) = mesh.in_unit_frame();
+        let mut field = estimate_unit(&unit);
+        field.scale_curvature(factor);
+        super::robust::repair_outliers(mesh, &mut field);
+        Ok(field)
     }
+}
+
+/// The field of a mesh in the unit frame, before repairs.
+fn estimate_unit(mesh: &Mesh) -> CurvatureField {
+    let area_vectors: Vec<Vector> = mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
+    CurvatureField::from_fn(mesh.vertex_count(), |v| {
+        let mut area_vector = Vector::zeros();
+        for h in mesh.outgoing(v) {
+            let f = mesh.face(h);
+            if f.is_valid() {
+                area_vector += area_vectors[f.idx()];
+            }
+        }
+        let normal = area_vector.normalize();
+        let star_area = 0.5 * area_vector.norm();
+        let mut operator = nalgebra::Matrix3::zeros();
+        for h in mesh.outgoing(v) {
+            // Each edge is evaluated from both of its ends: cheaper than storing it.
+            let e = edge_operator(mesh, mesh.edge(h), &area_vectors);
+            let weight = normal.dot(&e.normal) * e.mean_curvature;
+            operator += e.across * e.across.transpose() * weight;
+        }
+        // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
+        operator *= 0.5 * 3.0 / star_area;
+        let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
+        (k, normal, mesh.is_boundary_vertex(v))
+    })
 }
 
 /// S(e) of edge `e` from the area vectors (twice the area times the unit normal)

@@ -9,9 +9,6 @@ use super::camera::Camera;
 use super::depth::DepthBuffer;
 use super::ScreenPath;
 
-/// The most samples one segment of a line is cut into.
-const MAX_SAMPLES_PER_SEGMENT: f64 = 100_000.0;
-
 /// The visible pieces of `line` on the canvas. Samples are taken along each segment
 /// (interpolated in 3D, then projected) at most `spacing` pixels apart; a sample
 /// is visible if it lies on the canvas and passes [`DepthBuffer::is_visible`] with
@@ -75,16 +72,21 @@ fn close_run(
 /// Points along `line`, at most about `spacing` pixels apart on the canvas. The last
 /// point of an open line is included; a closed line ends just before its first
 /// point.
+///
+/// Bounded work: a segment gets at most as many samples as the canvas diagonal
+/// needs (the most of any segment that can be seen on the canvas), so a segment
+/// reaching far off the canvas (a huge triangle's silhouette, a point near a
+/// perspective camera's eye) is sampled more sparsely instead of without bound.
 fn samples(line: &Polyline, camera: &Camera, spacing: f64) -> Vec<Point> {
+    let diagonal = f64::from(camera.width()).hypot(f64::from(camera.height()));
+    let max_samples = (diagonal / spacing).ceil().max(1.0);
     let mut points = Vec::with_capacity(line.points.len());
     for (a, b) in line.segments() {
         let pixels = match (camera.project(a), camera.project(b)) {
             (Some(pa), Some(pb)) => (pb.x - pa.x).hypot(pb.y - pa.y),
             _ => 0.0,
         };
-        let count = (pixels / spacing)
-            .ceil()
-            .clamp(1.0, MAX_SAMPLES_PER_SEGMENT) as usize;
+        let count = (pixels / spacing).ceil().clamp(1.0, max_samples) as usize;
         points.extend((0..count).map(|i| a + (b - a) * (i as f64 / count as f64)));
     }
     if !line.closed {

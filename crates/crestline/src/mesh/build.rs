@@ -26,6 +26,7 @@ use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
 
 use super::buckets::Buckets;
+use super::geometry::unit_scale;
 use super::{FaceId, HalfedgeId, Mesh, ScalarProperty, TriangleSoup, VertexId};
 use crate::{Error, Point, Result};
 
@@ -166,7 +167,11 @@ fn build(soup: TriangleSoup, unorientable: Unorientable) -> Result<(Mesh, Repair
         .iter()
         .map(|t| t.map(|v| weld.representative[v as usize]))
         .collect();
-    let mut tris = drop_bad_faces(&positions, positions.len(), welded, &mut report);
+    // Geometric tests (zero area, signed volume) on a copy scaled by a power of two
+    // into the unit frame: exact, and free of overflow and underflow at any scale.
+    let factor = unit_scale(&positions);
+    let unit: Vec<Point> = positions.iter().map(|p| p * factor).collect();
+    let mut tris = drop_bad_faces(&unit, positions.len(), welded, &mut report);
     if tris.is_empty() {
         return Err(Error::Mesh(
             "no faces (after dropping degenerate, repeated and back-to-back faces)".into(),
@@ -174,13 +179,7 @@ fn build(soup: TriangleSoup, unorientable: Unorientable) -> Result<(Mesh, Repair
     }
 
     let mut partner = pair_edges(&tris, positions.len(), &mut report);
-    orient(
-        &positions,
-        &mut tris,
-        &mut partner,
-        unorientable,
-        &mut report,
-    )?;
+    orient(&unit, &mut tris, &mut partner, unorientable, &mut report)?;
     let mut positions = positions;
     let mut scalars = vertex_scalars;
     split_fans(

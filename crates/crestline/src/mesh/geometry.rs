@@ -1,6 +1,14 @@
 //! Geometric quantities of a mesh: normals, areas, lengths, angles, cotan weights,
 //! lumped mass, bounding box. Per-element functions compute one value; the plural
 //! forms compute all of them in parallel.
+//!
+//! Range: lengths ([`Mesh::edge_length`], [`BoundingBox::diagonal`]) are computed
+//! without overflow or underflow of their squares ([`robust_norm`]), so they are
+//! right for coordinates anywhere in f64's range. Products of lengths (areas,
+//! cross products, cotangents) are not: algorithms that need them at any scale
+//! work on a copy of the mesh scaled by a power of two into the unit frame
+//! ([`Mesh::in_unit_frame`]; exact, since scaling by a power of two only changes
+//! exponents) and scale their results back.
 
 use rayon::prelude::*;
 
@@ -18,8 +26,10 @@ pub struct BoundingBox {
 
 impl BoundingBox {
     /// Length of the box diagonal: the mesh's reference length for relative tolerances.
+    /// Finite for any finite box whose diagonal is below `f64::MAX` (the half
+    /// extents are subtracted, so `max − min` cannot overflow).
     pub fn diagonal(&self) -> f64 {
-        (self.max - self.min).norm()
+        2.0 * robust_norm(&(self.max * 0.5 - self.min * 0.5))
     }
 
     /// Centre of the box.
@@ -34,6 +44,44 @@ impl BoundingBox {
 #[inline]
 pub fn signed_angle(n1: &Vector, n2: &Vector, axis: &Vector) -> f64 {
     n1.cross(n2).dot(axis).atan2(n1.dot(n2))
+}
+
+/// Euclidean norm of `v` without overflow or underflow of the squares: the plain
+/// √(Σ v_i²) when Σ v_i² is a normal float, else computed from `v` divided by its
+/// largest absolute component.
+pub fn robust_norm(v: &Vector) -> f64 {
+    let squared = v.norm_squared();
+    if squared.is_finite() && squared >= f64::MIN_POSITIVE {
+        return squared.sqrt();
+    }
+    let largest = v.amax();
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * (v / largest).norm()
+}
+
+/// The largest cotan weight used by [`Mesh::clamped_cotan_weight`]: ½ cot θ of an
+/// angle θ ≈ 5·10⁻⁵ rad. Bounds the stiffness of sliver triangles (a degenerate one
+/// would give ∞ or NaN).
+pub const MAX_COTAN_WEIGHT: f64 = 1e4;
+
+/// The power of two 2^k that brings the largest absolute coordinate of `points`
+/// into [½, 1) (1 for no points or all at the origin). Multiplying by it is exact.
+pub fn unit_scale(points: &[Point]) -> f64 {
+    let largest = points.iter().map(|p| p.coords.amax()).fold(0.0, f64::max);
+    if largest == 0.0 || !largest.is_finite() {
+        return 1.0;
+    }
+    // largest ∈ [2^e, 2^(e+1)): the factor is 2^-(e+1), within f64's normal range.
+    let exponent = largest.log2().floor() as i64 + 1;
+    power_of_two(-exponent)
+}
+
+/// 2^n for n clamped to the exponents of normal floats, built from its bits.
+fn power_of_two(n: i64) -> f64 {
+    let n = n.clamp(-1022, 1023);
+    f64::from_bits(((n + 1023) as u64) << 52)
 }
 
 /// Cotangent of the angle between `u` and `v`.
@@ -78,10 +126,10 @@ impl Mesh {
         self.par_faces().map(|f| self.face_area(f)).collect()
     }
 
-    /// Length of `e`.
+    /// Length of `e` (right at any scale, see [`robust_norm`]).
     #[inline]
     pub fn edge_length(&self, e: EdgeId) -> f64 {
-        self.halfedge_vector(self.edge_halfedge(e, 0)).norm()
+        robust_norm(&self.halfedge_vector(self.edge_halfedge(e, 0)))
     }
 
     /// Lengths of all edges.
@@ -93,8 +141,16 @@ impl Mesh {
     }
 
     /// Mean edge length h̄: the length unit of every mesh-relative parameter.
+    /// (Where the plain sum of the lengths overflows, near f64::MAX, each length is
+    /// divided by the count before summing.)
     pub fn mean_edge_length(&self) -> f64 {
-        self.edge_lengths().iter().sum::<f64>() / self.edge_count() as f64
+        let lengths = self.edge_lengths();
+        let n = lengths.len() as f64;
+        let mean = lengths.iter().sum::<f64>() / n;
+        if mean.is_finite() {
+            return mean;
+        }
+        lengths.iter().map(|l| l / n).sum()
     }
 
     /// Interior angle of the face of `h` at the corner opposite `h`.
@@ -177,6 +233,46 @@ impl Mesh {
             .into_par_iter()
             .map(|e| self.cotan_weight(EdgeId(e)))
             .collect()
+    }
+
+    /// [`Mesh::cotan_weight`] clamped to [0, [`MAX_COTAN_WEIGHT`]] (NaN, from a
+    /// degenerate triangle, gives 0): with these weights the cotan Laplacian is
+    /// positive semi-definite on any mesh, with or without boundary, however
+    /// obtuse its triangles (Hildebrandt et al. §5.1).
+    pub fn clamped_cotan_weight(&self, e: EdgeId) -> f64 {
+        let w = self.cotan_weight(e);
+        if w.is_nan() {
+            return 0.0;
+        }
+        w.clamp(0.0, MAX_COTAN_WEIGHT)
+    }
+
+    /// Clamped cotan weights of all edges ([`Mesh::clamped_cotan_weight`]).
+    pub fn clamped_cotan_weights(&self) -> Vec<f64> {
+        (0..self.edge_count() as u32)
+            .into_par_iter()
+            .map(|e| self.clamped_cotan_weight(EdgeId(e)))
+            .collect()
+    }
+
+    /// A copy of the mesh with every position multiplied by `factor` (same
+    /// connectivity and vertex properties).
+    pub fn scaled(&self, factor: f64) -> Mesh {
+        let mut copy = self.clone();
+        for p in &mut copy.positions {
+            *p *= factor;
+        }
+        copy
+    }
+
+    /// A copy scaled by a power of two into the unit frame (largest absolute
+    /// coordinate in [½, 1)), and the factor used ([`unit_scale`]). Areas, angles
+    /// and curvatures computed on the copy are free of overflow and underflow for
+    /// coordinates anywhere in f64's range; lengths of the input are those of the
+    /// copy divided by the factor, curvatures multiplied by it, exactly.
+    pub fn in_unit_frame(&self) -> (Mesh, f64) {
+        let factor = unit_scale(&self.positions);
+        (self.scaled(factor), factor)
     }
 
     /// Lumped (barycentric) mass of every vertex: area(star(v)) / 3.

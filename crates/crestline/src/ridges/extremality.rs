@@ -50,6 +50,8 @@ pub fn face_gradient(mesh: &Mesh, f: FaceId, values: [f64; 3]) -> Vector {
 
 /// The extremality e_i(p) = Σ_{T∋p} area(T) ⟨∇k_i(T), d_i(p)⟩ / area(star p) at every
 /// vertex (eq. 4), for the arbitrary but fixed sign of d_i(p) stored in `field`.
+/// A collapsed triangle (zero area: no gradient) contributes nothing, and a vertex
+/// whose star has collapsed gets e = 0 (no information), never NaN.
 pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec<f64> {
     let k = which.curvature(field);
     let d = which.directions(field);
@@ -58,7 +60,12 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
         .par_faces()
         .map(|f| {
             let values = mesh.face_vertices(f).map(|v| k[v.idx()]);
-            face_gradient(mesh, f, values) * mesh.face_area(f)
+            let weighted = face_gradient(mesh, f, values) * mesh.face_area(f);
+            if weighted.iter().all(|x| x.is_finite()) {
+                weighted
+            } else {
+                Vector::zeros()
+            }
         })
         .collect();
     let areas = mesh.face_areas();
@@ -69,7 +76,12 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
                 sum += weighted_gradients[f.idx()];
                 star += areas[f.idx()];
             }
-            sum.dot(&d[v.idx()]) / star
+            let e = sum.dot(&d[v.idx()]) / star;
+            if e.is_finite() {
+                e
+            } else {
+                0.0
+            }
         })
         .collect()
 }

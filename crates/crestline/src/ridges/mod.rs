@@ -18,6 +18,14 @@
 //!
 //! Ridges are maxima of k_max along its direction (convex crests); valleys are
 //! minima of k_min (concave creases), with outward normals.
+//!
+//! Degrading instead of aborting: the built-in estimators flag non-finite and
+//! outlying curvatures unreliable and replace them by the median of their 1-ring
+//! ([`crate::curvature::repair_outliers`]), so such a vertex enters the extremality,
+//! its smoothing and the tracing with its neighbourhood's values, and a run never
+//! fails on one; their number is reported as `unreliable_vertices`. The geometry
+//! of every step is computed on the mesh scaled by a power of two into the unit
+//! frame ([`Mesh::in_unit_frame`]), so coordinates of any magnitude work.
 
 pub mod extremality;
 pub mod smoothing;
@@ -158,8 +166,10 @@ impl LineExtractor<SurfaceWithCurvature<'_>> for ExtremalityTracer {
 impl ExtremalityTracer {
     /// Extract the lines of `mesh`: optional presmoothing, curvature by
     /// [`Self::estimator`], then [`Self::trace_with_curvature`]'s steps. Stage
-    /// timings, the share of singular triangles per field and line counts go to
-    /// `observer`.
+    /// timings, the share of singular triangles per field, the number of interior
+    /// vertices whose curvature is unreliable (`unreliable_vertices`: non-finite or
+    /// outlying estimates, flagged and replaced by the built-in estimators) and line
+    /// counts go to `observer`.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
         let smoothed = stage(observer, "presmooth", || self.presmoothed(mesh))?;
@@ -167,7 +177,7 @@ impl ExtremalityTracer {
         let field = stage(observer, "curvature", || {
             estimate_curvature(work, self.estimator.as_ref())
         })?;
-        self.trace_on(work, &field, mesh, observer)
+        self.trace_on(&work.in_unit_frame().0, &field, mesh, observer)
     }
 
     /// Extract the lines of `mesh` whose principal curvatures and directions are
@@ -189,11 +199,15 @@ impl ExtremalityTracer {
             ));
         }
         field.check(mesh)?;
-        self.trace_on(mesh, field, mesh, observer)
+        self.trace_on(&mesh.in_unit_frame().0, field, mesh, observer)
     }
 
     /// The lines of `work` (whose curvature is `field`) placed on `input` (the same
-    /// connectivity, e.g. before presmoothing).
+    /// connectivity, e.g. before presmoothing). `work` may be scaled by any factor
+    /// (it is passed in the unit frame, [`Mesh::in_unit_frame`], so that areas and
+    /// gradients neither overflow nor underflow): the zero sets of the extremalities,
+    /// the feature conditions and the strengths (∫ k ds with k from `field` and
+    /// lengths from `input`) do not change with the scale of `work`.
     fn trace_on(
         &self,
         work: &Mesh,
@@ -201,6 +215,7 @@ impl ExtremalityTracer {
         input: &Mesh,
         observer: &mut dyn Observer,
     ) -> Result<FeatureLines> {
+        observer.count("unreliable_vertices", unreliable_interior(input, field));
         let mut lines = FeatureLines::new(String::new());
         let mut smoother = smoothing::ExtremalitySmoother::new(
             work,
@@ -328,6 +343,14 @@ impl ExtremalityTracer {
             })
             .collect())
     }
+}
+
+/// The number of interior vertices flagged unreliable in `field` (boundary vertices
+/// always are, and are not counted).
+fn unreliable_interior(mesh: &Mesh, field: &CurvatureField) -> usize {
+    mesh.vertices()
+        .filter(|&v| field.unreliable[v.idx()] && !mesh.is_boundary_vertex(v))
+        .count()
 }
 
 /// The integrand of the strength ∫ k ds per vertex: k_max for ridges, |k_min| for

@@ -8,25 +8,51 @@ use crate::{Error, Result, Vector};
 
 use crate::lines::zero_set::direction_sign;
 
-/// M + t K for the cotan Laplacian with weights clamped at zero, where the edge
-/// (p, q) enters K as K_pp += c w, K_qq += c w, K_pq = −c w σ_pq with
-/// `(σ_pq, c) = edge_terms(p, q)`. With every c ≥ 0, xᵀKx = Σ c w (x_p − σ x_q)² ≥ 0,
-/// so the matrix is symmetric positive definite. Also returns the lumped mass M.
+/// The smallest lumped mass, as a fraction of the time step t (an area, like the
+/// masses).
+///
+/// The weights are at most [`MAX_COTAN_WEIGHT`](crate::mesh::geometry::MAX_COTAN_WEIGHT),
+/// so the diagonal of t K is at most about 10⁴ t · valence; with every mass at
+/// least 10⁻⁶ t the condition number of M + t K stays below about 10¹⁰ · valence,
+/// where a Cholesky factorization in f64 still succeeds, even where triangles
+/// have collapsed to zero area (a surface smoothed many steps shrinks). On a
+/// sound mesh masses are near h̄² and the floor never applies.
+const MIN_MASS_FRACTION: f64 = 1e-6;
+
+/// The lumped masses area(star(v)) / 3, at least [`MIN_MASS_FRACTION`] · `time`
+/// (NaN masses included), so that M + t K stays positive definite.
+fn bounded_masses(mesh: &Mesh, time: f64) -> Vec<f64> {
+    let floor = (MIN_MASS_FRACTION * time).max(f64::MIN_POSITIVE);
+    let mut mass = mesh.vertex_areas();
+    for m in &mut mass {
+        if m.is_nan() || *m < floor {
+            *m = floor;
+        }
+    }
+    mass
+}
+
+/// M + t K for the cotan Laplacian with clamped weights
+/// ([`Mesh::clamped_cotan_weight`]) and masses bounded below ([`bounded_masses`]),
+/// where the edge (p, q) enters K as K_pp += c w, K_qq += c w, K_pq = −c w σ_pq
+/// with `(σ_pq, c) = edge_terms(p, q)`. With every c ≥ 0,
+/// xᵀKx = Σ c w (x_p − σ x_q)² ≥ 0, so with M > 0 the matrix is symmetric positive
+/// definite on every mesh, boundary and obtuse triangles included. Also returns M.
 fn implicit_system(
     mesh: &Mesh,
     time: f64,
     edge_terms: impl Fn(usize, usize) -> (f64, f64),
 ) -> (SymmetricMatrix, Vec<f64>) {
     let n = mesh.vertex_count();
-    let mass = mesh.vertex_areas();
+    let mass = bounded_masses(mesh, time);
     let mut system = SymmetricBuilder::with_capacity(n, n + 4 * mesh.edge_count());
     for (v, &m) in mass.iter().enumerate() {
         system.add_diagonal(v, m);
     }
-    for (e, w) in mesh.cotan_weights().into_iter().enumerate() {
+    for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
         let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
         let (sigma, scale) = edge_terms(p, q);
-        let weight = time * scale * w.max(0.0);
+        let weight = time * scale * w;
         // Zero weights are stored too, so the sparsity pattern is the mesh's edges.
         system.add_diagonal(p, weight);
         system.add_diagonal(q, weight);
@@ -129,12 +155,21 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 }
 
 /// `steps` implicit cotan smoothing steps of the vertex positions,
-/// (M + tL) x' = M x with t = h̄² (h̄ the mean edge length of the input); weights and
-/// masses are recomputed from the current positions at every step. Returns the
+/// (M + tL) x' = M x with t = h̄² (h̄ the mean edge length of the input, so t has
+/// the units of M / L: length²); weights and masses are recomputed from the
+/// current positions at every step, weights clamped and masses bounded below
+/// ([`Mesh::clamped_cotan_weight`]; masses at least 10⁻⁶ t), so every step's
+/// system is positive definite, with boundary or obtuse triangles. Works in the
+/// unit frame ([`Mesh::in_unit_frame`]) at any coordinate scale. Returns the
 /// smoothed mesh; connectivity is unchanged.
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
-    let h = mesh.mean_edge_length();
-    let mut current = mesh.clone();
+    let (unit, factor) = mesh.in_unit_frame();
+    Ok(presmooth_unit(unit, steps)?.scaled(1.0 / factor))
+}
+
+/// [`presmooth_surface`] of a mesh in the unit frame, in place.
+fn presmooth_unit(mut current: Mesh, steps: usize) -> Result<Mesh> {
+    let h = current.mean_edge_length();
     let mut factor: Option<CholeskyFactor> = None;
     for _ in 0..steps {
         let (system, mass) = implicit_system(&current, h * h, |_, _| (1.0, 1.0));

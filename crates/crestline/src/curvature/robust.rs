@@ -1,0 +1,168 @@
+//! Curvature estimates that degrade instead of failing: non-finite values and
+//! outliers are flagged unreliable and replaced by the median of their
+//! neighbourhood, so one collapsed star (a sliver fan in a scan, a vertex pushed
+//! far out) never stops a run.
+//!
+//! A value k(v) of either principal curvature is an outlier when
+//! |k(v) − m| > C · max(1.4826 · MAD, 1 / ℓ), where m and MAD are the median and
+//! the median absolute deviation from it of the finite values at the 1-ring of v
+//! (v excluded), 1.4826 · MAD the usual robust estimate of a standard deviation,
+//! ℓ the median length of the edges at v and C = [`OUTLIER_SCALES`]. The floor 1/ℓ
+//! keeps features: a discrete curvature resolved by edges of length ℓ is at most a
+//! few times 1/ℓ (a sharp crease with a dihedral angle of π/2 gives about 1.5/ℓ), so
+//! on a regular ring, where MAD ≈ 0, only values more than C/ℓ from the median are
+//! flagged: the numerical blow-ups of degenerate stars, which reach 10⁴–10⁵/ℓ.
+
+use rayon::prelude::*;
+
+use crate::mesh::geometry::robust_norm;
+use crate::mesh::{Mesh, VertexId};
+use crate::Vector;
+
+use super::{tangent_basis, CurvatureField};
+
+/// C: how many robust scales a curvature may lie from the median of its 1-ring.
+/// Chosen well above the spread of estimates on noisy scans (a few scales) and
+/// well below the blow-ups of degenerate stars (thousands).
+pub const OUTLIER_SCALES: f64 = 10.0;
+
+/// 1.4826 · MAD estimates the standard deviation of normally distributed values.
+const MAD_TO_SIGMA: f64 = 1.4826;
+
+/// Flag as unreliable every vertex of `field` (estimated on `mesh`) with a
+/// non-finite value or an outlying curvature (see the module documentation), and
+/// replace its values: curvatures by the medians over its reliable neighbours, the
+/// normal (if not finite) by their mean normal, the directions by a neighbour's
+/// projected into the tangent plane. Returns the number of vertices repaired.
+pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
+    let bad: Vec<bool> = mesh
+        .par_vertices()
+        .map(|v| {
+            !is_finite_at(field, v.idx())
+                || is_outlier(mesh, &field.k_max, v)
+                || is_outlier(mesh, &field.k_min, v)
+        })
+        .collect();
+    let repairs: Vec<(usize, Repair)> = mesh
+        .par_vertices()
+        .filter(|v| bad[v.idx()])
+        .map(|v| (v.idx(), repair(mesh, field, &bad, v)))
+        .collect();
+    for &(i, ref r) in &repairs {
+        field.k_max[i] = r.k_max;
+        field.k_min[i] = r.k_min;
+        field.normal[i] = r.normal;
+        field.d_max[i] = r.d_max;
+        field.d_min[i] = r.d_min;
+        field.unreliable[i] = true;
+    }
+    repairs.len()
+}
+
+/// Whether every value of the field at vertex `i` is finite.
+fn is_finite_at(field: &CurvatureField, i: usize) -> bool {
+    let finite = |v: &Vector| v.iter().all(|x| x.is_finite());
+    field.k_max[i].is_finite()
+        && field.k_min[i].is_finite()
+        && finite(&field.d_max[i])
+        && finite(&field.d_min[i])
+        && finite(&field.normal[i])
+}
+
+/// Whether `k` at `v` lies more than [`OUTLIER_SCALES`] robust scales from the
+/// median of its 1-ring (module documentation). A vertex without finite
+/// neighbours is not an outlier.
+fn is_outlier(mesh: &Mesh, k: &[f64], v: VertexId) -> bool {
+    let mut ring: Vec<f64> = mesh
+        .neighbors(v)
+        .map(|w| k[w.idx()])
+        .filter(|x| x.is_finite())
+        .collect();
+    let Some(centre) = median(&mut ring) else {
+        return false;
+    };
+    let mut deviations: Vec<f64> = ring.iter().map(|x| (x - centre).abs()).collect();
+    let spread = MAD_TO_SIGMA * median(&mut deviations).unwrap_or(0.0);
+    let mut lengths: Vec<f64> = mesh
+        .outgoing(v)
+        .map(|h| robust_norm(&mesh.halfedge_vector(h)))
+        .collect();
+    let floor = median(&mut lengths).map_or(0.0, |l| 1.0 / l);
+    (k[v.idx()] - centre).abs() > OUTLIER_SCALES * spread.max(floor)
+}
+
+/// The median of `values` (reordered), the mean of the middle two for an even
+/// count; `None` if empty.
+fn median(values: &mut [f64]) -> Option<f64> {
+    let n = values.len();
+    if n == 0 {
+        return None;
+    }
+    let (_, &mut upper, _) = values.select_nth_unstable_by(n / 2, f64::total_cmp);
+    if n % 2 == 1 {
+        return Some(upper);
+    }
+    let lower = values[..n / 2]
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    Some(0.5 * (lower + upper))
+}
+
+/// Replacement values of a flagged vertex.
+struct Repair {
+    k_max: f64,
+    k_min: f64,
+    normal: Vector,
+    d_max: Vector,
+    d_min: Vector,
+}
+
+/// The replacement values of flagged vertex `v` from its neighbours that are not
+/// flagged (`bad`). Medians of k_max and k_min keep k_max ≥ k_min. Without such
+/// neighbours the curvatures are 0 and the frame is built from the normal alone.
+fn repair(mesh: &Mesh, field: &CurvatureField, bad: &[bool], v: VertexId) -> Repair {
+    let good: Vec<usize> = mesh
+        .neighbors(v)
+        .map(|w| w.idx())
+        .filter(|&w| !bad[w])
+        .collect();
+    let median_of = |k: &[f64]| {
+        let mut values: Vec<f64> = good.iter().map(|&w| k[w]).collect();
+        median(&mut values).unwrap_or(0.0)
+    };
+    let normal = repaired_normal(field, &good, v.idx());
+    let reference = good
+        .first()
+        .map_or(field.d_max[v.idx()], |&w| field.d_max[w]);
+    let d_max = tangent_direction(&reference, &normal);
+    Repair {
+        k_max: median_of(&field.k_max),
+        k_min: median_of(&field.k_min),
+        normal,
+        d_max,
+        d_min: normal.cross(&d_max),
+    }
+}
+
+/// The normal at `i` if finite, else the normalised sum of the normals at the
+/// `good` neighbours, else +z.
+fn repaired_normal(field: &CurvatureField, good: &[usize], i: usize) -> Vector {
+    let own = field.normal[i];
+    if own.iter().all(|x| x.is_finite()) && own.norm() > 0.5 {
+        return own;
+    }
+    let sum: Vector = good.iter().map(|&w| field.normal[w]).sum();
+    sum.try_normalize(f64::MIN_POSITIVE)
+        .unwrap_or_else(Vector::z)
+}
+
+/// `reference` projected into the plane normal to `normal` and normalised, or a
+/// tangent of `normal` if that vanishes.
+fn tangent_direction(reference: &Vector, normal: &Vector) -> Vector {
+    let projected = reference - normal * normal.dot(reference);
+    projected
+        .try_normalize(1e-12)
+        .filter(|d| d.iter().all(|x| x.is_finite()))
+        .unwrap_or_else(|| tangent_basis(normal).0)
+}
