@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
 use crestline::{Error, Result};
 
-use super::load::{load_mesh, report_with_progress};
+use super::failure::explain;
+use super::load::{load_mesh, report_with_progress, StrictArg};
+use super::outputs::{check_paths, OutputSet};
 use super::ReportArg;
 
 /// Arguments of `crestline curvature`.
@@ -23,6 +25,8 @@ pub struct CurvatureArgs {
     #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     #[command(flatten)]
+    pub strict: StrictArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -39,14 +43,21 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
                 .into(),
         });
     }
+    let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
+        .chain(args.report.output())
+        .collect();
+    check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("curvature", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
     super::load::warn_repairs(&args.mesh, &repairs);
     let estimator = args.estimator.build();
     let field = report
         .stage("estimate", || estimate_curvature(&mesh, estimator.as_ref()))
-        .map_err(|e| e.in_file(&args.mesh))?;
-    report.stage("write", || write_curvature_ply(&args.output, &mesh, &field))?;
+        .map_err(|e| explain(e.in_stage("curvature"), &args.mesh))?;
+    let mut files = OutputSet::default();
+    report.stage("write", || {
+        files.write(&args.output, |p| write_curvature_ply(p, &mesh, &field))
+    })?;
     if let Some(path) = &args.report.report {
         report.count("vertices", mesh.vertex_count());
         report.count("faces", mesh.face_count());
@@ -55,7 +66,7 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
             field.unreliable.iter().filter(|&&u| u).count(),
         );
         report.section("repairs", &repairs);
-        report.write(path)?;
+        files.write(path, |p| report.write(p))?;
     }
-    Ok(())
+    files.commit()
 }

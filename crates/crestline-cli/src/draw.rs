@@ -14,6 +14,7 @@ use crestline::{Error, Point, Result, Vector};
 
 use super::load::report_with_progress;
 use super::morse::{extract as extract_morse, MorseArgs};
+use super::outputs::{check_paths, OutputSet, Role};
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
 use super::ReportArg;
 
@@ -75,9 +76,26 @@ pub struct DrawArgs {
     pub report: ReportArg,
 }
 
+/// The files `draw` reads: the mesh, the smoothing weights and the style.
+fn inputs(args: &DrawArgs) -> Vec<Role<'_>> {
+    let mut inputs = args.tracer.inputs(&args.mesh);
+    inputs.extend(args.style.as_deref().map(|s| ("the --style file", s)));
+    inputs
+}
+
 /// Draw the mesh and write the SVG (and the PNG).
 pub fn run(args: &DrawArgs) -> Result<()> {
     check_output(&args.output)?;
+    let png = args.png.then(|| args.output.with_extension("png"));
+    let outputs: Vec<Role<'_>> = [
+        Some(("-o", args.output.as_path())),
+        png.as_deref().map(|p| ("the --png preview", p)),
+        args.report.output(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    check_paths(&inputs(args), &outputs)?;
     let style = args
         .style
         .as_deref()
@@ -123,16 +141,40 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         .collect();
     report.count("paths", serde_json::Value::Object(paths));
 
+    warn_if_empty(args, &drawing, lines.is_empty());
+
     let svg = svg_document(&drawing, &style);
-    report.stage("write", || write_svg(&args.output, &svg))?;
-    if args.png {
-        let png = args.output.with_extension("png");
-        report.stage("png", || write_png(&png, &svg))?;
+    let mut files = OutputSet::default();
+    report.stage("write", || {
+        files.write(&args.output, |p| write_svg(p, &svg))
+    })?;
+    if let Some(png) = &png {
+        report.stage("png", || files.write(png, |p| write_png(p, &svg)))?;
     }
     if let Some(path) = &args.report.report {
-        report.write(path)?;
+        files.write(path, |p| report.write(p))?;
     }
-    Ok(())
+    files.commit()
+}
+
+/// Warn when the drawing has no path, saying why where it can (an empty result
+/// of the feature lines is warned about where they are extracted).
+fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: bool) {
+    if drawing
+        .path_counts()
+        .into_iter()
+        .any(|(_, count)| count > 0)
+    {
+        return;
+    }
+    let why = if args.lines == LinesChoice::None && !args.silhouettes {
+        "the drawing is empty: --lines none without --silhouettes draws nothing"
+    } else if no_lines {
+        "the drawing is empty: no feature lines or silhouettes were found"
+    } else {
+        "the drawing is empty: every line is hidden in this view; try another --view"
+    };
+    super::warn(&args.mesh, why);
 }
 
 /// The feature lines of the mesh, by the chosen method.

@@ -6,7 +6,8 @@ use crate::report::Report;
 use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
 use crestline::Result;
 
-use super::load::{load_mesh, report_with_progress};
+use super::load::{load_mesh, report_with_progress, StrictArg};
+use super::outputs::{check_paths, OutputSet};
 use super::ReportArg;
 
 /// Arguments of `crestline info`.
@@ -15,19 +16,25 @@ pub struct InfoArgs {
     /// The mesh file (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
     #[command(flatten)]
+    pub strict: StrictArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
 /// Load the mesh and print its summary to stdout.
 pub fn run(args: &InfoArgs) -> Result<()> {
+    let outputs: Vec<_> = args.report.output().into_iter().collect();
+    check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("info", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
     let components = report.stage("topology", || mesh.components());
     super::print_stdout(&summary(&args.mesh, &mesh, &components, &repairs));
     if let Some(path) = &args.report.report {
         fill_counts(&mut report, &mesh, &components);
         report.section("repairs", &repairs);
-        report.write(path)?;
+        let mut files = OutputSet::default();
+        files.write(path, |p| report.write(p))?;
+        files.commit()?;
     }
     Ok(())
 }

@@ -10,11 +10,25 @@ use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
 use crestline::{Error, Result};
 use indicatif::{MultiProgress, ProgressBar, ProgressFinish, ProgressStyle};
 
-/// Read `path` and build the repaired halfedge mesh, recording the stages `read`
-/// and `build` in `report`. A byte progress bar is drawn on stderr when it is a
-/// terminal and the file is large enough for the wait to be noticeable.
-pub fn load_mesh(path: &Path, report: &mut Report) -> Result<(Mesh, RepairReport)> {
-    load_mesh_with_scalars(path, report, &[])
+/// How the input mesh is built, an option of every command that reads one.
+#[derive(clap::Args, Debug, Clone, Copy, Default)]
+pub struct StrictArg {
+    /// Refuse a mesh with a component that cannot be oriented consistently (e.g. a
+    /// Möbius strip) instead of cutting that component open.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+/// Read `path` and build the repaired halfedge mesh (refusing unorientable
+/// components if `strict`), recording the stages `read` and `build` in `report`.
+/// A byte progress bar is drawn on stderr when it is a terminal and the file is
+/// large enough for the wait to be noticeable.
+pub fn load_mesh(
+    path: &Path,
+    strict: StrictArg,
+    report: &mut Report,
+) -> Result<(Mesh, RepairReport)> {
+    load_mesh_with_scalars(path, strict, report, &[])
 }
 
 /// [`load_mesh`], attaching per-vertex scalars `(name, file)` read from text files
@@ -22,6 +36,7 @@ pub fn load_mesh(path: &Path, report: &mut Report) -> Result<(Mesh, RepairReport
 /// values follow welding and splitting of vertices.
 pub fn load_mesh_with_scalars(
     path: &Path,
+    strict: StrictArg,
     report: &mut Report,
     scalars: &[(&str, &Path)],
 ) -> Result<(Mesh, RepairReport)> {
@@ -51,8 +66,13 @@ pub fn load_mesh_with_scalars(
             values,
         });
     }
+    let build = if strict.strict {
+        Mesh::from_soup_strict
+    } else {
+        Mesh::from_soup
+    };
     report
-        .stage("build", || Mesh::from_soup(soup))
+        .stage("build", || build(soup))
         .map_err(|e| e.in_file(path))
 }
 

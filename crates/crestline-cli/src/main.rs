@@ -4,13 +4,17 @@
 
 mod curvature;
 mod draw;
+mod failure;
 mod info;
 mod load;
 mod morse;
+mod outputs;
 mod report;
 mod ridges;
 
 use std::path::PathBuf;
+
+use outputs::Role;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -43,6 +47,18 @@ pub struct ReportArg {
     /// Write stage timings and counts as JSON to this file.
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
+}
+
+impl ReportArg {
+    /// The report as an output of the run, if asked for.
+    pub fn output(&self) -> Option<Role<'_>> {
+        self.report.as_deref().map(|path| ("--report", path))
+    }
+}
+
+/// Print a warning about the input `mesh` on stderr.
+pub fn warn(mesh: &std::path::Path, message: &str) {
+    eprintln!("warning: {}: {message}", mesh.display());
 }
 
 /// Parse the command line, run the command, and turn its outcome into an exit code.

@@ -7,10 +7,12 @@ use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
-use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, Simplification};
+use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simplification};
 use crestline::Result;
 
-use super::load::{load_mesh, report_with_progress, warn_repairs};
+use super::failure::explain;
+use super::load::{load_mesh, report_with_progress, warn_repairs, StrictArg};
+use super::outputs::{check_paths, OutputSet, Role};
 use super::ReportArg;
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
@@ -25,7 +27,9 @@ pub struct MorseArgs {
     /// Number of cancellations to make.
     #[arg(long, value_name = "N", conflicts_with = "keep_saddles")]
     pub cancel: Option<usize>,
-    /// Cancel until at most this many saddles remain.
+    /// Cancel until at most this many saddles that could be cancelled remain
+    /// (saddles forced by topology, e.g. 2g on a closed surface of genus g, are
+    /// kept besides).
     #[arg(long, value_name = "N", default_value_t = MorseSmale::DEFAULT_KEEP_SADDLES)]
     pub keep_saddles: usize,
     /// Which 1-cells to output: ascending (saddle to maximum: crests of the
@@ -35,7 +39,7 @@ pub struct MorseArgs {
     /// Keep lines forced by topology (no valid cancellation, low significance).
     #[arg(long)]
     pub keep_forced: bool,
-    /// Fairing iterations of the output lines.
+    /// Fairing iterations of the output lines (at most 1000).
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub smooth: usize,
 }
@@ -76,6 +80,8 @@ pub struct MorseCommand {
     #[arg(long, value_name = "FILE")]
     pub hierarchy: Option<PathBuf>,
     #[command(flatten)]
+    pub strict: StrictArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -85,13 +91,25 @@ pub fn extract(
     mesh_path: &Path,
     (args, estimator): (&MorseArgs, Estimator),
     report: &mut Report,
-) -> Result<(FeatureLines, crestline::morse::MorseSummary)> {
+) -> Result<(FeatureLines, MorseSummary)> {
     let (mut lines, summary) = args
         .extractor(estimator)
         .run(mesh, report)
-        .map_err(|e| e.in_file(mesh_path))?;
+        .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
-    report.section("counts_after", summary.after);
+    if lines.is_empty() {
+        super::warn(mesh_path, &empty_result_advice(args, &summary));
+    }
+    let after = summary.after;
+    report.section(
+        "counts_after",
+        serde_json::json!({
+            "minima": after.minima,
+            "saddles": after.saddles,
+            "maxima": after.maxima,
+            "forced_saddles": summary.forced_saddles,
+        }),
+    );
     report.count("minima", summary.initial.minima);
     report.count("saddles", summary.initial.saddles);
     report.count("maxima", summary.initial.maxima);
@@ -99,11 +117,36 @@ pub fn extract(
     Ok((lines, summary))
 }
 
+/// Why no line came out, and which option to change.
+fn empty_result_advice(args: &MorseArgs, summary: &MorseSummary) -> String {
+    let simplify = if args.cancel.is_some() {
+        "fewer --cancel"
+    } else {
+        "a larger --keep-saddles"
+    };
+    match summary.after.saddles {
+        0 => format!("no saddle is left after the cancellations, so no lines; try {simplify}"),
+        n => format!(
+            "no lines: the {n} saddles left are forced by topology and hidden; \
+             show them with --keep-forced, or try {simplify}"
+        ),
+    }
+}
+
 /// Extract and write the lines (and the hierarchy).
 pub fn run(args: &MorseCommand) -> Result<()> {
     LineFormat::from_path(&args.output)?;
+    let outputs: Vec<Role<'_>> = [
+        Some(("-o", args.output.as_path())),
+        args.hierarchy.as_deref().map(|h| ("--hierarchy", h)),
+        args.report.output(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("morse", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, &mut report)?;
+    let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
     warn_repairs(&args.mesh, &repairs);
     let (lines, summary) = extract(
         &mesh,
@@ -111,18 +154,26 @@ pub fn run(args: &MorseCommand) -> Result<()> {
         (&args.morse, args.estimator),
         &mut report,
     )?;
-    report.stage("write", || write_lines(&args.output, &lines))?;
+    let mut files = OutputSet::default();
+    report.stage("write", || {
+        files.write(&args.output, |p| write_lines(p, &lines))
+    })?;
     if let Some(path) = &args.hierarchy {
-        crestline::atomic::write_atomically(path, |w| {
-            serde_json::to_writer_pretty(
-                &mut *w,
-                &serde_json::json!({ "cancellations": summary.hierarchy }),
-            )?;
-            std::io::Write::write_all(w, b"\n")
-        })?;
+        files.write(path, |p| write_hierarchy(p, &summary))?;
     }
     if let Some(path) = &args.report.report {
-        report.write(path)?;
+        files.write(path, |p| report.write(p))?;
     }
-    Ok(())
+    files.commit()
+}
+
+/// Write the cancellation sequence as `{"cancellations": [...]}`.
+fn write_hierarchy(path: &Path, summary: &MorseSummary) -> Result<()> {
+    crestline::atomic::write_atomically(path, |w| {
+        serde_json::to_writer_pretty(
+            &mut *w,
+            &serde_json::json!({ "cancellations": summary.hierarchy }),
+        )?;
+        std::io::Write::write_all(w, b"\n")
+    })
 }

@@ -9,7 +9,9 @@ use crestline::mesh::Mesh;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
 
-use super::load::{load_mesh_with_scalars, report_with_progress, warn_repairs};
+use super::failure::explain;
+use super::load::{load_mesh_with_scalars, report_with_progress, warn_repairs, StrictArg};
+use super::outputs::{check_paths, OutputSet, Role};
 use super::ReportArg;
 
 /// Options of extremality tracing, shared by every command that traces ridges.
@@ -46,6 +48,17 @@ pub struct TracerArgs {
     /// vertex property, or a text file with one value per vertex.
     #[arg(long, value_name = "PROPERTY|FILE")]
     pub smoothing_weights: Option<String>,
+    #[command(flatten)]
+    pub strict: StrictArg,
+}
+
+impl TracerArgs {
+    /// The files these options read besides the mesh `mesh`, with the mesh.
+    pub fn inputs<'a>(&'a self, mesh: &'a Path) -> Vec<Role<'a>> {
+        std::iter::once(("the input mesh", mesh))
+            .chain(weights_file(self).map(|f| ("the --smoothing-weights file", f)))
+            .collect()
+    }
 }
 
 /// Arguments of `crestline ridges`.
@@ -73,7 +86,7 @@ pub fn load_for_tracing(mesh_path: &Path, args: &TracerArgs, report: &mut Report
         .map(|f| (WEIGHTS_FROM_FILE, f))
         .into_iter()
         .collect();
-    let (mesh, repairs) = load_mesh_with_scalars(mesh_path, report, &extra)?;
+    let (mesh, repairs) = load_mesh_with_scalars(mesh_path, args.strict, report, &extra)?;
     warn_repairs(mesh_path, &repairs);
     Ok(mesh)
 }
@@ -120,20 +133,36 @@ pub fn trace_loaded(
     report.count("faces", mesh.face_count());
     let mut lines = tracer
         .trace(mesh, report)
-        .map_err(|e| e.in_file(mesh_path))?;
+        .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
+    if lines.is_empty() {
+        super::warn(
+            mesh_path,
+            &format!(
+                "no line is as strong as --threshold {}; try a lower --threshold",
+                args.threshold
+            ),
+        );
+    }
     Ok(lines)
 }
 
 /// Trace the lines and write them.
 pub fn run(args: &RidgesArgs) -> Result<()> {
     LineFormat::from_path(&args.output)?;
+    let outputs: Vec<Role<'_>> = std::iter::once(("-o", args.output.as_path()))
+        .chain(args.report.output())
+        .collect();
+    check_paths(&args.tracer.inputs(&args.mesh), &outputs)?;
     let mut report = report_with_progress("ridges", &args.mesh);
     let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let lines = trace_loaded(&mesh, &args.mesh, &args.tracer, &mut report)?;
-    report.stage("write", || write_lines(&args.output, &lines))?;
+    let mut files = OutputSet::default();
+    report.stage("write", || {
+        files.write(&args.output, |p| write_lines(p, &lines))
+    })?;
     if let Some(path) = &args.report.report {
-        report.write(path)?;
+        files.write(path, |p| report.write(p))?;
     }
-    Ok(())
+    files.commit()
 }

@@ -291,3 +291,370 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
         .all(|l| l.kind == crestline::lines::LineKind::Ascending));
     assert!(!lines.is_empty() && lines.len() <= 20);
 }
+
+/// A copy of the bundled mesh `name` in `dir`, under `as_name`.
+fn copy_mesh(dir: &std::path::Path, name: &str, as_name: &str) -> std::path::PathBuf {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes");
+    let path = dir.join(as_name);
+    std::fs::copy(std::path::Path::new(root).join(name), &path).unwrap();
+    path
+}
+
+/// The names of the files in `dir`, sorted.
+fn files_in(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Run `args` (`{}` stands for `dir`), expecting exit 1 with a one-line error that
+/// names `file` and contains `words`, and no file created or changed in `dir`.
+fn assert_refused_untouched(dir: &std::path::Path, args: &[&str], file: &str, words: &str) {
+    let before: Vec<(String, Vec<u8>)> = files_in(dir)
+        .into_iter()
+        .map(|name| {
+            let bytes = std::fs::read(dir.join(&name)).unwrap();
+            (name, bytes)
+        })
+        .collect();
+    let dir_text = dir.to_str().unwrap();
+    let args: Vec<String> = args.iter().map(|a| a.replace("{}", dir_text)).collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = crestline(&args);
+    assert_one_line_error(&out, &file.replace("{}", dir_text), words);
+    let after: Vec<(String, Vec<u8>)> = files_in(dir)
+        .into_iter()
+        .map(|name| {
+            let bytes = std::fs::read(dir.join(&name)).unwrap();
+            (name, bytes)
+        })
+        .collect();
+    assert!(before == after, "{args:?} changed the files in {dir_text}");
+}
+
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_mesh(dir.path(), "bunny_small.obj", "x.obj");
+    copy_mesh(dir.path(), "bone.ply", "x.ply");
+    std::fs::write(dir.path().join("style.json"), "{}\n").unwrap();
+    let cases: [(&[&str], &str); 9] = [
+        (&["ridges", "{}/x.obj", "-o", "{}/x.obj"], "{}/x.obj"),
+        (&["morse", "{}/x.obj", "-o", "{}/x.obj"], "{}/x.obj"),
+        (&["ridges", "{}/x.obj", "-o", "{}/./x.obj"], "{}/./x.obj"),
+        (
+            &[
+                "ridges",
+                "{}/x.obj",
+                "-o",
+                "{}/l.json",
+                "--report",
+                "{}/x.obj",
+            ],
+            "{}/x.obj",
+        ),
+        (
+            &[
+                "morse",
+                "{}/x.obj",
+                "-o",
+                "{}/l.json",
+                "--hierarchy",
+                "{}/x.obj",
+            ],
+            "{}/x.obj",
+        ),
+        (&["info", "{}/x.obj", "--report", "{}/x.obj"], "{}/x.obj"),
+        (&["curvature", "{}/x.ply", "-o", "{}/x.ply"], "{}/x.ply"),
+        (
+            &["draw", "{}/x.obj", "-o", "{}/d.svg", "--report", "{}/x.obj"],
+            "{}/x.obj",
+        ),
+        (
+            &[
+                "draw",
+                "{}/x.obj",
+                "-o",
+                "{}/d.svg",
+                "--style",
+                "{}/style.json",
+                "--report",
+                "{}/style.json",
+            ],
+            "{}/style.json",
+        ),
+    ];
+    for (args, file) in cases {
+        assert_refused_untouched(dir.path(), args, file, "would replace");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_output_that_links_to_the_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = copy_mesh(dir.path(), "bunny_small.obj", "x.obj");
+    std::os::unix::fs::symlink(&mesh, dir.path().join("link.obj")).unwrap();
+    let args = ["ridges", "{}/link.obj", "-o", "{}/x.obj"];
+    assert_refused_untouched(dir.path(), &args, "{}/x.obj", "the input mesh");
+}
+
+#[test]
+fn an_output_given_twice_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_mesh(dir.path(), "bunny_small.obj", "x.obj");
+    let cases: [&[&str]; 3] = [
+        &[
+            "ridges",
+            "{}/x.obj",
+            "-o",
+            "{}/a.json",
+            "--report",
+            "{}/a.json",
+        ],
+        &[
+            "morse",
+            "{}/x.obj",
+            "-o",
+            "{}/a.json",
+            "--hierarchy",
+            "{}/h.json",
+            "--report",
+            "{}/h.json",
+        ],
+        &[
+            "draw", "{}/x.obj", "-o", "{}/d.svg", "--png", "--report", "{}/d.png",
+        ],
+    ];
+    for args in cases {
+        let file = args.last().unwrap();
+        assert_refused_untouched(dir.path(), args, file, "given for both");
+    }
+}
+
+#[test]
+fn a_missing_output_directory_fails_before_any_file_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_mesh(dir.path(), "bunny_small.obj", "x.obj");
+    let cases: [&[&str]; 3] = [
+        &[
+            "ridges",
+            "{}/x.obj",
+            "-o",
+            "{}/a.json",
+            "--report",
+            "{}/no/r.json",
+        ],
+        &[
+            "morse",
+            "{}/x.obj",
+            "-o",
+            "{}/a.json",
+            "--hierarchy",
+            "{}/no/h.json",
+        ],
+        &[
+            "draw",
+            "{}/x.obj",
+            "-o",
+            "{}/d.svg",
+            "--report",
+            "{}/no/r.json",
+        ],
+    ];
+    for args in cases {
+        let file = args.last().unwrap();
+        assert_refused_untouched(dir.path(), args, file, "does not exist");
+    }
+}
+
+/// A Möbius strip of `n` quads (two triangles each), consistently wound along the
+/// strip, whose ends meet with a half twist.
+fn moebius_obj(n: usize) -> String {
+    let mut text = String::new();
+    for i in 0..n {
+        let theta = std::f64::consts::TAU * i as f64 / n as f64;
+        for u in [-0.3, 0.3] {
+            let r = 1.0 + u * (theta / 2.0).cos();
+            let z = u * (theta / 2.0).sin();
+            text += &format!("v {} {} {z}\n", r * theta.cos(), r * theta.sin());
+        }
+    }
+    for i in 0..n {
+        let (a, b) = (2 * i + 1, 2 * i + 2);
+        // The last quad meets the first with the two sides swapped.
+        let (c, d) = if i + 1 < n { (a + 2, b + 2) } else { (2, 1) };
+        text += &format!("f {a} {c} {d}\nf {a} {d} {b}\n");
+    }
+    text
+}
+
+#[test]
+fn strict_refuses_a_moebius_strip_that_the_default_cuts_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("moebius.obj");
+    std::fs::write(&mesh, moebius_obj(24)).unwrap();
+    let mesh = mesh.to_str().unwrap();
+    let opened = crestline(&["info", mesh]);
+    assert!(opened.status.success(), "{}", stderr(&opened));
+    let refused = crestline(&["info", mesh, "--strict"]);
+    assert_one_line_error(&refused, mesh, "orient");
+    let out = dir.path().join("lines.json");
+    let refused = crestline(&["ridges", mesh, "--strict", "-o", out.to_str().unwrap()]);
+    assert_one_line_error(&refused, mesh, "orient");
+    assert!(!out.exists());
+}
+
+/// `copies` tori (major radius 1, minor 0.35) side by side along x, each an
+/// `nu` × `nv` grid of quads split in two, faces wound counter-clockwise seen from
+/// outside.
+fn tori_obj(copies: usize, nu: usize, nv: usize) -> String {
+    let (mut vertices, mut faces) = (String::new(), String::new());
+    for k in 0..copies {
+        for i in 0..nu {
+            for j in 0..nv {
+                let (u, v) = (
+                    std::f64::consts::TAU * i as f64 / nu as f64,
+                    std::f64::consts::TAU * j as f64 / nv as f64,
+                );
+                let r = 1.0 + 0.35 * v.cos();
+                let x = r * u.cos() + 3.0 * k as f64;
+                vertices += &format!("v {x} {} {}\n", r * u.sin(), 0.35 * v.sin());
+            }
+        }
+        let id = |i: usize, j: usize| k * nu * nv + (i % nu) * nv + (j % nv) + 1;
+        for i in 0..nu {
+            for j in 0..nv {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                faces += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+            }
+        }
+    }
+    vertices + &faces
+}
+
+#[test]
+fn morse_keeps_saddles_forced_by_topology_and_warns_when_nothing_is_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("tori.obj");
+    std::fs::write(&mesh, tori_obj(3, 40, 16)).unwrap();
+    let (mesh, out, report) = (
+        mesh.to_str().unwrap(),
+        dir.path().join("lines.json"),
+        dir.path().join("r.json"),
+    );
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "morse",
+            mesh,
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = crestline(&args);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let lines = crestline::lines::read_json(&out).unwrap();
+        let saddles = json["counts_after"]["saddles"].as_u64().unwrap();
+        let forced = json["counts_after"]["forced_saddles"].as_u64().unwrap();
+        (stderr(&run), saddles - forced, forced, lines.len())
+    };
+    // Everything that can be cancelled is: the six saddles left (two per torus)
+    // are forced by topology and hidden, which is said.
+    let (warning, cancellable, forced, lines) = run(&["--keep-saddles", "0"]);
+    assert_eq!((cancellable, forced, lines), (0, 6, 0));
+    assert!(
+        warning.starts_with(&format!("warning: {mesh}: ")),
+        "{warning}"
+    );
+    assert!(warning.contains("--keep-forced"), "{warning}");
+    // Forced saddles do not count towards --keep-saddles: fewer than six saddles
+    // kept still leaves lines.
+    let (warning, cancellable, forced, lines) = run(&["--keep-saddles", "4"]);
+    assert!(cancellable > 0 && cancellable <= 4, "{cancellable}");
+    assert!(forced > 0 && lines > 0, "{forced} forced, {lines} lines");
+    assert!(warning.is_empty(), "{warning}");
+}
+
+#[test]
+fn empty_results_are_warned_about_with_the_option_to_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.json");
+    let run = crestline(&[
+        "ridges",
+        "meshes/bunny_small.obj",
+        "-o",
+        out.to_str().unwrap(),
+        "--threshold",
+        "1e9",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert!(crestline::lines::read_json(&out).unwrap().is_empty());
+    assert!(
+        stderr(&run).starts_with("warning: meshes/bunny_small.obj: ")
+            && stderr(&run).contains("--threshold"),
+        "{}",
+        stderr(&run)
+    );
+    let svg = dir.path().join("d.svg");
+    let run = crestline(&[
+        "draw",
+        "meshes/bunny_small.obj",
+        "-o",
+        svg.to_str().unwrap(),
+        "--lines",
+        "none",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert!(stderr(&run).contains("--silhouettes"), "{}", stderr(&run));
+}
+
+#[test]
+fn morse_smoothing_iterations_are_capped() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lines.json");
+    let run = crestline(&[
+        "morse",
+        "meshes/bunny_small.obj",
+        "-o",
+        out.to_str().unwrap(),
+        "--smooth",
+        "5000",
+    ]);
+    assert_eq!(run.status.code(), Some(1), "{}", stderr(&run));
+    assert!(stderr(&run).contains("at most 1000"), "{}", stderr(&run));
+    assert_eq!(stderr(&run).lines().count(), 1);
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_failed_solve_names_the_file_the_stage_and_what_to_try() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, weights) = (dir.path().join("lines.json"), dir.path().join("w.txt"));
+    // Weights and a time step so large that the smoothing matrix overflows.
+    std::fs::write(&weights, "1e300\n".repeat(1839)).unwrap();
+    let run = crestline(&[
+        "ridges",
+        "meshes/bunny_small.obj",
+        "-o",
+        out.to_str().unwrap(),
+        "--smoothing-weights",
+        weights.to_str().unwrap(),
+        "--smooth-time",
+        "1e300",
+    ]);
+    assert_one_line_error(
+        &run,
+        "meshes/bunny_small.obj",
+        "extremality smoothing failed: ",
+    );
+    assert!(stderr(&run).contains("try "), "{}", stderr(&run));
+    assert!(stderr(&run).contains("--smooth-time"), "{}", stderr(&run));
+    assert!(!out.exists());
+}

@@ -30,16 +30,44 @@ pub enum Error {
     /// A parameter outside its meaningful range.
     #[error("invalid argument: {}", escape_control(.0))]
     Argument(String),
+    /// A stage of a computation failed on this input (e.g. a linear system that is
+    /// not positive definite during smoothing); see [`Error::in_stage`].
+    #[error("{} failed: {}", escape_control(stage), escape_control(message))]
+    Stage {
+        /// The stage, named as in the progress reports (e.g. `"ridges: smoothing"`).
+        stage: String,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 impl Error {
-    /// Attach a file name to an error that does not name one yet.
+    /// Attach a file name to an error that does not name one yet (a failed stage
+    /// keeps its name in the message).
     pub fn in_file(self, path: &Path) -> Error {
         match self {
             Error::Parse(message) | Error::Mesh(message) => Error::File {
                 path: path.to_path_buf(),
                 message,
             },
+            Error::Stage { stage, message } => Error::File {
+                path: path.to_path_buf(),
+                message: format!("{stage} failed: {message}"),
+            },
+            other => other,
+        }
+    }
+
+    /// Say that this error arose in stage `stage` of a computation. Errors that name
+    /// a file or a stage already are returned unchanged.
+    pub fn in_stage(self, stage: &str) -> Error {
+        match self {
+            Error::Parse(message) | Error::Mesh(message) | Error::Argument(message) => {
+                Error::Stage {
+                    stage: stage.to_string(),
+                    message,
+                }
+            }
             other => other,
         }
     }
@@ -93,5 +121,16 @@ mod tests {
         assert_eq!(err.to_string(), r"cannot read 'a\x07b\x0ac' as a number");
         let err = Error::Parse("plain words".to_string()).in_file(Path::new("m\u{1b}.ply"));
         assert_eq!(err.to_string(), r"m\x1b.ply: plain words");
+    }
+
+    #[test]
+    fn a_failed_stage_is_named_and_then_the_file() {
+        let err = Error::Argument("not positive definite".to_string()).in_stage("smoothing");
+        assert_eq!(err.to_string(), "smoothing failed: not positive definite");
+        let err = err.in_stage("another").in_file(Path::new("m.obj"));
+        assert_eq!(
+            err.to_string(),
+            "m.obj: smoothing failed: not positive definite"
+        );
     }
 }

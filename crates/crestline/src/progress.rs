@@ -46,3 +46,13 @@ pub fn stage<T>(observer: &mut dyn Observer, name: &str, work: impl FnOnce() -> 
     observer.stage_finished(name, start.elapsed().as_secs_f64());
     result
 }
+
+/// [`stage`] for work that can fail: its error says which stage failed
+/// ([`crate::Error::in_stage`]).
+pub fn try_stage<T>(
+    observer: &mut dyn Observer,
+    name: &str,
+    work: impl FnOnce() -> crate::Result<T>,
+) -> crate::Result<T> {
+    stage(observer, name, work).map_err(|e| e.in_stage(name))
+}

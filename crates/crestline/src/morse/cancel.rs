@@ -180,6 +180,8 @@ pub struct Hierarchy<'a> {
     boundary: usize,
     criterion: Criterion,
     live_saddles: usize,
+    /// Live saddles with no valid cancellation left: forced by topology.
+    forced_saddles: usize,
     queue: BinaryHeap<Entry>,
     /// The cancellations made, in order.
     pub cancelled: Vec<Cancellation>,
@@ -209,6 +211,7 @@ impl<'a> Hierarchy<'a> {
             boundary,
             criterion,
             live_saddles: n,
+            forced_saddles: 0,
             queue: BinaryHeap::with_capacity(n),
             cancelled: Vec::new(),
         };
@@ -244,12 +247,59 @@ impl<'a> Hierarchy<'a> {
         for m in 0..boundary_set {
             hierarchy.queue_set(Kind::Maximum, m);
         }
+        hierarchy.forced_saddles = (0..n).filter(|&s| hierarchy.is_forced(s)).count();
         hierarchy
     }
 
     /// Number of live saddles.
     pub fn saddle_count(&self) -> usize {
         self.live_saddles
+    }
+
+    /// Number of live saddles that a valid cancellation could still remove: the
+    /// [`saddle_count`](Self::saddle_count) less the saddles forced by topology
+    /// (those whose [`best`](Self::best) is `None`).
+    pub fn cancellable_count(&self) -> usize {
+        self.live_saddles - self.forced_saddles
+    }
+
+    /// Whether saddle `s` has no valid cancellation, with a minimum or a maximum.
+    fn is_forced(&self, s: usize) -> bool {
+        !self.valid(s, Kind::Minimum) && !self.valid(s, Kind::Maximum)
+    }
+
+    /// How many live saddles become forced when the extremum sets `a` and `b` of
+    /// `kind` (`a != b`) are merged: those linking `a` and `b`, which lose their
+    /// cancellations of `kind`, and that have none of the other kind. Every such
+    /// saddle has a candidate in the heap of each set it links (the boundary aside),
+    /// so one heap is scanned: the smaller, or the one that is not the boundary.
+    fn newly_forced(&self, kind: Kind, a: usize, b: usize) -> usize {
+        let (extrema, other_kind) = match kind {
+            Kind::Minimum => (&self.minima, Kind::Maximum),
+            Kind::Maximum => (&self.maxima, Kind::Minimum),
+        };
+        let boundary = self.maxima.find(self.boundary as u32);
+        let scan_a = match kind {
+            Kind::Maximum if a == boundary || b == boundary => b == boundary,
+            _ => extrema.candidates[a].len() <= extrema.candidates[b].len(),
+        };
+        let (scanned, other) = if scan_a { (a, b) } else { (b, a) };
+        extrema.candidates[scanned]
+            .iter()
+            .map(|c| (c.saddle as usize, 1 - c.branch as usize))
+            .filter(|&(s, far)| self.alive[s] && self.branch_end(kind, s, far) == other)
+            .filter(|&(s, _)| !self.valid(s, other_kind))
+            .count()
+    }
+
+    /// The extremum set at the end of `branch` of saddle `s` (the boundary for a
+    /// missing ascending branch).
+    fn branch_end(&self, kind: Kind, s: usize, branch: usize) -> usize {
+        match kind {
+            Kind::Minimum => self.minimum_ends(s)[branch],
+            Kind::Maximum => self.maximum_ends(s)[branch]
+                .unwrap_or_else(|| self.maxima.find(self.boundary as u32)),
+        }
     }
 
     /// Number of live minima and maxima.
@@ -516,6 +566,7 @@ impl<'a> Hierarchy<'a> {
                 self.reverse_vertex_path(saddle.vertices[i], saddle.edge);
                 self.gradient.edge_role[saddle.edge.idx()] = EdgeRole::Primal;
                 let gone_vertex = self.minima.survivor[mins[i]];
+                self.forced_saddles += self.newly_forced(Kind::Minimum, mins[i], mins[1 - i]);
                 self.minima.links[mins[i]] -= 1;
                 self.minima.links[mins[1 - i]] -= 1;
                 touched_minima.push(self.minima.merge(mins[i], mins[1 - i]));
@@ -531,6 +582,7 @@ impl<'a> Hierarchy<'a> {
                 let boundary = self.maxima.find(self.boundary as u32);
                 let (gone, kept) = (maxs[i].unwrap_or(boundary), maxs[1 - i].unwrap_or(boundary));
                 let gone_face = self.maxima.survivor[gone];
+                self.forced_saddles += self.newly_forced(Kind::Maximum, gone, kept);
                 self.maxima.links[gone] -= 1;
                 self.maxima.links[kept] -= 1;
                 touched_maxima.push(self.maxima.merge(gone, kept));

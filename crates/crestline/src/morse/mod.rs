@@ -28,7 +28,7 @@ use std::sync::Arc;
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
 use crate::lines::{FeatureLines, LineExtractor, SurfaceWithValues};
 use crate::mesh::Mesh;
-use crate::progress::{stage, Observer, Silent};
+use crate::progress::{stage, try_stage, Observer, Silent};
 use crate::{Error, Result};
 
 pub use cancel::{Cancellation, Criterion};
@@ -40,7 +40,9 @@ pub use output::Cells;
 pub enum Simplification {
     /// Make this many cancellations (fewer if no valid one is left).
     Cancel(usize),
-    /// Cancel until at most this many saddles are left.
+    /// Cancel until at most this many saddles that could still be cancelled are
+    /// left. Saddles forced by topology (with no valid cancellation, e.g. the 2g
+    /// saddles of a closed surface of genus g) are kept besides and not counted.
     KeepSaddles(usize),
 }
 
@@ -97,6 +99,9 @@ pub struct MorseSummary {
     pub initial: CriticalCounts,
     /// Critical points after the cancellations.
     pub after: CriticalCounts,
+    /// How many of the saddles left no valid cancellation could remove (forced by
+    /// topology; hidden from the output unless [`MorseSmale::hide_forced`] is off).
+    pub forced_saddles: usize,
     /// The cancellation sequence.
     pub hierarchy: Vec<Cancellation>,
 }
@@ -118,6 +123,8 @@ impl LineExtractor<SurfaceWithValues<'_>> for MorseSmale {
 impl MorseSmale {
     /// Default number of saddles kept by [`Simplification::KeepSaddles`].
     pub const DEFAULT_KEEP_SADDLES: usize = 100;
+    /// The most fairing iterations ([`Self::smooth_iterations`]) accepted.
+    pub const MAX_SMOOTH_ITERATIONS: usize = 1000;
 
     /// Compute the [`Self::indicator`] of `mesh`, then build, simplify and output its
     /// complex ([`Self::run_with_values`]), telling `observer` each stage.
@@ -126,7 +133,8 @@ impl MorseSmale {
         mesh: &Mesh,
         observer: &mut dyn Observer,
     ) -> Result<(FeatureLines, MorseSummary)> {
-        let values = stage(observer, "indicator", || {
+        self.check()?;
+        let values = try_stage(observer, "indicator", || {
             self.indicator.values(mesh, self.estimator.as_ref())
         })?;
         self.run_with_values(mesh, values, observer)
@@ -141,6 +149,7 @@ impl MorseSmale {
         values: Vec<f64>,
         observer: &mut dyn Observer,
     ) -> Result<(FeatureLines, MorseSummary)> {
+        self.check()?;
         check_values(mesh, &values)?;
         let keys = gradient::Keys::new(mesh, values);
         let gradient = stage(observer, "gradient", || {
@@ -174,17 +183,32 @@ impl MorseSmale {
         let summary = MorseSummary {
             initial,
             after,
+            forced_saddles: hierarchy.saddle_count() - hierarchy.cancellable_count(),
             hierarchy: hierarchy.cancelled,
         };
         Ok((lines, summary))
     }
 
+    /// The options are in range: an error says which is not.
+    fn check(&self) -> Result<()> {
+        if self.smooth_iterations > Self::MAX_SMOOTH_ITERATIONS {
+            return Err(Error::Argument(format!(
+                "{} fairing iterations of the Morse-Smale lines; at most {} are accepted",
+                self.smooth_iterations,
+                Self::MAX_SMOOTH_ITERATIONS
+            )));
+        }
+        Ok(())
+    }
+
+    /// Cancel saddles in criterion order until [`Self::simplification`] is met or
+    /// no valid cancellation is left.
     fn simplify(&self, hierarchy: &mut cancel::Hierarchy<'_>) {
         let mut count = 0;
         loop {
             let done = match self.simplification {
                 Simplification::Cancel(n) => count >= n,
-                Simplification::KeepSaddles(n) => hierarchy.saddle_count() <= n,
+                Simplification::KeepSaddles(n) => hierarchy.cancellable_count() <= n,
             };
             if done || hierarchy.cancel_next().is_none() {
                 break;

@@ -41,7 +41,7 @@ use crate::lines::{
     FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation, SurfaceWithCurvature,
 };
 use crate::mesh::Mesh;
-use crate::progress::{stage, Observer, Silent};
+use crate::progress::{stage, try_stage, Observer, Silent};
 use crate::{Error, Result};
 
 use extremality::{extremality, regular_faces, Principal};
@@ -172,9 +172,9 @@ impl ExtremalityTracer {
     /// counts go to `observer`.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
-        let smoothed = stage(observer, "presmooth", || self.presmoothed(mesh))?;
+        let smoothed = try_stage(observer, "presmooth", || self.presmoothed(mesh))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
-        let field = stage(observer, "curvature", || {
+        let field = try_stage(observer, "curvature", || {
             estimate_curvature(work, self.estimator.as_ref())
         })?;
         self.trace_on(&work.in_unit_frame().0, &field, mesh, observer)
@@ -303,7 +303,7 @@ impl ExtremalityTracer {
         let mut values = stage(observer, &format!("{name}: extremality"), || {
             extremality(work, field, which)
         });
-        stage(observer, &format!("{name}: smoothing"), || {
+        try_stage(observer, &format!("{name}: smoothing"), || {
             smoother.smooth(directions, &mut values, self.smooth_steps)
         })?;
         let regular = regular_faces(work, directions);
