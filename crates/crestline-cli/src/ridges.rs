@@ -135,6 +135,7 @@ pub fn trace_loaded(
         .trace(mesh, report)
         .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
+    warn_unreliable(mesh_path, report);
     if lines.is_empty() {
         super::warn(
             mesh_path,
@@ -145,6 +146,24 @@ pub fn trace_loaded(
         );
     }
     Ok(lines)
+}
+
+/// Warn when the curvature estimate was repaired at interior vertices (outliers or
+/// non-finite values, replaced by their neighbourhood's median before tracing).
+fn warn_unreliable(mesh_path: &Path, report: &Report) {
+    let count = report
+        .counts
+        .get("unreliable_vertices")
+        .and_then(|v| v.as_u64());
+    if let Some(count) = count.filter(|&n| n > 0) {
+        super::warn(
+            mesh_path,
+            &format!(
+                "curvature at {count} interior vertices was an outlier or not finite and was \
+                 replaced by its neighbours' median"
+            ),
+        );
+    }
 }
 
 /// Trace the lines and write them.
