@@ -253,22 +253,32 @@ impl ExtremalityTracer {
         let bad = |what: &str, value: f64| {
             Error::Argument(format!("{what} must be finite and positive, got {value}"))
         };
+        let negative = |what: &str, value: f64| {
+            Error::Argument(format!(
+                "{what} must be finite and not negative, got {value}"
+            ))
+        };
         if !(self.smooth_time.is_finite() && self.smooth_time > 0.0) {
-            return Err(bad("smoothing time", self.smooth_time));
+            return Err(bad("the smoothing time", self.smooth_time));
         }
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
-            return Err(bad("threshold", self.threshold));
+            return Err(negative("the strength threshold", self.threshold));
         }
         if let Some(f) = self.fairing {
             if !(f.max_distance.is_finite() && f.max_distance >= 0.0) {
-                return Err(bad("fairing distance", f.max_distance));
+                return Err(negative("the fairing distance", f.max_distance));
             }
         }
-        if self.smooth_steps > Self::MAX_STEPS || self.presmooth_steps > Self::MAX_STEPS {
-            return Err(Error::Argument(format!(
-                "at most {} smoothing steps",
-                Self::MAX_STEPS
-            )));
+        for (what, steps) in [
+            ("extremality smoothing steps", self.smooth_steps),
+            ("presmoothing steps", self.presmooth_steps),
+        ] {
+            if steps > Self::MAX_STEPS {
+                return Err(Error::Argument(format!(
+                    "{steps} {what} are more than the limit of {}",
+                    Self::MAX_STEPS
+                )));
+            }
         }
         Ok(())
     }
