@@ -135,21 +135,44 @@ impl PartialOrd for Candidate {
     }
 }
 
-/// A queue entry: the best score of an extremum set when queued. Never above the
-/// set's current best: every change that can lower it queues a new entry, and an
-/// entry whose set improved is re-queued when popped.
-#[derive(Clone, Copy, PartialEq)]
+/// A queue entry: the best score of an extremum set when queued, held `copies`
+/// times. Never above the set's current best: every change that can lower it queues
+/// a new entry, and an entry whose set improved is re-queued when popped. Entries
+/// with equal keys are interchangeable, so the queue keeps them as one with a count
+/// instead of as separate elements: re-queueing would otherwise multiply the
+/// entries of sets that are touched often.
+#[derive(Clone, Copy)]
 struct Entry {
     t: f64,
     kind: Kind,
     set: u32,
+    copies: u32,
+}
+
+impl Entry {
+    /// One copy of the entry of set `set` of `kind` at score `t`.
+    fn new(t: f64, kind: Kind, set: u32) -> Entry {
+        Entry {
+            t,
+            kind,
+            set,
+            copies: 1,
+        }
+    }
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
 }
 
 impl Eq for Entry {}
 
 impl Ord for Entry {
+    /// By key (t, kind, set), smallest first (BinaryHeap is a max-heap); the count
+    /// is not part of the key.
     fn cmp(&self, other: &Self) -> Ordering {
-        // Smallest t first (BinaryHeap is a max-heap).
         other
             .t
             .total_cmp(&self.t)
@@ -470,11 +493,7 @@ impl<'a> Hierarchy<'a> {
     /// Queue extremum set `m` under its current best score.
     fn queue_set(&mut self, kind: Kind, m: usize) {
         if let Some((t, _, _)) = self.set_best(kind, m) {
-            self.queue.push(Entry {
-                t,
-                kind,
-                set: m as u32,
-            });
+            self.queue.push(Entry::new(t, kind, m as u32));
         }
     }
 
@@ -524,7 +543,7 @@ impl<'a> Hierarchy<'a> {
     /// smallest entry whose score is still current is the saddle of least t (eq. 9),
     /// cancelled with the extremum that attains it.
     pub fn cancel_next(&mut self) -> Option<Cancellation> {
-        while let Some(entry) = self.queue.pop() {
+        while let Some(entry) = self.pop_entry() {
             let m = entry.set as usize;
             let current = match entry.kind {
                 Kind::Minimum => self.minima.find(entry.set) == m,
@@ -539,14 +558,31 @@ impl<'a> Hierarchy<'a> {
                 continue;
             };
             // Lazy queue: a set whose best score grew since it was queued (its top
-            // saddle was cancelled elsewhere, a region merged) goes back in.
+            // saddle was cancelled elsewhere, a region merged) goes back in, every
+            // copy alike, as nothing changes between them.
             if t > entry.t + 1e-12 * entry.t.abs().max(1e-300) {
                 self.queue.push(Entry { t, ..entry });
                 continue;
             }
+            // One copy is used; the others wait in the queue as before.
+            if entry.copies > 1 {
+                self.queue.push(Entry {
+                    copies: entry.copies - 1,
+                    ..entry
+                });
+            }
             return Some(self.cancel(s, partner, t));
         }
         None
+    }
+
+    /// Pop the smallest entry together with every other entry of the same key.
+    fn pop_entry(&mut self) -> Option<Entry> {
+        let mut entry = self.queue.pop()?;
+        while self.queue.peek() == Some(&entry) {
+            entry.copies += self.queue.pop().map_or(0, |e| e.copies);
+        }
+        Some(entry)
     }
 
     /// Cancel saddle `s` with `partner`: reverse the gradient along the branch to
