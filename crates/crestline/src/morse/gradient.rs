@@ -119,7 +119,10 @@ impl Gradient {
         let face_roots = local_maximum_faces(mesh, keys);
         let mut matching = Matching::new(mesh, keys);
         let mut order: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
-        order.sort_by(|&a, &b| compare(keys.vertex_key(VertexId(a)), keys.vertex_key(VertexId(b))));
+        // Keys are unique (ties broken by id), so an unstable sort gives the one order.
+        order.par_sort_unstable_by(|&a, &b| {
+            compare(keys.vertex_key(VertexId(a)), keys.vertex_key(VertexId(b)))
+        });
         let vertices = order.iter().copied().filter(|&v| !vertex_roots[v as usize]);
         let faces = (0..mesh.face_count() as u32).filter(|&f| !face_roots[f as usize]);
         let nodes: Vec<u32> = vertices
