@@ -513,9 +513,10 @@ const CHUNK: usize = 8192;
 /// factorization under [`Solver::Auto`]. Measured on the extremality smoothing
 /// (both fields, 3 steps; `examples/bench_smoothing.rs`, 2 cores), the conjugate
 /// gradient method wins on well-shaped meshes from about 30k vertices on
-/// (jittered torus: 0.13 s against 0.17 s at 30k, 0.19 against 0.28 at 50k,
-/// 1.6 against 2.3 at 400k) but not on the 28k-vertex Stanford bunny, whose
-/// factorization is cheap (0.17 s against 0.09); 50k leaves a margin.
+/// (jittered torus: 0.07 s against 0.09 s at 30k, 0.19 against 0.28 at 50k,
+/// 1.6 against 2.3 at 400k), while on the 28k-vertex Stanford bunny, whose
+/// factorization is cheaper, the two are even within the noise (0.08 to 0.17 s
+/// against 0.09 to 0.12 s over several runs); 50k leaves a margin.
 pub const ITERATIVE_MIN_SIZE: usize = 50_000;
 
 /// The largest [`SymmetricMatrix::dominance_ratio`] for which [`Solver::Auto`]
