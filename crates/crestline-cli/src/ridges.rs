@@ -128,6 +128,7 @@ pub fn trace_loaded(
         fairing: args.fair.then(Fairing::default),
         smoothing_weights,
         feature_conditions: !args.all_extrema,
+        ..ExtremalityTracer::default()
     };
     report.count("vertices", mesh.vertex_count());
     report.count("faces", mesh.face_count());

@@ -34,6 +34,7 @@ pub mod trace;
 use std::sync::Arc;
 
 use crate::curvature::{estimate_curvature, CurvatureEstimator, CurvatureField, ShapeOperator};
+use crate::linalg::Solver;
 use crate::lines::chain::chain;
 use crate::lines::fair::fair_polyline;
 use crate::lines::zero_set::LinePoint;
@@ -122,6 +123,9 @@ pub struct ExtremalityTracer {
     /// Porteous; e.g. all three principal ellipses of an ellipsoid, where the
     /// conditions keep only the sharpest one).
     pub feature_conditions: bool,
+    /// How the implicit smoothing systems (§5.1) are solved: sparse Cholesky,
+    /// conjugate gradient, or by mesh size ([`Solver::Auto`], the default).
+    pub solver: Solver,
 }
 
 impl ExtremalityTracer {
@@ -147,6 +151,7 @@ impl Default for ExtremalityTracer {
             fairing: None,
             smoothing_weights: None,
             feature_conditions: true,
+            solver: Solver::Auto,
         }
     }
 }
@@ -221,7 +226,8 @@ impl ExtremalityTracer {
             work,
             self.smooth_time,
             self.smoothing_weights.as_deref(),
-        )?;
+        )?
+        .with_solver(self.solver);
         for &which in self.kinds.fields() {
             for line in self.trace_field(work, field, which, input, &mut smoother, observer)? {
                 lines.push(line);
@@ -288,9 +294,10 @@ impl ExtremalityTracer {
         if self.presmooth_steps == 0 {
             return Ok(None);
         }
-        Ok(Some(smoothing::presmooth_surface(
+        Ok(Some(smoothing::presmooth_surface_with(
             mesh,
             self.presmooth_steps,
+            self.solver,
         )?))
     }
 

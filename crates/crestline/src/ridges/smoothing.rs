@@ -2,7 +2,7 @@
 //! (Hildebrandt, Polthier, Wardetzky 2005, §5.1) and of the surface itself (step 1
 //! of their Table 1, implicit fairing after Desbrun et al. 1999).
 
-use crate::linalg::{CholeskyFactor, SymmetricBuilder, SymmetricMatrix};
+use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricBuilder, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
 
@@ -66,8 +66,10 @@ fn implicit_system(
 /// sign⟨d(p), d(q)⟩ (§5.1): the result does not depend on the arbitrary signs of
 /// the directions `d`. `t = tau · h̄²` (h̄ the mean edge length), so `tau` is
 /// dimensionless. Optional per-vertex `weights` (≥ 0) make the smoothing
-/// inhomogeneous (§6): edge (p, q) is scaled by (w_p + w_q) / 2. One sparse
-/// Cholesky factorization serves every step.
+/// inhomogeneous (§6): edge (p, q) is scaled by (w_p + w_q) / 2. The matrix is
+/// the same for every step: one sparse Cholesky factorization serves them all,
+/// or on large meshes each step is a conjugate gradient solve warm-started from
+/// the previous step ([`Solver::Auto`]).
 pub fn smooth_extremality(
     mesh: &Mesh,
     d: &[Vector],
@@ -80,13 +82,13 @@ pub fn smooth_extremality(
 }
 
 /// [`smooth_extremality`] for several fields of one mesh: the matrices differ only
-/// in the signs σ_pq, so they share their sparsity pattern and the symbolic
-/// factorization is computed once.
+/// in the signs σ_pq, so they share their sparsity pattern and a direct solver's
+/// symbolic factorization is computed once.
 pub struct ExtremalitySmoother<'a> {
     mesh: &'a Mesh,
     time: f64,
     weights: Option<&'a [f64]>,
-    factor: Option<CholeskyFactor>,
+    solver: SpdSolver,
 }
 
 impl<'a> ExtremalitySmoother<'a> {
@@ -98,8 +100,14 @@ impl<'a> ExtremalitySmoother<'a> {
             mesh,
             time: tau * h * h,
             weights,
-            factor: None,
+            solver: SpdSolver::new(Solver::Auto, CgSettings::default()),
         })
+    }
+
+    /// The same smoother solving its systems with `solver`.
+    pub fn with_solver(mut self, solver: Solver) -> Self {
+        self.solver = SpdSolver::new(solver, CgSettings::default());
+        self
     }
 
     /// Smooth `e`, whose signs follow the directions `d`, by `steps` implicit steps.
@@ -112,27 +120,21 @@ impl<'a> ExtremalitySmoother<'a> {
             let scale = weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]));
             (direction_sign(d, p, q), scale)
         });
-        let factor = factor_into(&mut self.factor, &system)?;
+        self.solver.set_matrix(system)?;
+        let mut rhs = vec![0.0; e.len()];
         for _ in 0..steps {
-            let rhs: Vec<f64> = e.iter().zip(&mass).map(|(x, m)| x * m).collect();
-            e.copy_from_slice(&factor.solve(&rhs));
+            mass_times(&mass, e, &mut rhs);
+            // e holds the previous step's solution: the iteration's warm start.
+            self.solver.solve(&rhs, e)?;
         }
         Ok(())
     }
 }
 
-/// Factor `system` into `slot`, reusing the symbolic analysis of a factor
-/// already there (same sparsity pattern).
-fn factor_into<'s>(
-    slot: &'s mut Option<CholeskyFactor>,
-    system: &SymmetricMatrix,
-) -> Result<&'s CholeskyFactor> {
-    match slot {
-        Some(f) => {
-            f.refactor(system)?;
-            Ok(f)
-        }
-        None => Ok(slot.insert(CholeskyFactor::new(system)?)),
+/// `out = M x` for the lumped (diagonal) mass matrix M.
+fn mass_times(mass: &[f64], x: &[f64], out: &mut [f64]) {
+    for ((o, x), m) in out.iter_mut().zip(x).zip(mass) {
+        *o = x * m;
     }
 }
 
@@ -161,29 +163,35 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 /// ([`Mesh::clamped_cotan_weight`]; masses at least 10⁻⁶ t), so every step's
 /// system is positive definite, with boundary or obtuse triangles. Works in the
 /// unit frame ([`Mesh::in_unit_frame`]) at any coordinate scale. Returns the
-/// smoothed mesh; connectivity is unchanged.
+/// smoothed mesh; connectivity is unchanged. The systems are solved as
+/// [`Solver::Auto`] chooses.
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
+    presmooth_surface_with(mesh, steps, Solver::Auto)
+}
+
+/// [`presmooth_surface`] with the systems solved by `solver`.
+pub fn presmooth_surface_with(mesh: &Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
     let (unit, factor) = mesh.in_unit_frame();
-    Ok(presmooth_unit(unit, steps)?.scaled(1.0 / factor))
+    Ok(presmooth_unit(unit, steps, solver)?.scaled(1.0 / factor))
 }
 
 /// [`presmooth_surface`] of a mesh in the unit frame, in place.
-fn presmooth_unit(mut current: Mesh, steps: usize) -> Result<Mesh> {
+fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
     let h = current.mean_edge_length();
-    let mut factor: Option<CholeskyFactor> = None;
+    // The pattern never changes: a direct solver reuses its symbolic analysis.
+    let mut solver = SpdSolver::new(solver, CgSettings::default());
     for _ in 0..steps {
         let (system, mass) = implicit_system(&current, h * h, |_, _| (1.0, 1.0));
-        // The pattern never changes: later steps reuse the symbolic analysis.
-        let factor = factor_into(&mut factor, &system)?;
+        solver.set_matrix(system)?;
         let mut next = current.positions().to_vec();
         for axis in 0..3 {
-            let rhs: Vec<f64> = current
-                .positions()
-                .iter()
-                .zip(&mass)
-                .map(|(p, m)| p[axis] * m)
-                .collect();
-            for (p, x) in next.iter_mut().zip(factor.solve(&rhs)) {
+            let coordinate: Vec<f64> = current.positions().iter().map(|p| p[axis]).collect();
+            let mut rhs = vec![0.0; coordinate.len()];
+            mass_times(&mass, &coordinate, &mut rhs);
+            // The current coordinate is the iteration's warm start.
+            let mut x = coordinate;
+            solver.solve(&rhs, &mut x)?;
+            for (p, x) in next.iter_mut().zip(x) {
                 p[axis] = x;
             }
         }
