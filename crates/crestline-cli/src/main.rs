@@ -23,6 +23,9 @@ use clap::{Parser, Subcommand};
 #[derive(Parser, Debug)]
 #[command(name = "crestline", version, about, long_about = None)]
 struct Cli {
+    /// Worker threads for the parallel stages (0: one per core).
+    #[arg(long, global = true, default_value_t = 0, value_name = "N")]
+    threads: usize,
     #[command(subcommand)]
     command: Command,
 }
@@ -56,6 +59,17 @@ impl ReportArg {
     }
 }
 
+/// Size the global thread pool every parallel stage (and the sparse solver) runs
+/// on; 0 keeps one thread per core.
+fn use_threads(threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
+    if threads == 0 {
+        return Ok(());
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+}
+
 /// Print a warning about the input `mesh` on stderr.
 pub fn warn(mesh: &std::path::Path, message: &str) {
     eprintln!("warning: {}: {message}", mesh.display());
@@ -64,6 +78,10 @@ pub fn warn(mesh: &std::path::Path, message: &str) {
 /// Parse the command line, run the command, and turn its outcome into an exit code.
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(err) = use_threads(cli.threads) {
+        eprintln!("error: --threads {}: {err}", cli.threads);
+        return ExitCode::from(1);
+    }
     let outcome = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),

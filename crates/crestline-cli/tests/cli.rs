@@ -658,3 +658,27 @@ fn a_failed_solve_names_the_file_the_stage_and_what_to_try() {
     assert!(stderr(&run).contains("--smooth-time"), "{}", stderr(&run));
     assert!(!out.exists());
 }
+
+/// The lines do not depend on how many threads compute them.
+#[test]
+fn one_thread_gives_the_same_lines_as_many() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs: Vec<Vec<u8>> = ["1", "0"]
+        .iter()
+        .map(|threads| {
+            let out = dir.path().join(format!("lines-{threads}.json"));
+            let run = crestline(&[
+                "--threads",
+                threads,
+                "ridges",
+                "meshes/bunny_small.obj",
+                "-o",
+                out.to_str().unwrap(),
+            ]);
+            assert!(run.status.success(), "{}", stderr(&run));
+            std::fs::read(out).unwrap()
+        })
+        .collect();
+    assert!(outputs[0].len() > 100);
+    assert_eq!(outputs[0], outputs[1]);
+}
