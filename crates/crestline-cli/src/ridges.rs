@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
+use crestline::linalg::Solver;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
@@ -37,6 +38,10 @@ pub struct TracerArgs {
     /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub presmooth: usize,
+    /// Solver of the implicit smoothing systems: auto (a conjugate gradient on large,
+    /// well-conditioned meshes, else sparse Cholesky), direct or iterative.
+    #[arg(long, default_value_t, value_parser = super::named::<Solver>(Solver::NAMES))]
+    pub solver: Solver,
     /// Fair the lines as space curves (each point moves at most half a mean edge length).
     #[arg(long)]
     pub fair: bool,
@@ -128,7 +133,7 @@ pub fn trace_loaded(
         fairing: args.fair.then(Fairing::default),
         smoothing_weights,
         feature_conditions: !args.all_extrema,
-        ..ExtremalityTracer::default()
+        solver: args.solver,
     };
     report.count("vertices", mesh.vertex_count());
     report.count("faces", mesh.face_count());
