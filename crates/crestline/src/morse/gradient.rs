@@ -177,34 +177,48 @@ impl<'a> Matching<'a> {
         self.pair[node as usize].is_valid()
     }
 
-    /// The edges `node` may pair with, steepest first: for a vertex the edges to
-    /// lower neighbours, for a face the interior edges to higher faces.
-    fn eligible(&self, node: u32) -> Vec<EdgeId> {
+    /// Call `visit(key, edge)` for every edge `node` may pair with, in no order:
+    /// for a vertex the edges to lower neighbours (keyed by the neighbour), for a
+    /// face the interior edges to higher faces (keyed by the face).
+    fn for_each_option(&self, node: u32, mut visit: impl FnMut((f64, u32), EdgeId)) {
         let (mesh, keys) = (self.mesh, self.keys);
         let vertex_count = mesh.vertex_count() as u32;
-        let mut options: Vec<((f64, u32), EdgeId)> = if node < vertex_count {
+        if node < vertex_count {
             let v = VertexId(node);
-            mesh.outgoing(v)
-                .map(|h| (keys.vertex_key(mesh.target(h)), mesh.edge(h)))
-                .filter(|(k, _)| compare(*k, keys.vertex_key(v)) == Ordering::Less)
-                .collect()
+            let own = keys.vertex_key(v);
+            for h in mesh.outgoing(v) {
+                let key = keys.vertex_key(mesh.target(h));
+                if compare(key, own) == Ordering::Less {
+                    visit(key, mesh.edge(h));
+                }
+            }
         } else {
             let f = FaceId(node - vertex_count);
-            mesh.face_halfedges(f)
-                .into_iter()
-                .map(|h| (mesh.face(mesh.twin(h)), mesh.edge(h)))
-                .filter(|(g, _)| {
-                    g.is_valid()
-                        && compare(keys.face_key(*g), keys.face_key(f)) == Ordering::Greater
-                })
-                .map(|(g, e)| (keys.face_key(g), e))
-                .collect()
-        };
-        if node < vertex_count {
-            options.sort_by(|a, b| compare(a.0, b.0));
-        } else {
-            options.sort_by(|a, b| compare(b.0, a.0));
+            let own = keys.face_key(f);
+            for h in mesh.face_halfedges(f) {
+                let g = mesh.face(mesh.twin(h));
+                if g.is_valid() && compare(keys.face_key(g), own) == Ordering::Greater {
+                    visit(keys.face_key(g), mesh.edge(h));
+                }
+            }
         }
+    }
+
+    /// Option keys of `node` ordered steepest first: lower first for a vertex,
+    /// higher first for a face.
+    fn steepest_first(&self, node: u32, a: (f64, u32), b: (f64, u32)) -> Ordering {
+        if node < self.mesh.vertex_count() as u32 {
+            compare(a, b)
+        } else {
+            compare(b, a)
+        }
+    }
+
+    /// The edges `node` may pair with, steepest first.
+    fn eligible(&self, node: u32) -> Vec<EdgeId> {
+        let mut options = Vec::new();
+        self.for_each_option(node, |key, e| options.push((key, e)));
+        options.sort_by(|a, b| self.steepest_first(node, a.0, b.0));
         options.into_iter().map(|(_, e)| e).collect()
     }
 
@@ -213,13 +227,19 @@ impl<'a> Matching<'a> {
         self.pair[node as usize] = e;
     }
 
-    /// Pair `node` with its steepest free edge, if any.
+    /// Pair `node` with its steepest free edge, if any (one pass, no allocation:
+    /// this runs for every element).
     fn take_free(&mut self, node: u32) {
-        if let Some(e) = self
-            .eligible(node)
-            .into_iter()
-            .find(|e| self.owner[e.idx()] == FREE)
-        {
+        let mut best: Option<((f64, u32), EdgeId)> = None;
+        self.for_each_option(node, |key, e| {
+            let free = self.owner[e.idx()] == FREE;
+            let steeper =
+                |(b, _): ((f64, u32), EdgeId)| self.steepest_first(node, key, b) == Ordering::Less;
+            if free && best.is_none_or(steeper) {
+                best = Some((key, e));
+            }
+        });
+        if let Some((_, e)) = best {
             self.assign(node, e);
         }
     }
