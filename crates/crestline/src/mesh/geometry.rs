@@ -10,6 +10,8 @@
 //! ([`Mesh::in_unit_frame`]; exact, since scaling by a power of two only changes
 //! exponents) and scale their results back.
 
+use std::borrow::Cow;
+
 use rayon::prelude::*;
 
 use super::{EdgeId, FaceId, HalfedgeId, Mesh, VertexId};
@@ -259,20 +261,30 @@ impl Mesh {
     /// connectivity and vertex properties).
     pub fn scaled(&self, factor: f64) -> Mesh {
         let mut copy = self.clone();
-        for p in &mut copy.positions {
-            *p *= factor;
-        }
+        copy.scale(factor);
         copy
     }
 
-    /// A copy scaled by a power of two into the unit frame (largest absolute
-    /// coordinate in [½, 1)), and the factor used ([`unit_scale`]). Areas, angles
-    /// and curvatures computed on the copy are free of overflow and underflow for
-    /// coordinates anywhere in f64's range; lengths of the input are those of the
-    /// copy divided by the factor, curvatures multiplied by it, exactly.
-    pub fn in_unit_frame(&self) -> (Mesh, f64) {
+    /// Multiply every position by `factor`.
+    pub fn scale(&mut self, factor: f64) {
+        for p in &mut self.positions {
+            *p *= factor;
+        }
+    }
+
+    /// The mesh in a frame where areas, angles and curvatures neither overflow nor
+    /// underflow, and the factor its coordinates were multiplied by: the mesh itself
+    /// (factor 1) when its largest absolute coordinate lies within 2^±100, else a
+    /// copy scaled by a power of two into the unit frame (largest coordinate in
+    /// [½, 1), [`unit_scale`]). Scaling by a power of two is exact, so results on
+    /// either are the same up to the factor: lengths of the input are those of the
+    /// frame divided by the factor, curvatures multiplied by it.
+    pub fn in_unit_frame(&self) -> (Cow<'_, Mesh>, f64) {
         let factor = unit_scale(&self.positions);
-        (self.scaled(factor), factor)
+        if (power_of_two(-100)..=power_of_two(100)).contains(&factor) {
+            return (Cow::Borrowed(self), 1.0);
+        }
+        (Cow::Owned(self.scaled(factor)), factor)
     }
 
     /// Lumped (barycentric) mass of every vertex: area(star(v)) / 3.

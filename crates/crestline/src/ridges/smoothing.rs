@@ -172,7 +172,9 @@ pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
 /// [`presmooth_surface`] with the systems solved by `solver`.
 pub fn presmooth_surface_with(mesh: &Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
     let (unit, factor) = mesh.in_unit_frame();
-    Ok(presmooth_unit(unit, steps, solver)?.scaled(1.0 / factor))
+    let mut smoothed = presmooth_unit(unit.into_owned(), steps, solver)?;
+    smoothed.scale(1.0 / factor);
+    Ok(smoothed)
 }
 
 /// [`presmooth_surface`] of a mesh in the unit frame, in place.
