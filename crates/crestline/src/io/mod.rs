@@ -37,6 +37,12 @@ use std::path::Path;
 use crate::mesh::TriangleSoup;
 use crate::{Error, Point, Result};
 
+/// Whether `value` can be stored as a finite 32-bit float (values below f32's
+/// smallest positive number round towards zero).
+pub(crate) fn fits_f32(value: f64) -> bool {
+    value.is_finite() && value.abs() <= f64::from(f32::MAX)
+}
+
 /// The file extensions [`read_mesh`] understands (compared case-insensitively).
 pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &["obj", "ply", "off", "stl"];
 

@@ -273,7 +273,7 @@ impl VertexAttribute<'_> {
     /// The first value that is not a finite 32-bit float, described with its
     /// property and vertex, or `None`.
     fn outside_f32(&self) -> Option<String> {
-        let fits = |x: f64| x.is_finite() && x.abs() <= f64::from(f32::MAX);
+        let fits = super::fits_f32;
         let (property, v, value) = match self {
             VertexAttribute::Scalar { name, values } => {
                 let v = values.iter().position(|&x| !fits(x))?;

@@ -23,8 +23,7 @@ use crate::{Error, Result};
 /// Besides the checks of [`super::write_json`], every value must fit in a 32-bit
 /// float; otherwise the error ([`Error::Argument`]) comes before any file is created.
 pub fn write_ply(path: &Path, lines: &FeatureLines) -> Result<()> {
-    let fits_f32 = |v: f64| v.is_finite() && v.abs() <= f64::from(f32::MAX);
-    if let Some(message) = lines.first_problem(fits_f32, "not a finite 32-bit float") {
+    if let Some(message) = lines.first_problem(crate::io::fits_f32, "not a finite 32-bit float") {
         return Err(Error::Argument(message));
     }
     write_checked(path, lines, |w| {
