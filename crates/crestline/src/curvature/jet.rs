@@ -51,11 +51,9 @@ impl Default for JetFit {
 
 impl CurvatureEstimator for JetFit {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let (unit, factor) = mesh.in_unit_frame();
-        let mut field = self.estimate_unit(&unit);
-        field.scale_curvature(factor);
-        super::robust::repair_outliers(mesh, &mut field);
-        Ok(field)
+        Ok(super::robust::estimate_robustly(mesh, |unit| {
+            self.estimate_unit(unit)
+        }))
     }
 }
 

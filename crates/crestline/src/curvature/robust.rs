@@ -29,6 +29,20 @@ pub const OUTLIER_SCALES: f64 = 10.0;
 /// 1.4826 · MAD estimates the standard deviation of normally distributed values.
 const MAD_TO_SIGMA: f64 = 1.4826;
 
+/// How the built-in estimators run: `estimate_unit` on `mesh` in a frame free of
+/// overflow and underflow ([`Mesh::in_unit_frame`]), curvatures scaled back, then
+/// non-finite and outlying values flagged and repaired ([`repair_outliers`]).
+pub(super) fn estimate_robustly(
+    mesh: &Mesh,
+    estimate_unit: impl FnOnce(&Mesh) -> CurvatureField,
+) -> CurvatureField {
+    let (unit, factor) = mesh.in_unit_frame();
+    let mut field = estimate_unit(&unit);
+    field.scale_curvature(factor);
+    repair_outliers(mesh, &mut field);
+    field
+}
+
 /// Flag as unreliable every vertex of `field` (estimated on `mesh`) with a
 /// non-finite value or an outlying curvature (see the module documentation), and
 /// replace its values: curvatures by the medians over its reliable neighbours, the

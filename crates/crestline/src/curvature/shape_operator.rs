@@ -37,11 +37,7 @@ struct EdgeOperator {
 
 impl CurvatureEstimator for ShapeOperator {
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
-        let (unit, factor) = mesh.in_unit_frame();
-        let mut field = estimate_unit(&unit);
-        field.scale_curvature(factor);
-        super::robust::repair_outliers(mesh, &mut field);
-        Ok(field)
+        Ok(super::robust::estimate_robustly(mesh, estimate_unit))
     }
 }
 
