@@ -7,7 +7,7 @@
 //! [`read_mesh`] and [`Mesh::from_soup`]. No mutant may panic or hang, and every
 //! error is one line naming the file, in plain words.
 //!
-//! `cargo test` runs [`DEFAULT_MUTANTS`] mutants per format. For a longer run set
+//! `cargo test --release` runs [`DEFAULT_MUTANTS`] mutants per format. For a longer run set
 //! `CRESTLINE_FUZZ_MUTANTS=N` (and optionally `CRESTLINE_FUZZ_SEED=S`; with
 //! `CRESTLINE_FUZZ_SHOW=1` every error message is printed for review), e.g.
 //! `CRESTLINE_FUZZ_MUTANTS=20000 cargo test --release -p crestline --test
@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use crestline::io::read_mesh;
 use crestline::mesh::Mesh;
 
-/// Mutants per format in a plain `cargo test`.
+/// Mutants per format in a plain `cargo test --release`.
 const DEFAULT_MUTANTS: usize = 300;
 /// A mutant taking longer than this to read and build is a hang.
 const HANG: Duration = Duration::from_secs(5);
