@@ -2,8 +2,9 @@
 """Stage table of `crestline ridges` and `crestline morse` against `crestline info`.
 
 Runs the three commands on one mesh, interleaved, ROUNDS times (default 3), and
-prints the minimum wall time of each command, its ratio to `info` (the cost of
-loading the mesh), and the minimum of every stage from the `--report` files.
+prints the median wall time of each command (and its minimum), its ratio to
+`info` (the cost of loading the mesh), and the median of every stage from the
+`--report` files.
 
     python3 tools/stage_table.py data/dragon/dragon_vrip.ply [ROUNDS]
 
@@ -11,6 +12,7 @@ Build first: `cargo build --release`. The scans come from tools/fetch_dragon.sh.
 """
 
 import json
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -29,7 +31,7 @@ def timed(args):
 def main():
     mesh = sys.argv[1]
     rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 3
-    best, stages = {}, {}
+    times, stages = {}, {}
     with tempfile.TemporaryDirectory() as out:
         for _ in range(rounds):
             for command in ["info", "ridges", "morse"]:
@@ -37,20 +39,22 @@ def main():
                 report = Path(out) / f"{command}-report.json"
                 if command != "info":
                     args += ["-o", str(Path(out) / f"{command}.json"), "--report", str(report)]
-                best[command] = min(best.get(command, float("inf")), timed(args))
+                times.setdefault(command, []).append(timed(args))
                 if command == "info":
                     continue
                 for stage in json.loads(report.read_text())["stages"]:
                     key = (command, stage["name"])
-                    stages[key] = min(stages.get(key, float("inf")), stage["seconds"])
-    info = best["info"]
-    print(f"{mesh}: minimum of {rounds} interleaved rounds")
-    print(f"info {info:.2f} s")
+                    stages.setdefault(key, []).append(stage["seconds"])
+    median = {command: statistics.median(t) for command, t in times.items()}
+    info = median["info"]
+    print(f"{mesh}: median (minimum) of {rounds} interleaved rounds")
+    print(f"info {info:.2f} s ({min(times['info']):.2f} s)")
     for command in ["ridges", "morse"]:
-        print(f"{command} {best[command]:.2f} s ({best[command] / info:.1f}x info)")
+        ratio = median[command] / info
+        print(f"{command} {median[command]:.2f} s ({min(times[command]):.2f} s), {ratio:.1f}x info")
         for (owner, name), seconds in stages.items():
             if owner == command:
-                print(f"  {name:<24} {seconds:.3f} s")
+                print(f"  {name:<24} {statistics.median(seconds):.3f} s")
 
 
 if __name__ == "__main__":
