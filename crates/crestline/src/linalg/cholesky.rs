@@ -1,0 +1,217 @@
+//! Sparse Cholesky factorization (faer, supernodal, approximate minimum degree).
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Mat, MatMut, Side};
+
+use super::SymmetricMatrix;
+use crate::{Error, Result};
+
+/// The lower triangle of a square sparse matrix in compressed column form, the
+/// layout the factorization reads.
+#[derive(Clone, Debug, PartialEq)]
+struct LowerTriangle {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl LowerTriangle {
+    /// Extracts the entries `(i, j)` with `i ≥ j` of `matrix`, checking that they
+    /// are finite.
+    fn new(matrix: &SymmetricMatrix) -> Result<LowerTriangle> {
+        let n = matrix.size();
+        let stored = matrix.csc().1.len();
+        let mut lower = LowerTriangle {
+            n,
+            col_ptr: Vec::with_capacity(n + 1),
+            row_idx: Vec::with_capacity(stored / 2 + n),
+            values: Vec::with_capacity(stored / 2 + n),
+        };
+        lower.col_ptr.push(0);
+        for j in 0..n {
+            lower.push_column(j, matrix.column(j))?;
+        }
+        Ok(lower)
+    }
+
+    /// Appends the lower part (rows `≥ j`) of column `j`.
+    fn push_column(&mut self, j: usize, entries: impl Iterator<Item = (usize, f64)>) -> Result<()> {
+        for (i, value) in entries {
+            if !value.is_finite() {
+                return Err(Error::Argument(format!(
+                    "matrix entry ({i}, {j}) is not finite ({value})"
+                )));
+            }
+            if i >= j {
+                self.row_idx.push(i);
+                self.values.push(value);
+            }
+        }
+        self.col_ptr.push(self.row_idx.len());
+        Ok(())
+    }
+
+    /// Whether `other` has the same size and nonzero pattern.
+    fn same_pattern(&self, other: &LowerTriangle) -> bool {
+        self.n == other.n && self.col_ptr == other.col_ptr && self.row_idx == other.row_idx
+    }
+
+    /// A faer view of the pattern alone.
+    fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx)
+    }
+
+    /// A faer view of pattern and values.
+    fn view(&self) -> SparseColMatRef<'_, usize, f64> {
+        SparseColMatRef::new(self.symbolic(), &self.values)
+    }
+}
+
+/// A sparse Cholesky factorization `P A Pᵀ = L Lᵀ` of a symmetric positive definite
+/// matrix `A`, with a fill-reducing permutation `P`: factor once, solve many times.
+///
+/// Only the lower triangle of `A` is read; the upper one is assumed to mirror it
+/// (which [`SymmetricBuilder`](super::SymmetricBuilder) guarantees).
+#[derive(Clone, Debug)]
+pub struct CholeskyFactor {
+    /// Pattern of the factored matrix, to tell whether the symbolic analysis can be
+    /// reused by [`refactor`](Self::refactor).
+    pattern: LowerTriangle,
+    symbolic: SymbolicLlt<usize>,
+    numeric: Llt<usize, f64>,
+}
+
+impl CholeskyFactor {
+    /// Factors `matrix`: ordering and symbolic analysis, then the numeric
+    /// factorization. This is the "factor once" step of the implicit curvature
+    /// smoothing `(M + t K) e' = M e` (§5.1).
+    ///
+    /// An [`Error::Argument`] if the matrix is not square, has a non-finite entry or
+    /// is not positive definite (e.g. a zero lumped mass from a degenerate vertex).
+    pub fn new(matrix: &SymmetricMatrix) -> Result<CholeskyFactor> {
+        let pattern = LowerTriangle::new(matrix)?;
+        let symbolic = analyze(&pattern)?;
+        let numeric = factor_numeric(&symbolic, &pattern)?;
+        Ok(CholeskyFactor {
+            pattern,
+            symbolic,
+            numeric,
+        })
+    }
+
+    /// Factors a new `matrix` in place of the current one. When its nonzero pattern
+    /// is the same (the per-step surface smoothing `(M + t L) x' = M x` of §5.1, with
+    /// `L` rebuilt on the smoothed surface), the ordering and symbolic analysis are
+    /// reused and only the numeric factorization runs; otherwise everything is redone.
+    ///
+    /// Errors as [`new`](Self::new); on error the previous factorization is kept.
+    pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        let pattern = LowerTriangle::new(matrix)?;
+        let symbolic = if pattern.same_pattern(&self.pattern) {
+            self.symbolic.clone()
+        } else {
+            analyze(&pattern)?
+        };
+        self.numeric = factor_numeric(&symbolic, &pattern)?;
+        self.symbolic = symbolic;
+        self.pattern = pattern;
+        Ok(())
+    }
+
+    /// The size `n` of the factored `n × n` matrix.
+    pub fn size(&self) -> usize {
+        self.pattern.n
+    }
+
+    /// Overwrites `x` (the right-hand side `b`) with the solution of `A x = b`.
+    ///
+    /// # Panics
+    /// If `x.len()` is not [`size`](Self::size).
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        self.check_len(x.len());
+        self.numeric
+            .solve_in_place(faer::ColMut::from_slice_mut(x).as_mat_mut());
+    }
+
+    /// The solution of `A x = rhs`.
+    ///
+    /// # Panics
+    /// If `rhs.len()` is not [`size`](Self::size).
+    pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let mut x = rhs.to_vec();
+        self.solve_in_place(&mut x);
+        x
+    }
+
+    /// Solves `A X = B` for several right-hand sides at once (e.g. the x, y and z
+    /// coordinates of the surface smoothing step), overwriting each column of `B`
+    /// with the matching column of `X`. One pass over the factor serves all columns,
+    /// which is faster than separate [`solve`](Self::solve) calls.
+    ///
+    /// # Panics
+    /// If a column's length is not [`size`](Self::size).
+    pub fn solve_columns(&self, columns: &mut [Vec<f64>]) {
+        let n = self.size();
+        for column in columns.iter() {
+            self.check_len(column.len());
+        }
+        let mut rhs = Mat::from_fn(n, columns.len(), |i, j| columns[j][i]);
+        self.solve_matrix(rhs.as_mut());
+        for (j, column) in columns.iter_mut().enumerate() {
+            column.copy_from_slice(rhs.col_as_slice(j));
+        }
+    }
+
+    /// Solves `A X = B` in place for the columns of a faer matrix `B`, without the
+    /// copies [`solve_columns`](Self::solve_columns) makes.
+    ///
+    /// # Panics
+    /// If `rhs` does not have [`size`](Self::size) rows.
+    pub fn solve_matrix(&self, rhs: MatMut<'_, f64>) {
+        self.check_len(rhs.nrows());
+        self.numeric.solve_in_place(rhs);
+    }
+
+    /// Panics with a clear message if a right-hand side has the wrong length.
+    fn check_len(&self, len: usize) {
+        assert_eq!(
+            len,
+            self.size(),
+            "right-hand side of length {len} for a {n}×{n} system",
+            n = self.size()
+        );
+    }
+}
+
+/// Fill-reducing ordering and symbolic factorization of the pattern.
+fn analyze(pattern: &LowerTriangle) -> Result<SymbolicLlt<usize>> {
+    SymbolicLlt::try_new(pattern.symbolic(), Side::Lower).map_err(|err| {
+        Error::Argument(format!(
+            "symbolic Cholesky analysis of a {n}×{n} matrix failed: {err}",
+            n = pattern.n
+        ))
+    })
+}
+
+/// Numeric Cholesky factorization of `matrix`, whose pattern `symbolic` describes.
+fn factor_numeric(
+    symbolic: &SymbolicLlt<usize>,
+    matrix: &LowerTriangle,
+) -> Result<Llt<usize, f64>> {
+    Llt::try_new_with_symbolic(symbolic.clone(), matrix.view(), Side::Lower).map_err(
+        |err| match err {
+            faer::sparse::linalg::LltError::Numeric(_) => Error::Argument(format!(
+                "the {n}×{n} matrix is not positive definite (Cholesky factorization met a \
+                 non-positive pivot)",
+                n = matrix.n
+            )),
+            faer::sparse::linalg::LltError::Generic(err) => Error::Argument(format!(
+                "Cholesky factorization of a {n}×{n} matrix failed: {err}",
+                n = matrix.n
+            )),
+        },
+    )
+}

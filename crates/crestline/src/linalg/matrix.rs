@@ -1,0 +1,274 @@
+//! Assembly and storage of sparse symmetric matrices.
+
+use rayon::prelude::*;
+
+use super::CHUNK;
+use crate::{Error, Result};
+
+/// Assembles a symmetric `n × n` sparse matrix from entries that may repeat;
+/// repeated entries are summed.
+///
+/// [`add`](Self::add) writes an off-diagonal value to both `(i, j)` and `(j, i)`, so
+/// the built matrix is symmetric by construction.
+#[derive(Debug)]
+pub struct SymmetricBuilder {
+    n: usize,
+    /// `(row, column, value)` entries, in the order added.
+    triplets: Vec<(usize, usize, f64)>,
+}
+
+impl SymmetricBuilder {
+    /// An empty `n × n` matrix.
+    pub fn new(n: usize) -> SymmetricBuilder {
+        SymmetricBuilder::with_capacity(n, 0)
+    }
+
+    /// An empty `n × n` matrix with room for `entries` stored entries (an
+    /// off-diagonal [`add`](Self::add) stores two, [`add_edge`](Self::add_edge) four).
+    pub fn with_capacity(n: usize, entries: usize) -> SymmetricBuilder {
+        SymmetricBuilder {
+            n,
+            triplets: Vec::with_capacity(entries),
+        }
+    }
+
+    /// The matrix size `n`.
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    /// Adds `value` to entry `(i, j)` and, when `i ≠ j`, to `(j, i)`.
+    ///
+    /// # Panics
+    /// If `i` or `j` is not below [`size`](Self::size).
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        assert!(
+            i < self.n && j < self.n,
+            "entry ({i}, {j}) of a {n}×{n} matrix",
+            n = self.n
+        );
+        self.triplets.push((i, j, value));
+        if i != j {
+            self.triplets.push((j, i, value));
+        }
+    }
+
+    /// Adds `value` to the diagonal entry `(i, i)`, e.g. a lumped vertex mass.
+    ///
+    /// # Panics
+    /// If `i` is not below [`size`](Self::size).
+    pub fn add_diagonal(&mut self, i: usize, value: f64) {
+        self.add(i, i, value);
+    }
+
+    /// Adds the stiffness of one edge `(i, j)` with weight `w`: `w` to both diagonal
+    /// entries and `−w` to both off-diagonal ones. Summed over the edges with cotan
+    /// weights this is the Laplacian `K` (`K_pp = Σ w`, `K_pq = −w`) of §5.1.
+    ///
+    /// # Panics
+    /// If `i` or `j` is not below [`size`](Self::size), or `i == j`.
+    pub fn add_edge(&mut self, i: usize, j: usize, w: f64) {
+        assert_ne!(i, j, "an edge needs two distinct vertices");
+        self.add_diagonal(i, w);
+        self.add_diagonal(j, w);
+        self.add(i, j, -w);
+    }
+
+    /// The assembled matrix in compressed sparse column form, repeated entries
+    /// summed: entries are bucketed by column (linear time), then each column is
+    /// sorted by row.
+    pub fn build(&self) -> SymmetricMatrix {
+        let mut col_ptr = vec![0usize; self.n + 1];
+        for &(_, j, _) in &self.triplets {
+            col_ptr[j + 1] += 1;
+        }
+        for j in 0..self.n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut next = col_ptr.clone();
+        let mut entries = vec![(0usize, 0.0f64); self.triplets.len()];
+        for &(i, j, value) in &self.triplets {
+            entries[next[j]] = (i, value);
+            next[j] += 1;
+        }
+        let mut matrix = SymmetricMatrix {
+            n: self.n,
+            col_ptr: Vec::with_capacity(self.n + 1),
+            row_idx: Vec::with_capacity(entries.len()),
+            values: Vec::with_capacity(entries.len()),
+        };
+        matrix.col_ptr.push(0);
+        for j in 0..self.n {
+            let column = &mut entries[col_ptr[j]..col_ptr[j + 1]];
+            column.sort_unstable_by_key(|&(i, _)| i);
+            let start = matrix.row_idx.len();
+            for &(i, value) in column.iter() {
+                match matrix.values.last_mut() {
+                    Some(sum)
+                        if matrix.row_idx.len() > start && matrix.row_idx.last() == Some(&i) =>
+                    {
+                        *sum += value;
+                    }
+                    _ => {
+                        matrix.row_idx.push(i);
+                        matrix.values.push(value);
+                    }
+                }
+            }
+            matrix.col_ptr.push(matrix.row_idx.len());
+        }
+        matrix
+    }
+}
+
+/// A square sparse matrix in compressed sparse column form (both triangles stored),
+/// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`] reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SymmetricMatrix {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SymmetricMatrix {
+    /// A matrix from its compressed columns: `col_ptr` (n + 1 offsets), the row of
+    /// every entry and its value. Errors if the arrays do not describe an `n × n`
+    /// matrix with sorted, distinct rows in every column.
+    pub fn from_csc(
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Result<SymmetricMatrix> {
+        let bad = |what: String| Err(Error::Argument(what));
+        if col_ptr.len() != n + 1 {
+            return bad(format!(
+                "{} column offsets for a square matrix of {n} columns (it is not square)",
+                col_ptr.len()
+            ));
+        }
+        if col_ptr[0] != 0 || col_ptr.windows(2).any(|w| w[0] > w[1]) {
+            return bad("column offsets must start at 0 and not decrease".into());
+        }
+        if row_idx.len() != values.len() || col_ptr[n] != row_idx.len() {
+            return bad("column offsets, rows and values disagree in length".into());
+        }
+        if let Some(&i) = row_idx.iter().find(|&&i| i >= n) {
+            return bad(format!("row {i} in a {n}×{n} matrix"));
+        }
+        let matrix = SymmetricMatrix {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        };
+        let increasing = |j: usize| {
+            let rows = &matrix.row_idx[matrix.col_ptr[j]..matrix.col_ptr[j + 1]];
+            rows.windows(2).all(|w| w[0] < w[1])
+        };
+        match (0..n).find(|&j| !increasing(j)) {
+            Some(j) => bad(format!(
+                "column {j} of the matrix has unsorted or repeated row indices"
+            )),
+            None => Ok(matrix),
+        }
+    }
+
+    /// The size `n` of the `n × n` matrix.
+    pub fn size(&self) -> usize {
+        self.n
+    }
+
+    /// The entries `(row, value)` of column `j`, by increasing row.
+    pub fn column(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let range = self.col_ptr[j]..self.col_ptr[j + 1];
+        self.row_idx[range.clone()]
+            .iter()
+            .copied()
+            .zip(self.values[range].iter().copied())
+    }
+
+    /// Every stored entry as `(row, column, value)`, column by column.
+    pub fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        (0..self.n).flat_map(move |j| self.column(j).map(move |(i, v)| (i, j, v)))
+    }
+
+    /// The compressed columns: offsets, rows and values (e.g. to hand the matrix to
+    /// another solver).
+    pub fn csc(&self) -> (&[usize], &[usize], &[f64]) {
+        (&self.col_ptr, &self.row_idx, &self.values)
+    }
+
+    /// The diagonal entries (zero where none is stored).
+    pub fn diagonal(&self) -> Vec<f64> {
+        (0..self.n)
+            .map(|j| {
+                self.column(j)
+                    .find(|&(i, _)| i == j)
+                    .map_or(0.0, |(_, v)| v)
+            })
+            .collect()
+    }
+
+    /// max_i a_ii / (a_ii − Σ_{j≠i} |a_ij|): how far the matrix is from losing
+    /// strict diagonal dominance; infinite if it is not strictly diagonally
+    /// dominant with a positive diagonal. For M + t K (§5.1) the excess
+    /// a_ii − Σ |a_ij| is the lumped mass m_i, so the ratio is the largest
+    /// (m_i + t K_ii) / m_i. With E the diagonal of excesses and D the diagonal,
+    /// E ≤ A ≤ 2 D, so the ratio r bounds the condition number of the
+    /// Jacobi-preconditioned matrix D⁻¹A by 2 r.
+    pub fn dominance_ratio(&self) -> f64 {
+        (0..self.n)
+            .map(|i| {
+                let (diagonal, off) =
+                    self.column(i).fold(
+                        (0.0, 0.0),
+                        |(d, o), (j, v)| {
+                            if j == i {
+                                (v, o)
+                            } else {
+                                (d, o + v.abs())
+                            }
+                        },
+                    );
+                let excess = diagonal - off;
+                if excess > 0.0 && diagonal.is_finite() {
+                    diagonal / excess
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// `y = A x`, in parallel over rows. Both triangles are stored, so column `i`
+    /// of the symmetric matrix is its row `i`.
+    ///
+    /// # Panics
+    /// If `x` or `y` does not have length [`size`](Self::size).
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        assert!(
+            x.len() == self.n && y.len() == self.n,
+            "product of a {n}×{n} matrix with vectors of length {} and {}",
+            x.len(),
+            y.len(),
+            n = self.n
+        );
+        y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, rows)| {
+            for (k, yi) in rows.iter_mut().enumerate() {
+                *yi = self.row_dot(c * CHUNK + k, x);
+            }
+        });
+    }
+
+    /// Row `i` of the matrix times `x`.
+    fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
+        let range = self.col_ptr[i]..self.col_ptr[i + 1];
+        self.row_idx[range.clone()]
+            .iter()
+            .zip(&self.values[range])
+            .map(|(&j, v)| v * x[j])
+            .sum()
+    }
+}
