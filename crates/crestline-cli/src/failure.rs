@@ -21,7 +21,7 @@ pub fn explain(err: Error, path: &Path) -> Error {
     }
 }
 
-/// A plain name for a library stage (`"ridges: smoothing"`, `"curvature"`, ...)
+/// A plain name for a library stage (`"smoothing"`, `"ridges: tracing"`, ...)
 /// and what to try when it fails.
 fn describe(stage: &str) -> (&str, Option<&'static str>) {
     // Per-field stages are named "ridges: <step>" and "valleys: <step>".
@@ -32,7 +32,7 @@ fn describe(stage: &str) -> (&str, Option<&'static str>) {
             Some("a smaller --presmooth, or --presmooth 0"),
         ),
         "curvature" => ("curvature estimation", Some("the other --estimator")),
-        "smoothing" => (
+        "smoothing" | "smoothing analysis" => (
             "extremality smoothing",
             Some("--presmooth 0 or a smaller --smooth-time (--smooth-steps 0 skips it)"),
         ),
@@ -51,7 +51,7 @@ mod tests {
     #[test]
     fn a_failed_stage_names_the_file_the_stage_and_what_to_try() {
         let err = Error::Argument("the 12×12 matrix is not positive definite".into())
-            .in_stage("valleys: smoothing");
+            .in_stage("smoothing");
         assert_eq!(
             explain(err, Path::new("mesh.obj")).to_string(),
             "mesh.obj: extremality smoothing failed: the 12×12 matrix is not positive \

@@ -172,8 +172,8 @@ fn ridges_writes_every_line_format_and_reports_its_stages() {
     for stage in [
         "read",
         "build",
-        "curvature",
-        "ridges: smoothing",
+        "curvature + smoothing analysis",
+        "smoothing",
         "ridges: tracing",
         "valleys: tracing",
         "write",

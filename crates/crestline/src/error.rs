@@ -34,7 +34,7 @@ pub enum Error {
     /// not positive definite during smoothing); see [`Error::in_stage`].
     #[error("{} failed: {}", escape_control(stage), escape_control(message))]
     Stage {
-        /// The stage, named as in the progress reports (e.g. `"ridges: smoothing"`).
+        /// The stage, named as in the progress reports (e.g. `"smoothing"`).
         stage: String,
         /// What went wrong.
         message: String,

@@ -97,7 +97,11 @@ pub(super) struct Cg<'a> {
 }
 
 impl<'a> Cg<'a> {
-    pub(super) fn new(matrix: &'a SymmetricMatrix, inverse_diagonal: &'a [f64], b: &'a [f64]) -> Self {
+    pub(super) fn new(
+        matrix: &'a SymmetricMatrix,
+        inverse_diagonal: &'a [f64],
+        b: &'a [f64],
+    ) -> Self {
         let n = matrix.size();
         assert_eq!(
             b.len(),

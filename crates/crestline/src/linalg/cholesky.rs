@@ -70,6 +70,48 @@ impl LowerTriangle {
     }
 }
 
+/// The fill-reducing ordering (approximate minimum degree) and symbolic analysis of
+/// a sparsity pattern: the costly part of a sparse Cholesky factorization, shared
+/// by the factorizations of every matrix with that pattern (the systems of both
+/// extremality fields and of every surface smoothing step, §5.1).
+#[derive(Clone, Debug)]
+pub struct CholeskyAnalysis {
+    /// The analysed matrix's lower triangle, to tell whether another matrix has
+    /// the same pattern.
+    pattern: LowerTriangle,
+    symbolic: SymbolicLlt<usize>,
+}
+
+impl CholeskyAnalysis {
+    /// Orders and analyses the pattern of `matrix`.
+    ///
+    /// An [`Error::Argument`] if the matrix has a non-finite entry.
+    pub fn new(matrix: &SymmetricMatrix) -> Result<CholeskyAnalysis> {
+        let pattern = LowerTriangle::new(matrix)?;
+        let symbolic = analyze(&pattern)?;
+        Ok(CholeskyAnalysis { pattern, symbolic })
+    }
+
+    /// Factors `matrix`, reusing this analysis when its nonzero pattern is the
+    /// same and analysing it anew otherwise.
+    ///
+    /// An [`Error::Argument`] if the matrix has a non-finite entry or is not
+    /// positive definite.
+    pub fn factor(&self, matrix: &SymmetricMatrix) -> Result<CholeskyFactor> {
+        let pattern = LowerTriangle::new(matrix)?;
+        let symbolic = if pattern.same_pattern(&self.pattern) {
+            self.symbolic.clone()
+        } else {
+            analyze(&pattern)?
+        };
+        let numeric = factor_numeric(&symbolic, &pattern)?;
+        Ok(CholeskyFactor {
+            analysis: CholeskyAnalysis { pattern, symbolic },
+            numeric,
+        })
+    }
+}
+
 /// A sparse Cholesky factorization `P A Pᵀ = L Lᵀ` of a symmetric positive definite
 /// matrix `A`, with a fill-reducing permutation `P`: factor once, solve many times.
 ///
@@ -77,10 +119,8 @@ impl LowerTriangle {
 /// (which [`SymmetricBuilder`](super::SymmetricBuilder) guarantees).
 #[derive(Clone, Debug)]
 pub struct CholeskyFactor {
-    /// Pattern of the factored matrix, to tell whether the symbolic analysis can be
-    /// reused by [`refactor`](Self::refactor).
-    pattern: LowerTriangle,
-    symbolic: SymbolicLlt<usize>,
+    /// Ordering and symbolic analysis, reused by [`refactor`](Self::refactor).
+    analysis: CholeskyAnalysis,
     numeric: Llt<usize, f64>,
 }
 
@@ -92,14 +132,7 @@ impl CholeskyFactor {
     /// An [`Error::Argument`] if the matrix is not square, has a non-finite entry or
     /// is not positive definite (e.g. a zero lumped mass from a degenerate vertex).
     pub fn new(matrix: &SymmetricMatrix) -> Result<CholeskyFactor> {
-        let pattern = LowerTriangle::new(matrix)?;
-        let symbolic = analyze(&pattern)?;
-        let numeric = factor_numeric(&symbolic, &pattern)?;
-        Ok(CholeskyFactor {
-            pattern,
-            symbolic,
-            numeric,
-        })
+        CholeskyAnalysis::new(matrix)?.factor(matrix)
     }
 
     /// Factors a new `matrix` in place of the current one. When its nonzero pattern
@@ -109,21 +142,18 @@ impl CholeskyFactor {
     ///
     /// Errors as [`new`](Self::new); on error the previous factorization is kept.
     pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        let pattern = LowerTriangle::new(matrix)?;
-        let symbolic = if pattern.same_pattern(&self.pattern) {
-            self.symbolic.clone()
-        } else {
-            analyze(&pattern)?
-        };
-        self.numeric = factor_numeric(&symbolic, &pattern)?;
-        self.symbolic = symbolic;
-        self.pattern = pattern;
+        *self = self.analysis.factor(matrix)?;
         Ok(())
+    }
+
+    /// The ordering and symbolic analysis this factorization was made with.
+    pub fn analysis(&self) -> &CholeskyAnalysis {
+        &self.analysis
     }
 
     /// The size `n` of the factored `n × n` matrix.
     pub fn size(&self) -> usize {
-        self.pattern.n
+        self.analysis.pattern.n
     }
 
     /// Overwrites `x` (the right-hand side `b`) with the solution of `A x = b`.

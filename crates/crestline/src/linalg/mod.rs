@@ -20,14 +20,13 @@
 //! the two ([`Solver`]) and falls back to the factorization when the iteration
 //! does not converge.
 
-
 mod cg;
 mod cholesky;
 mod matrix;
 
 pub use cg::{conjugate_gradient, CgReport, CgSettings};
 use cg::{jacobi, Cg};
-pub use cholesky::CholeskyFactor;
+pub use cholesky::{CholeskyAnalysis, CholeskyFactor};
 pub use matrix::{SymmetricBuilder, SymmetricMatrix};
 
 use crate::Result;
@@ -100,7 +99,7 @@ impl Solver {
 /// [`Solver`] picks: a [`CholeskyFactor`] refactored per matrix, or the
 /// [`conjugate_gradient`] method warm-started from the caller's `x`, which falls
 /// back to the factorization (built on first need) when it does not converge.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct SpdSolver {
     /// The method asked for.
     solver: Solver,
@@ -111,6 +110,8 @@ pub struct SpdSolver {
     matrix: Option<SymmetricMatrix>,
     inverse_diagonal: Vec<f64>,
     factor: Option<CholeskyFactor>,
+    /// An analysis made before the first factorization ([`analyze`](Self::analyze)).
+    analysis: Option<CholeskyAnalysis>,
     /// Whether `factor` belongs to `matrix`.
     factor_current: bool,
 }
@@ -126,8 +127,22 @@ impl SpdSolver {
             matrix: None,
             inverse_diagonal: Vec::new(),
             factor: None,
+            analysis: None,
             factor_current: false,
         }
+    }
+
+    /// Prepares for matrices with the pattern of `matrix` (and values like its
+    /// own, which [`Solver::Auto`] looks at): when they will be factored, the
+    /// ordering and symbolic analysis are made now, once for every copy of this
+    /// solver (e.g. one per extremality field, solved in parallel).
+    ///
+    /// An [`Error::Argument`] if the matrix has a non-finite entry.
+    pub fn analyze(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
+        if self.solver.resolve(matrix) != Solver::Iterative && self.analysis.is_none() {
+            self.analysis = Some(CholeskyAnalysis::new(matrix)?);
+        }
+        Ok(())
     }
 
     /// The matrix of the next solves. The direct method factors it now (reusing
@@ -170,14 +185,17 @@ impl SpdSolver {
         Ok(())
     }
 
-    /// The factorization of the current matrix, computed if not yet done.
+    /// The factorization of the current matrix, computed if not yet done (reusing
+    /// the analysis of the previous factorization or of [`analyze`](Self::analyze)).
     fn factor(&mut self) -> Result<&CholeskyFactor> {
         let matrix = self.matrix.as_ref().expect("no matrix to factor");
         if !self.factor_current {
-            match &mut self.factor {
-                Some(f) => f.refactor(matrix)?,
-                None => self.factor = Some(CholeskyFactor::new(matrix)?),
-            }
+            let analysis = self.factor.as_ref().map(CholeskyFactor::analysis);
+            let factor = match analysis.or(self.analysis.as_ref()) {
+                Some(analysis) => analysis.factor(matrix)?,
+                None => CholeskyFactor::new(matrix)?,
+            };
+            self.factor = Some(factor);
             self.factor_current = true;
         }
         Ok(self.factor.as_ref().expect("factored above"))

@@ -33,6 +33,8 @@ pub mod trace;
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::curvature::{estimate_curvature, CurvatureEstimator, CurvatureField, ShapeOperator};
 use crate::linalg::Solver;
 use crate::lines::chain::chain;
@@ -179,10 +181,31 @@ impl ExtremalityTracer {
         self.check()?;
         let smoothed = try_stage(observer, "presmooth", || self.presmoothed(mesh))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
-        let field = try_stage(observer, "curvature", || {
-            estimate_curvature(work, self.estimator.as_ref())
-        })?;
-        self.trace_on(&work.in_unit_frame().0, &field, mesh, observer)
+        let unit = work.in_unit_frame().0;
+        // The smoothing systems' ordering depends on the connectivity alone: it is
+        // computed while the curvature is estimated.
+        let (field, smoother) = stage(observer, "curvature + smoothing analysis", || {
+            rayon::join(
+                || estimate_curvature(work, self.estimator.as_ref()),
+                || self.smoother(&unit),
+            )
+        });
+        let field = field.map_err(|e| e.in_stage("curvature"))?;
+        let smoother = smoother.map_err(|e| e.in_stage("smoothing analysis"))?;
+        self.trace_on(&unit, &field, &smoother, mesh, observer)
+    }
+
+    /// The smoother of the extremalities of `work` ([`Self::smooth_time`],
+    /// [`Self::smoothing_weights`], [`Self::solver`]), its systems analysed if
+    /// there is smoothing to do.
+    fn smoother(&self, work: &Mesh) -> Result<smoothing::ExtremalitySmoother> {
+        let weights = self.smoothing_weights.as_deref();
+        let smoother =
+            smoothing::ExtremalitySmoother::new(work, self.smooth_time, weights, self.solver)?;
+        if self.smooth_steps == 0 {
+            return Ok(smoother);
+        }
+        smoother.analyzed()
     }
 
     /// Extract the lines of `mesh` whose principal curvatures and directions are
@@ -204,7 +227,9 @@ impl ExtremalityTracer {
             ));
         }
         field.check(mesh)?;
-        self.trace_on(&mesh.in_unit_frame().0, field, mesh, observer)
+        let unit = mesh.in_unit_frame().0;
+        let smoother = try_stage(observer, "smoothing analysis", || self.smoother(&unit))?;
+        self.trace_on(&unit, field, &smoother, mesh, observer)
     }
 
     /// The lines of `work` (whose curvature is `field`) placed on `input` (the same
@@ -217,19 +242,24 @@ impl ExtremalityTracer {
         &self,
         work: &Mesh,
         field: &CurvatureField,
+        smoother: &smoothing::ExtremalitySmoother,
         input: &Mesh,
         observer: &mut dyn Observer,
     ) -> Result<FeatureLines> {
         observer.count("unreliable_vertices", unreliable_interior(input, field));
+        let fields = self.kinds.fields();
+        let mut values = stage(observer, "extremality", || {
+            fields
+                .par_iter()
+                .map(|&which| extremality(work, field, which))
+                .collect::<Vec<_>>()
+        });
+        try_stage(observer, "smoothing", || {
+            self.smooth_extremalities(smoother, field, &mut values)
+        })?;
         let mut lines = FeatureLines::new(String::new());
-        let mut smoother = smoothing::ExtremalitySmoother::new(
-            work,
-            self.smooth_time,
-            self.smoothing_weights.as_deref(),
-        )?
-        .with_solver(self.solver);
-        for &which in self.kinds.fields() {
-            for line in self.trace_field(work, field, which, input, &mut smoother, observer)? {
+        for (&which, values) in fields.iter().zip(values) {
+            for line in self.trace_field(work, field, which, values, input, observer) {
                 lines.push(line);
             }
         }
@@ -301,28 +331,40 @@ impl ExtremalityTracer {
         )?))
     }
 
-    /// Extremality, smoothing, tracing and chaining of one field on `work`; line
-    /// points are placed on `input` (the same edge and parameter).
+    /// The implicit smoothing (§5.1) of the extremality `values` of every field,
+    /// the fields in parallel: the systems share one ordering and symbolic
+    /// analysis (`smoother`'s), their factorizations are independent.
+    fn smooth_extremalities(
+        &self,
+        smoother: &smoothing::ExtremalitySmoother,
+        field: &CurvatureField,
+        values: &mut [Vec<f64>],
+    ) -> Result<()> {
+        self.kinds
+            .fields()
+            .par_iter()
+            .zip(values.par_iter_mut())
+            .try_for_each(|(&which, values)| {
+                smoother.smooth(which.directions(field), values, self.smooth_steps)
+            })
+    }
+
+    /// Tracing and chaining of the smoothed extremality `values` of one field on
+    /// `work`; line points are placed on `input` (the same edge and parameter).
     fn trace_field(
         &self,
         work: &Mesh,
         field: &CurvatureField,
         which: Principal,
+        values: Vec<f64>,
         input: &Mesh,
-        smoother: &mut smoothing::ExtremalitySmoother<'_>,
         observer: &mut dyn Observer,
-    ) -> Result<Vec<Polyline>> {
+    ) -> Vec<Polyline> {
         let (name, kind) = match which {
             Principal::Max => ("ridges", LineKind::Ridge),
             Principal::Min => ("valleys", LineKind::Valley),
         };
         let directions = which.directions(field);
-        let mut values = stage(observer, &format!("{name}: extremality"), || {
-            extremality(work, field, which)
-        });
-        try_stage(observer, &format!("{name}: smoothing"), || {
-            smoother.smooth(directions, &mut values, self.smooth_steps)
-        })?;
         let regular = regular_faces(work, directions);
         let singular = regular.iter().filter(|&&r| !r).count();
         observer.measure(
@@ -342,7 +384,7 @@ impl ExtremalityTracer {
             };
             chain(&segments, position_and_k, self.threshold)
         });
-        Ok(chains
+        chains
             .into_iter()
             .map(|c| {
                 let locations: Vec<SurfaceLocation> = c.points.iter().map(|&p| locate(p)).collect();
@@ -358,7 +400,7 @@ impl ExtremalityTracer {
                     .with_values("k_min", at_points(&field.k_min))
                     .with_locations(locations)
             })
-            .collect())
+            .collect()
     }
 }
 

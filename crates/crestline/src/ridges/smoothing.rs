@@ -2,7 +2,7 @@
 //! (Hildebrandt, Polthier, Wardetzky 2005, §5.1) and of the surface itself (step 1
 //! of their Table 1, implicit fairing after Desbrun et al. 1999).
 
-use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricBuilder, SymmetricMatrix};
+use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
 
@@ -32,33 +32,124 @@ fn bounded_masses(mesh: &Mesh, time: f64) -> Vec<f64> {
     mass
 }
 
-/// M + t K for the cotan Laplacian with clamped weights
-/// ([`Mesh::clamped_cotan_weight`]) and masses bounded below ([`bounded_masses`]),
-/// where the edge (p, q) enters K as K_pp += c w, K_qq += c w, K_pq = −c w σ_pq
-/// with `(σ_pq, c) = edge_terms(p, q)`. With every c ≥ 0,
-/// xᵀKx = Σ c w (x_p − σ x_q)² ≥ 0, so with M > 0 the matrix is symmetric positive
-/// definite on every mesh, boundary and obtuse triangles included. Also returns M.
-fn implicit_system(
+/// Where the entries of M + t K sit in a compressed column matrix over a mesh:
+/// column v holds row v and the rows of v's edge neighbours, increasing. The
+/// pattern depends on the connectivity alone, so it is made once and every system
+/// on the mesh (both extremality fields, every surface smoothing step) only
+/// writes its values.
+#[derive(Clone, Debug)]
+struct SystemPattern {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// The slot of entry (v, v).
+    diagonal: Vec<usize>,
+    /// The vertices (p, q) of every edge.
+    ends: Vec<[usize; 2]>,
+    /// The slots of entries (p, q) and (q, p) of every edge.
+    edges: Vec<[usize; 2]>,
+}
+
+impl SystemPattern {
+    fn new(mesh: &Mesh) -> SystemPattern {
+        let n = mesh.vertex_count();
+        let ends: Vec<[usize; 2]> = (0..mesh.edge_count() as u32)
+            .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.idx()))
+            .collect();
+        let mut col_ptr = vec![0; n + 1];
+        for &[p, q] in &ends {
+            col_ptr[p + 1] += 1;
+            col_ptr[q + 1] += 1;
+        }
+        for v in 0..n {
+            col_ptr[v + 1] += col_ptr[v] + 1;
+        }
+        // Each column: (row, edge) of its entries, the diagonal as edge usize::MAX.
+        let mut entries = vec![(0, usize::MAX); col_ptr[n]];
+        let mut fill: Vec<usize> = col_ptr[..n].to_vec();
+        for v in 0..n {
+            entries[fill[v]] = (v, usize::MAX);
+            fill[v] += 1;
+        }
+        for (e, &[p, q]) in ends.iter().enumerate() {
+            entries[fill[p]] = (q, e);
+            fill[p] += 1;
+            entries[fill[q]] = (p, e);
+            fill[q] += 1;
+        }
+        let mut pattern = SystemPattern {
+            row_idx: Vec::with_capacity(entries.len()),
+            diagonal: vec![0; n],
+            edges: vec![[0; 2]; ends.len()],
+            col_ptr,
+            ends,
+        };
+        for v in 0..n {
+            let column = &mut entries[pattern.col_ptr[v]..pattern.col_ptr[v + 1]];
+            column.sort_unstable();
+            for (offset, &(row, e)) in column.iter().enumerate() {
+                let slot = pattern.col_ptr[v] + offset;
+                pattern.row_idx.push(row);
+                match e {
+                    usize::MAX => pattern.diagonal[v] = slot,
+                    // Column v is q's for the entry (p, q) with p = row.
+                    e => pattern.edges[e][usize::from(pattern.ends[e][1] == v)] = slot,
+                }
+            }
+        }
+        pattern
+    }
+
+    /// The matrix with `mass` on the diagonal plus, for every edge (p, q) with
+    /// weight w = `weights[e]` and sign σ = `sign(p, q)`, K_pp += w, K_qq += w and
+    /// K_pq = K_qp = −σ w (summed in edge order).
+    fn matrix(
+        &self,
+        mass: &[f64],
+        weights: &[f64],
+        sign: impl Fn(usize, usize) -> f64,
+    ) -> Result<SymmetricMatrix> {
+        let mut values = vec![0.0; self.row_idx.len()];
+        for (&slot, &m) in self.diagonal.iter().zip(mass) {
+            values[slot] = m;
+        }
+        for ((&w, slots), &[p, q]) in weights.iter().zip(&self.edges).zip(&self.ends) {
+            values[self.diagonal[p]] += w;
+            values[self.diagonal[q]] += w;
+            let off = -w * sign(p, q);
+            values[slots[0]] = off;
+            values[slots[1]] = off;
+        }
+        SymmetricMatrix::from_csc(
+            self.diagonal.len(),
+            self.col_ptr.clone(),
+            self.row_idx.clone(),
+            values,
+        )
+    }
+}
+
+/// The time-scaled edge weights t c w of M + t K for the cotan Laplacian with
+/// clamped weights ([`Mesh::clamped_cotan_weight`]), with `scale(p, q)` = c ≥ 0,
+/// and the masses bounded below ([`bounded_masses`]). With every c ≥ 0 and any
+/// signs σ, xᵀKx = Σ c w (x_p − σ x_q)² ≥ 0, so with M > 0 the matrix is
+/// symmetric positive definite on every mesh, boundary and obtuse triangles
+/// included.
+fn implicit_terms(
     mesh: &Mesh,
     time: f64,
-    edge_terms: impl Fn(usize, usize) -> (f64, f64),
-) -> (SymmetricMatrix, Vec<f64>) {
-    let n = mesh.vertex_count();
-    let mass = bounded_masses(mesh, time);
-    let mut system = SymmetricBuilder::with_capacity(n, n + 4 * mesh.edge_count());
-    for (v, &m) in mass.iter().enumerate() {
-        system.add_diagonal(v, m);
-    }
-    for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
-        let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
-        let (sigma, scale) = edge_terms(p, q);
-        let weight = time * scale * w;
-        // Zero weights are stored too, so the sparsity pattern is the mesh's edges.
-        system.add_diagonal(p, weight);
-        system.add_diagonal(q, weight);
-        system.add(p, q, -weight * sigma);
-    }
-    (system.build(), mass)
+    scale: impl Fn(usize, usize) -> f64,
+) -> (Vec<f64>, Vec<f64>) {
+    let weights = mesh
+        .clamped_cotan_weights()
+        .into_iter()
+        .enumerate()
+        .map(|(e, w)| {
+            let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
+            // Zero weights are stored too, so the pattern is the mesh's edges.
+            time * scale(p, q) * w
+        })
+        .collect();
+    (weights, bounded_masses(mesh, time))
 }
 
 /// `steps` implicit steps (M + tK) e' = M e of the extremality `e`, with the
@@ -78,54 +169,67 @@ pub fn smooth_extremality(
     tau: f64,
     weights: Option<&[f64]>,
 ) -> Result<()> {
-    ExtremalitySmoother::new(mesh, tau, weights)?.smooth(d, e, steps)
+    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(d, e, steps)
 }
 
 /// [`smooth_extremality`] for several fields of one mesh: the matrices differ only
-/// in the signs σ_pq, so they share their sparsity pattern and a direct solver's
-/// symbolic factorization is computed once.
-pub struct ExtremalitySmoother<'a> {
-    mesh: &'a Mesh,
-    time: f64,
-    weights: Option<&'a [f64]>,
+/// in the signs σ_pq, so they share their pattern, weights and masses (computed
+/// once, when the smoother is made) and a direct solver's ordering and symbolic
+/// analysis (computed once, [`analyzed`](Self::analyzed)). Fields can then be
+/// smoothed in parallel.
+#[derive(Clone)]
+pub struct ExtremalitySmoother {
+    pattern: SystemPattern,
+    /// t c w per edge.
+    weights: Vec<f64>,
+    mass: Vec<f64>,
     solver: SpdSolver,
 }
 
-impl<'a> ExtremalitySmoother<'a> {
-    /// A smoother with time step `tau` (in units of h̄²) and optional per-vertex weights.
-    pub fn new(mesh: &'a Mesh, tau: f64, weights: Option<&'a [f64]>) -> Result<Self> {
+impl ExtremalitySmoother {
+    /// A smoother with time step `tau` (in units of h̄²) and optional per-vertex
+    /// weights, whose systems are solved as `solver` says.
+    pub fn new(mesh: &Mesh, tau: f64, weights: Option<&[f64]>, solver: Solver) -> Result<Self> {
         check_weights(mesh, weights)?;
         let h = mesh.mean_edge_length();
+        let (weights, mass) = implicit_terms(mesh, tau * h * h, |p, q| {
+            weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]))
+        });
         Ok(ExtremalitySmoother {
-            mesh,
-            time: tau * h * h,
+            pattern: SystemPattern::new(mesh),
             weights,
-            solver: SpdSolver::new(Solver::Auto, CgSettings::default()),
+            mass,
+            solver: SpdSolver::new(solver, CgSettings::default()),
         })
     }
 
-    /// The same smoother solving its systems with `solver`.
-    pub fn with_solver(mut self, solver: Solver) -> Self {
-        self.solver = SpdSolver::new(solver, CgSettings::default());
-        self
+    /// The smoother with its systems' ordering and symbolic analysis made now
+    /// ([`SpdSolver::analyze`]) rather than by every field's smoothing.
+    pub fn analyzed(mut self) -> Result<Self> {
+        // The signs change neither the pattern nor what Auto chooses (it looks at
+        // magnitudes): analyse the system with every σ = +1.
+        let unsigned = self.system(|_, _| 1.0)?;
+        self.solver.analyze(&unsigned)?;
+        Ok(self)
+    }
+
+    /// M + t K with the signs `sigma(p, q)`.
+    fn system(&self, sigma: impl Fn(usize, usize) -> f64) -> Result<SymmetricMatrix> {
+        self.pattern.matrix(&self.mass, &self.weights, sigma)
     }
 
     /// Smooth `e`, whose signs follow the directions `d`, by `steps` implicit steps.
-    pub fn smooth(&mut self, d: &[Vector], e: &mut [f64], steps: usize) -> Result<()> {
+    pub fn smooth(&self, d: &[Vector], e: &mut [f64], steps: usize) -> Result<()> {
         if steps == 0 {
             return Ok(());
         }
-        let weights = self.weights;
-        let (system, mass) = implicit_system(self.mesh, self.time, |p, q| {
-            let scale = weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]));
-            (direction_sign(d, p, q), scale)
-        });
-        self.solver.set_matrix(system)?;
+        let mut solver = self.solver.clone();
+        solver.set_matrix(self.system(|p, q| direction_sign(d, p, q))?)?;
         let mut rhs = vec![0.0; e.len()];
         for _ in 0..steps {
-            mass_times(&mass, e, &mut rhs);
+            mass_times(&self.mass, e, &mut rhs);
             // e holds the previous step's solution: the iteration's warm start.
-            self.solver.solve(&rhs, e)?;
+            solver.solve(&rhs, e)?;
         }
         Ok(())
     }
@@ -182,9 +286,10 @@ fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mes
     let h = current.mean_edge_length();
     // The pattern never changes: a direct solver reuses its symbolic analysis.
     let mut solver = SpdSolver::new(solver, CgSettings::default());
+    let pattern = SystemPattern::new(&current);
     for _ in 0..steps {
-        let (system, mass) = implicit_system(&current, h * h, |_, _| (1.0, 1.0));
-        solver.set_matrix(system)?;
+        let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
+        solver.set_matrix(pattern.matrix(&mass, &weights, |_, _| 1.0)?)?;
         let mut next = current.positions().to_vec();
         for axis in 0..3 {
             let coordinate: Vec<f64> = current.positions().iter().map(|p| p[axis]).collect();
