@@ -59,6 +59,8 @@ impl CurvatureEstimator for JetFit {
 
 thread_local! {
     static GATHERER: std::cell::RefCell<Gatherer> = std::cell::RefCell::new(Gatherer::default());
+    /// The fit points of one vertex in its local frame, reused from vertex to vertex.
+    static LOCAL: std::cell::RefCell<Vec<Vector>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 impl JetFit {
@@ -68,7 +70,9 @@ impl JetFit {
         CurvatureField::from_fn(mesh.vertex_count(), |v| {
             GATHERER.with_borrow_mut(|gatherer| {
                 let points = gatherer.gather(self, mesh, v);
-                let (k, normal, fitted) = fit_vertex(mesh, v, &normals[v.idx()], points);
+                let (k, normal, fitted) = LOCAL.with_borrow_mut(|local| {
+                    fit_vertex(mesh, v, &normals[v.idx()], points, local)
+                });
                 (k, normal, !fitted || mesh.is_boundary_vertex(v))
             })
         })
@@ -170,29 +174,30 @@ const QUADRIC: usize = 6;
 
 /// Fit a height function over the tangent plane of `normal` at `v` and return the
 /// curvature of its graph at the vertex, the graph's normal, and whether a fit
-/// was possible.
+/// was possible. `local` is scratch space for the points in the local frame.
 fn fit_vertex(
     mesh: &Mesh,
     v: VertexId,
     normal: &Vector,
     points: &[VertexId],
+    local: &mut Vec<Vector>,
 ) -> (super::PrincipalCurvatures, Vector, bool) {
     let origin = mesh.position(v);
     let (t1, t2) = tangent_basis(normal);
-    let local: Vec<Vector> = points
-        .iter()
-        .map(|&w| {
-            let d = mesh.position(w) - origin;
-            Vector::new(d.dot(&t1), d.dot(&t2), d.dot(normal))
-        })
-        .collect();
+    local.clear();
+    local.extend(points.iter().map(|&w| {
+        let d = mesh.position(w) - origin;
+        Vector::new(d.dot(&t1), d.dot(&t2), d.dot(normal))
+    }));
     // Scale to unit radius so the normal equations are well conditioned.
     let scale = local.iter().map(|p| p.xy().norm()).fold(0.0, f64::max);
     let derivatives = if scale > 0.0 {
-        let scaled: Vec<Vector> = local.iter().map(|p| p / scale).collect();
-        fit::<QUARTIC>(&scaled)
-            .or_else(|| fit::<CUBIC>(&scaled))
-            .or_else(|| fit::<QUADRIC>(&scaled))
+        for p in local.iter_mut() {
+            *p /= scale;
+        }
+        fit::<QUARTIC>(local)
+            .or_else(|| fit::<CUBIC>(local))
+            .or_else(|| fit::<QUADRIC>(local))
     } else {
         None
     };
@@ -245,7 +250,8 @@ fn fit<const N: usize>(points: &[Vector]) -> Option<[f64; 5]> {
             yy * yy,
         ];
         let row = SVector::<f64, N>::from_fn(|i, _| all[i]);
-        normal_matrix += row * row.transpose();
+        // The lower triangle only: the Cholesky factorization reads no more.
+        normal_matrix.syger(1.0, &row, &row, 1.0);
         rhs += row * p.z;
     }
     let c = normal_matrix.cholesky()?.solve(&rhs);
