@@ -70,9 +70,8 @@ impl JetFit {
         CurvatureField::from_fn(mesh.vertex_count(), |v| {
             GATHERER.with_borrow_mut(|gatherer| {
                 let points = gatherer.gather(self, mesh, v);
-                let (k, normal, fitted) = LOCAL.with_borrow_mut(|local| {
-                    fit_vertex(mesh, v, &normals[v.idx()], points, local)
-                });
+                let (k, normal, fitted) = LOCAL
+                    .with_borrow_mut(|local| fit_vertex(mesh, v, &normals[v.idx()], points, local));
                 (k, normal, !fitted || mesh.is_boundary_vertex(v))
             })
         })

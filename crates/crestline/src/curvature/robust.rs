@@ -51,11 +51,7 @@ pub(super) fn estimate_robustly(
 pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
     let bad: Vec<bool> = mesh
         .par_vertices()
-        .map(|v| {
-            !is_finite_at(field, v.idx())
-                || is_outlier(mesh, &field.k_max, v)
-                || is_outlier(mesh, &field.k_min, v)
-        })
+        .map(|v| !is_finite_at(field, v.idx()) || is_outlier(mesh, field, v))
         .collect();
     let repairs: Vec<(usize, Repair)> = mesh
         .par_vertices()
@@ -83,25 +79,54 @@ fn is_finite_at(field: &CurvatureField, i: usize) -> bool {
         && finite(&field.normal[i])
 }
 
-/// Whether `k` at `v` lies more than [`OUTLIER_SCALES`] robust scales from the
-/// median of its 1-ring (module documentation). A vertex without finite
-/// neighbours is not an outlier.
-fn is_outlier(mesh: &Mesh, k: &[f64], v: VertexId) -> bool {
-    let mut ring: Vec<f64> = mesh
-        .neighbors(v)
-        .map(|w| k[w.idx()])
-        .filter(|x| x.is_finite())
-        .collect();
-    let Some(centre) = median(&mut ring) else {
+thread_local! {
+    /// Scratch lists of one vertex's ring values, reused from vertex to vertex.
+    static SCRATCH: std::cell::RefCell<[Vec<f64>; 2]> = const {
+        std::cell::RefCell::new([Vec::new(), Vec::new()])
+    };
+}
+
+/// Whether k_max or k_min at `v` lies more than [`OUTLIER_SCALES`] robust scales
+/// from the median of its 1-ring (module documentation). The scale is at least
+/// one over the median length of the edges at `v`.
+fn is_outlier(mesh: &Mesh, field: &CurvatureField, v: VertexId) -> bool {
+    SCRATCH.with_borrow_mut(|[values, deviations]| {
+        values.clear();
+        values.extend(
+            mesh.outgoing(v)
+                .map(|h| robust_norm(&mesh.halfedge_vector(h))),
+        );
+        let floor = median(values).map_or(0.0, |l| 1.0 / l);
+        [&field.k_max, &field.k_min]
+            .into_iter()
+            .any(|k| is_outlying(mesh, k, v, floor, values, deviations))
+    })
+}
+
+/// Whether `k` at `v` lies more than [`OUTLIER_SCALES`] times the larger of its
+/// ring's robust scale and `floor` from the ring's median (the values and
+/// deviations lists are scratch space). A vertex without finite neighbours is not
+/// an outlier.
+fn is_outlying(
+    mesh: &Mesh,
+    k: &[f64],
+    v: VertexId,
+    floor: f64,
+    values: &mut Vec<f64>,
+    deviations: &mut Vec<f64>,
+) -> bool {
+    values.clear();
+    values.extend(
+        mesh.neighbors(v)
+            .map(|w| k[w.idx()])
+            .filter(|x| x.is_finite()),
+    );
+    let Some(centre) = median(values) else {
         return false;
     };
-    let mut deviations: Vec<f64> = ring.iter().map(|x| (x - centre).abs()).collect();
-    let spread = MAD_TO_SIGMA * median(&mut deviations).unwrap_or(0.0);
-    let mut lengths: Vec<f64> = mesh
-        .outgoing(v)
-        .map(|h| robust_norm(&mesh.halfedge_vector(h)))
-        .collect();
-    let floor = median(&mut lengths).map_or(0.0, |l| 1.0 / l);
+    deviations.clear();
+    deviations.extend(values.iter().map(|x| (x - centre).abs()));
+    let spread = MAD_TO_SIGMA * median(deviations).unwrap_or(0.0);
     (k[v.idx()] - centre).abs() > OUTLIER_SCALES * spread.max(floor)
 }
 
