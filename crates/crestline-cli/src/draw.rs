@@ -44,6 +44,10 @@ pub struct DrawArgs {
     /// Also draw the silhouettes (smooth occluding contours).
     #[arg(long)]
     pub silhouettes: bool,
+    /// Feature lines are left out where they run beside a visible silhouette
+    /// (nearly parallel) closer than this many pixels; 0 keeps them.
+    #[arg(long, value_name = "PX", default_value_t = DrawOptions::default().silhouette_clearance)]
+    pub silhouette_clearance: f64,
     /// Viewing direction in degrees; 0,0 looks along -z with +y up, a positive
     /// azimuth turns the eye about +y towards +x, a positive elevation raises it.
     #[arg(long, value_name = "AZIMUTH,ELEVATION", value_parser = parse_view,
@@ -104,6 +108,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         .unwrap_or_default();
     let options = DrawOptions {
         silhouettes: args.silhouettes,
+        silhouette_clearance: args.silhouette_clearance,
         ..DrawOptions::default()
     };
     let mut report = report_with_progress("draw", &args.mesh);

@@ -4,7 +4,8 @@
 use std::f64::consts::TAU;
 
 use crestline::draw::{
-    draw, svg_document, write_png, Camera, DrawOptions, Drawing, Projection, Style, View,
+    clear_of_silhouettes, draw, svg_document, write_png, Camera, DrawOptions, Drawing, Projection,
+    ScreenPath, SilhouetteIndex, Style, View,
 };
 use crestline::lines::{FeatureLines, LineKind, Polyline};
 use crestline::mesh::generate::{sphere, Sampling};
@@ -329,4 +330,47 @@ fn the_png_preview_shows_the_lines() {
     let reddish = pixels.iter().filter(|p| p.red() > 120 && p.green() < 110);
     assert!(white.count() > pixels.len() / 2);
     assert!(reddish.count() > 100);
+}
+
+/// A path of screen points every half pixel from `from` to `to`.
+fn screen_path(from: [f64; 2], to: [f64; 2]) -> ScreenPath {
+    let steps = ((to[0] - from[0]).hypot(to[1] - from[1]) / 0.5).ceil() as usize;
+    let points = (0..=steps)
+        .map(|i| {
+            let t = i as f64 / steps as f64;
+            [
+                from[0] + t * (to[0] - from[0]),
+                from[1] + t * (to[1] - from[1]),
+            ]
+        })
+        .collect();
+    ScreenPath {
+        points,
+        closed: false,
+        strength: 1.0,
+    }
+}
+
+/// Beside a silhouette and parallel to it, a feature line is dropped; crossing it,
+/// or parallel but farther than the clearance, it is kept whole; a line that
+/// leaves the outline keeps the part beyond the clearance.
+#[test]
+fn feature_lines_are_cleared_only_where_they_double_a_silhouette() {
+    let outline = screen_path([0.0, 100.0], [400.0, 100.0]);
+    let index = SilhouetteIndex::new([&outline], 4.0);
+    let clear = |path: &ScreenPath| clear_of_silhouettes(path, &index, 4.0);
+    assert!(clear(&screen_path([100.0, 102.0], [300.0, 102.0])).is_empty());
+    let crossing = screen_path([200.0, 50.0], [200.0, 150.0]);
+    assert_eq!(clear(&crossing), vec![crossing.clone()]);
+    let apart = screen_path([100.0, 110.0], [300.0, 110.0]);
+    assert_eq!(clear(&apart), vec![apart.clone()]);
+    let mut leaving = screen_path([100.0, 102.0], [200.0, 102.0]);
+    leaving
+        .points
+        .extend(screen_path([200.0, 102.0], [260.0, 140.0]).points);
+    let kept = clear(&leaving);
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    let first = kept[0].points[0];
+    assert!(first[0] > 200.0 && first[1] > 103.0, "{first:?}");
+    assert_eq!(kept[0].points.last(), leaving.points.last());
 }

@@ -23,6 +23,7 @@
 
 mod camera;
 mod depth;
+mod duplicates;
 #[cfg(feature = "png")]
 mod raster;
 mod silhouette;
@@ -39,6 +40,7 @@ use crate::{Error, Result};
 
 pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
 pub use depth::DepthBuffer;
+pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex, PARALLEL_ANGLE};
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
@@ -114,6 +116,10 @@ pub struct DrawOptions {
     pub sample_spacing: f64,
     /// Douglas–Peucker tolerance of the drawn paths, in pixels.
     pub simplify_tolerance: f64,
+    /// Feature lines (ridges, valleys, Morse cells, crests) are not drawn where
+    /// they run beside a visible silhouette (within [`PARALLEL_ANGLE`]) closer
+    /// than this many pixels: the outline already shows that crest. 0 keeps them.
+    pub silhouette_clearance: f64,
 }
 
 impl Default for DrawOptions {
@@ -126,6 +132,7 @@ impl Default for DrawOptions {
             supersampling: 2,
             sample_spacing: 0.5,
             simplify_tolerance: 0.25,
+            silhouette_clearance: 4.0,
         }
     }
 }
@@ -142,6 +149,7 @@ impl DrawOptions {
                 self.silhouette_depth_tolerance,
             ),
             ("simplification tolerance", self.simplify_tolerance),
+            ("silhouette clearance", self.silhouette_clearance),
         ];
         for (name, value) in non_negative {
             if !(value.is_finite() && value >= 0.0) {
@@ -192,7 +200,7 @@ pub fn visible_drawing(
     options.check()?;
     lines.validate()?;
     let h = buffer.edge_length();
-    let pieces: Vec<(LineKind, Vec<ScreenPath>)> = lines
+    let mut pieces: Vec<(LineKind, Vec<ScreenPath>)> = lines
         .lines
         .par_iter()
         .map(|line| {
@@ -200,17 +208,18 @@ pub fn visible_drawing(
                 LineKind::Silhouette => options.silhouette_depth_tolerance,
                 _ => options.depth_tolerance,
             };
-            let pieces = visible_pieces(line, camera, buffer, tolerance, options.sample_spacing)
-                .into_iter()
-                .map(|mut path| {
-                    path.points =
-                        douglas_peucker(&path.points, path.closed, options.simplify_tolerance);
-                    path
-                })
-                .collect();
+            let pieces = visible_pieces(line, camera, buffer, tolerance, options.sample_spacing);
             (line.kind, pieces)
         })
         .collect();
+    if options.silhouette_clearance > 0.0 {
+        clear_feature_lines(&mut pieces, options.silhouette_clearance);
+    }
+    pieces.par_iter_mut().for_each(|(_, paths)| {
+        for path in paths {
+            path.points = douglas_peucker(&path.points, path.closed, options.simplify_tolerance);
+        }
+    });
     let mut kinds: Vec<LineKind> = lines.count_by_kind().into_keys().collect();
     kinds.sort_by_key(|&kind| (kind != LineKind::Silhouette, kind));
     let groups = kinds
@@ -230,4 +239,23 @@ pub fn visible_drawing(
         height: camera.height(),
         groups,
     })
+}
+
+/// Drops the parts of the feature lines' visible `pieces` that run beside a
+/// visible silhouette closer than `clearance` pixels ([`clear_of_silhouettes`]).
+fn clear_feature_lines(pieces: &mut [(LineKind, Vec<ScreenPath>)], clearance: f64) {
+    let silhouettes = pieces
+        .iter()
+        .filter(|(kind, _)| *kind == LineKind::Silhouette)
+        .flat_map(|(_, paths)| paths);
+    let index = SilhouetteIndex::new(silhouettes, clearance);
+    pieces
+        .par_iter_mut()
+        .filter(|(kind, _)| runs_along_outlines(*kind))
+        .for_each(|(_, paths)| {
+            *paths = paths
+                .iter()
+                .flat_map(|path| clear_of_silhouettes(path, &index, clearance))
+                .collect();
+        });
 }
