@@ -56,8 +56,9 @@ pub struct Style {
 }
 
 impl Default for Style {
-    /// White background; ridges red, valleys blue, ascending lines black,
-    /// descending grey, silhouettes dark grey and slightly wider.
+    /// White background; every family its own colour: ridges red, valleys blue,
+    /// ascending Morse-Smale lines orange, descending ones teal, silhouettes dark
+    /// grey and slightly wider.
     fn default() -> Self {
         let stroke = |color: &str, width: f64| KindStyle {
             color: color.to_string(),
@@ -67,8 +68,8 @@ impl Default for Style {
         let kinds = LineKind::ALL.map(|kind| match kind {
             LineKind::Ridge => stroke("#c0392b", 1.2),
             LineKind::Valley => stroke("#2471a3", 1.2),
-            LineKind::Ascending => stroke("#000000", 1.2),
-            LineKind::Descending => stroke("#808080", 1.2),
+            LineKind::Ascending => stroke("#d35400", 1.2),
+            LineKind::Descending => stroke("#138d75", 1.2),
             LineKind::Crest => stroke("#7d3c98", 1.2),
             LineKind::Parabolic => stroke("#1e8449", 1.2),
             LineKind::Silhouette => stroke("#333333", 1.5),
