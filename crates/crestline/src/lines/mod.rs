@@ -25,6 +25,7 @@ mod location;
 mod obj;
 mod pipeline;
 mod ply;
+pub mod surface_fair;
 mod vtk;
 pub mod zero_set;
 
