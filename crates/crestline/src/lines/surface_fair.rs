@@ -59,7 +59,9 @@ fn closest_admissible(
             face: face.0,
             barycentric,
         };
-        if !(candidate.interpolate(mesh, field) >= floor) {
+        // NaN values are never admissible.
+        let value = candidate.interpolate(mesh, field);
+        if value.is_nan() || value < floor {
             continue;
         }
         let distance = (candidate.position(mesh) - target).norm_squared();
@@ -118,7 +120,7 @@ fn closest_on_triangle(p: &Point, [a, b, c]: &[Point; 3]) -> [f64; 3] {
         return [0.0, 1.0 - w, w];
     }
     let denominator = va + vb + vc;
-    if !(denominator.abs() > 0.0) {
+    if denominator == 0.0 || denominator.is_nan() {
         // A degenerate triangle: its first corner.
         return [1.0, 0.0, 0.0];
     }
