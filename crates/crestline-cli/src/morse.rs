@@ -39,8 +39,9 @@ pub struct MorseArgs {
     /// Keep lines forced by topology (no valid cancellation, low significance).
     #[arg(long)]
     pub keep_forced: bool,
-    /// Fairing iterations of the output lines (at most 1000).
-    #[arg(long, default_value_t = 0, value_name = "N")]
+    /// Fairing iterations of the output lines on the surface, keeping them on
+    /// their crest (at most 1000; 0 leaves the staircases of mesh edges).
+    #[arg(long, default_value_t = MorseSmale::DEFAULT_SMOOTH_ITERATIONS, value_name = "N")]
     pub smooth: usize,
 }
 

@@ -63,7 +63,10 @@ pub struct MorseSmale {
     /// Hide lines that no valid cancellation could remove and that are less
     /// significant than the last cancellation (§3.5).
     pub hide_forced: bool,
-    /// Fairing iterations of the output lines (§3.6); 0 for none.
+    /// Fairing iterations of the output lines (§3.6), done on the surface so that
+    /// every point stays on the mesh and on the crest it follows (the indicator
+    /// does not drop below the lower of its value before fairing and its upper
+    /// quartile; for descending lines the mirror); 0 for none.
     pub smooth_iterations: usize,
 }
 
@@ -76,7 +79,7 @@ impl Default for MorseSmale {
             simplification: Simplification::KeepSaddles(Self::DEFAULT_KEEP_SADDLES),
             cells: Cells::Ascending,
             hide_forced: true,
-            smooth_iterations: 0,
+            smooth_iterations: Self::DEFAULT_SMOOTH_ITERATIONS,
         }
     }
 }
@@ -123,6 +126,11 @@ impl LineExtractor<SurfaceWithValues<'_>> for MorseSmale {
 impl MorseSmale {
     /// Default number of saddles kept by [`Simplification::KeepSaddles`].
     pub const DEFAULT_KEEP_SADDLES: usize = 100;
+    /// Default fairing iterations on the surface: the staircases of mesh edges
+    /// turn 36 radians per 100 px in a drawing of the bunny, 7 after 20 and 6 after
+    /// 40 iterations, while the share of their length on the indicator's crest
+    /// (upper quartile) stays at 81–82% (`tests/morse_drawing.rs`).
+    pub const DEFAULT_SMOOTH_ITERATIONS: usize = 30;
     /// The most fairing iterations ([`Self::smooth_iterations`]) accepted.
     pub const MAX_SMOOTH_ITERATIONS: usize = 1000;
 

@@ -1,6 +1,6 @@
 //! The 1-cells of the simplified complex as feature lines.
 
-use crate::lines::fair::fair_polyline;
+use crate::lines::surface_fair::fair_on_surface;
 use crate::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 use crate::Point;
@@ -30,8 +30,9 @@ crate::named::named!(Cells, "cells", {
 /// line already drawn (including that point), so shared tails appear once. The
 /// strength of a line is its saddle's significance. Ascending lines pass through
 /// triangle centroids and the midpoints of the edges between them, descending lines
-/// through vertices; each point keeps that location and the indicator there
-/// (`"indicator"`), unless the lines are faired off the surface.
+/// through vertices; each point keeps its location on the surface (where the
+/// fairing of [`MorseSmale::smooth_iterations`] moves it) and the indicator there
+/// (`"indicator"`).
 pub fn lines(
     mesh: &Mesh,
     values: &[f64],
@@ -53,7 +54,7 @@ pub fn lines(
         .collect();
     shown.sort_by(|a, b| b.1.total_cmp(&a.1));
 
-    let h = mesh.mean_edge_length();
+    let fairing = CrestFairing::new(values, config.smooth_iterations);
     let mut drawn_faces = vec![false; mesh.face_count()];
     let mut drawn_vertices = vec![false; mesh.vertex_count()];
     let mut lines = FeatureLines::new(String::new());
@@ -70,28 +71,24 @@ pub fn lines(
             polylines.push((LineKind::Descending, points));
         }
         for (kind, locations) in polylines {
-            lines.push(polyline(mesh, values, kind, strength, locations, config, h));
+            lines.push(polyline(mesh, values, kind, strength, locations, &fairing));
         }
     }
     lines
 }
 
-/// One output line through `locations`: faired if asked (then its points leave the
-/// surface and keep no locations), else with the indicator at every point.
+/// One output line through `locations`, faired on the surface ([`CrestFairing`]),
+/// with the indicator at every point.
 fn polyline(
     mesh: &Mesh,
     values: &[f64],
     kind: LineKind,
     strength: f64,
-    locations: Vec<SurfaceLocation>,
-    config: &MorseSmale,
-    h: f64,
+    mut locations: Vec<SurfaceLocation>,
+    fairing: &CrestFairing,
 ) -> Polyline {
-    let mut points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
-    if config.smooth_iterations > 0 {
-        fair_polyline(&mut points, false, config.smooth_iterations, h);
-        return Polyline::new(kind, false, strength, points);
-    }
+    fairing.fair(mesh, kind, &mut locations);
+    let points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
     let indicator = locations
         .iter()
         .map(|at| at.interpolate(mesh, values))
@@ -99,6 +96,57 @@ fn polyline(
     Polyline::new(kind, false, strength, points)
         .with_values("indicator", indicator)
         .with_locations(locations)
+}
+
+/// The fairing of the output lines (§3.6), done on the surface so that the
+/// lines keep their crest ([`fair_on_surface`]): a point of an ascending line
+/// may move only where the indicator is at least the lower of its value at the
+/// point and the indicator's upper quartile over the mesh (a descending line: at
+/// most the higher of its value and the lower quartile). Lines on the crest stay
+/// on it; lines below it do not sink.
+struct CrestFairing {
+    iterations: usize,
+    /// The indicator (for ascending lines) and its negation (descending).
+    fields: [Vec<f64>; 2],
+    /// The upper quartile of each field.
+    quartiles: [f64; 2],
+}
+
+impl CrestFairing {
+    fn new(values: &[f64], iterations: usize) -> CrestFairing {
+        let fields = [values.to_vec(), values.iter().map(|v| -v).collect()];
+        let quartiles = [upper_quartile(&fields[0]), upper_quartile(&fields[1])];
+        CrestFairing {
+            iterations,
+            fields,
+            quartiles,
+        }
+    }
+
+    fn fair(&self, mesh: &Mesh, kind: LineKind, locations: &mut [SurfaceLocation]) {
+        if self.iterations == 0 {
+            return;
+        }
+        let side = usize::from(kind == LineKind::Descending);
+        let (field, quartile) = (&self.fields[side], self.quartiles[side]);
+        let floors: Vec<f64> = locations
+            .iter()
+            .map(|at| at.interpolate(mesh, field).min(quartile))
+            .collect();
+        fair_on_surface(mesh, locations, false, self.iterations, field, |i| {
+            floors[i]
+        });
+    }
+}
+
+/// The upper quartile of the finite `values` (−∞ without any).
+fn upper_quartile(values: &[f64]) -> f64 {
+    let mut finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() {
+        return f64::NEG_INFINITY;
+    }
+    let at = 3 * (finite.len() - 1) / 4;
+    *finite.select_nth_unstable_by(at, f64::total_cmp).1
 }
 
 fn centroid(f: FaceId) -> SurfaceLocation {
