@@ -7,6 +7,7 @@ use std::collections::HashMap;
 
 use crate::lines::LineKind;
 
+use super::simplify::distance_to_chord;
 use super::ScreenPath;
 
 /// Whether lines of `kind` are cleared from beside the silhouettes: the crest
@@ -97,22 +98,10 @@ impl SilhouetteIndex {
                 let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
                 let length = dx.hypot(dy);
                 length > 0.0
-                    && distance_to_segment(p, a, b) <= clearance
+                    && distance_to_chord(&p, &a, &b) <= clearance
                     && (dx * direction[0] + dy * direction[1]).abs() >= cos_max * length
             })
     }
-}
-
-/// The distance from `p` to the segment from `a` to `b`.
-fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let length2 = dx * dx + dy * dy;
-    let t = if length2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
 /// The parts of `path` (densely sampled, before simplification) that do not run

@@ -41,7 +41,7 @@ pub fn douglas_peucker(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec
 }
 
 /// Distance from `p` to the segment from `a` to `b` (to `a` if they coincide).
-fn distance_to_chord(p: &[f64; 2], a: &[f64; 2], b: &[f64; 2]) -> f64 {
+pub(super) fn distance_to_chord(p: &[f64; 2], a: &[f64; 2], b: &[f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let (px, py) = (p[0] - a[0], p[1] - a[1]);
     let length_squared = dx * dx + dy * dy;
