@@ -335,7 +335,7 @@ fn the_png_preview_shows_the_lines() {
 /// A path of screen points every half pixel from `from` to `to`.
 fn screen_path(from: [f64; 2], to: [f64; 2]) -> ScreenPath {
     let steps = ((to[0] - from[0]).hypot(to[1] - from[1]) / 0.5).ceil() as usize;
-    let points = (0..=steps)
+    let points: Vec<[f64; 2]> = (0..=steps)
         .map(|i| {
             let t = i as f64 / steps as f64;
             [
@@ -345,6 +345,7 @@ fn screen_path(from: [f64; 2], to: [f64; 2]) -> ScreenPath {
         })
         .collect();
     ScreenPath {
+        depths: vec![0.0; points.len()],
         points,
         closed: false,
         strength: 1.0,

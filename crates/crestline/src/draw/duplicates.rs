@@ -121,8 +121,9 @@ pub fn clear_of_silhouettes(
     if !beside.contains(&true) {
         return vec![path.clone()];
     }
-    let piece = |points: &[[f64; 2]]| ScreenPath {
-        points: points.to_vec(),
+    let piece = |range: std::ops::Range<usize>| ScreenPath {
+        points: points[range.clone()].to_vec(),
+        depths: path.depths[range].to_vec(),
         closed: false,
         strength: path.strength,
     };
@@ -131,7 +132,7 @@ pub fn clear_of_silhouettes(
     for (i, &dropped) in beside.iter().chain([&true]).enumerate() {
         if dropped {
             if i > start + 1 && length(&points[start..i]) >= 2.0 * clearance {
-                pieces.push(piece(&points[start..i]));
+                pieces.push(piece(start..i));
             }
             start = i + 1;
         }

@@ -44,7 +44,7 @@ pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex,
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
-pub use simplify::douglas_peucker;
+pub use simplify::{douglas_peucker, douglas_peucker_kept};
 pub use style::{group_name, KindStyle, Style};
 pub use svg::{svg_document, write_svg};
 pub use visibility::visible_pieces;
@@ -54,10 +54,29 @@ pub use visibility::visible_pieces;
 pub struct ScreenPath {
     /// Canvas points in pixels (x right, y down).
     pub points: Vec<[f64; 2]>,
+    /// The depth of every point along the viewing direction (mesh units; larger
+    /// is farther), for widths that vary with depth.
+    pub depths: Vec<f64>,
     /// Whether the piece is a whole closed line.
     pub closed: bool,
     /// The strength of the line the piece comes from.
     pub strength: f64,
+}
+
+impl ScreenPath {
+    /// Keep the points Douglas–Peucker keeps at `tolerance` pixels
+    /// ([`douglas_peucker_kept`]), with their depths.
+    pub fn simplify(&mut self, tolerance: f64) {
+        let kept = douglas_peucker_kept(&self.points, self.closed, tolerance);
+        retain_flagged(&mut self.points, &kept);
+        retain_flagged(&mut self.depths, &kept);
+    }
+}
+
+/// Keep the values whose flag is set (values past the flags are kept).
+fn retain_flagged<T>(values: &mut Vec<T>, flags: &[bool]) {
+    let mut flags = flags.iter();
+    values.retain(|_| *flags.next().unwrap_or(&true));
 }
 
 /// The visible pieces of the lines of one kind.
@@ -217,7 +236,7 @@ pub fn visible_drawing(
     }
     pieces.par_iter_mut().for_each(|(_, paths)| {
         for path in paths {
-            path.points = douglas_peucker(&path.points, path.closed, options.simplify_tolerance);
+            path.simplify(options.simplify_tolerance);
         }
     });
     let mut kinds: Vec<LineKind> = lines.count_by_kind().into_keys().collect();

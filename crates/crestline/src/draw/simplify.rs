@@ -5,6 +5,15 @@
 /// splits. A closed line is simplified as an open one from its first point back to
 /// itself, so the result is again a closed line without a repeated end.
 pub fn douglas_peucker(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec<[f64; 2]> {
+    points
+        .iter()
+        .zip(douglas_peucker_kept(points, closed, tolerance))
+        .filter_map(|(&p, kept)| kept.then_some(p))
+        .collect()
+}
+
+/// Which points [`douglas_peucker`] keeps, one flag per point.
+pub fn douglas_peucker_kept(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec<bool> {
     let mut ring: Vec<[f64; 2]> = points.to_vec();
     if closed {
         if let Some(&first) = points.first() {
@@ -12,7 +21,7 @@ pub fn douglas_peucker(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec
         }
     }
     if ring.len() < 3 {
-        return points.to_vec();
+        return vec![true; points.len()];
     }
     let mut keep = vec![false; ring.len()];
     keep[0] = true;
@@ -30,14 +39,8 @@ pub fn douglas_peucker(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec
             }
         }
     }
-    if closed {
-        keep.pop();
-        ring.pop();
-    }
-    ring.into_iter()
-        .zip(keep)
-        .filter_map(|(p, k)| k.then_some(p))
-        .collect()
+    keep.truncate(points.len());
+    keep
 }
 
 /// Distance from `p` to the segment from `a` to `b` (to `a` if they coincide).

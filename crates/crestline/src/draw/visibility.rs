@@ -22,19 +22,23 @@ pub fn visible_pieces(
     spacing: f64,
 ) -> Vec<ScreenPath> {
     let samples = samples(line, camera, spacing);
-    let seen: Vec<Option<[f64; 2]>> = samples
+    let seen: Vec<Option<([f64; 2], f64)>> = samples
         .iter()
         .map(|p| {
             let s = camera.project(p)?;
             let inside = (0.0..=f64::from(camera.width())).contains(&s.x)
                 && (0.0..=f64::from(camera.height())).contains(&s.y);
-            (inside && buffer.is_visible(&s, tolerance)).then_some([s.x, s.y])
+            (inside && buffer.is_visible(&s, tolerance)).then_some(([s.x, s.y], s.depth))
         })
         .collect();
-    let piece = |points: Vec<[f64; 2]>, closed: bool| ScreenPath {
-        points,
-        closed,
-        strength: line.strength,
+    let piece = |run: Vec<([f64; 2], f64)>, closed: bool| {
+        let (points, depths) = run.into_iter().unzip();
+        ScreenPath {
+            points,
+            depths,
+            closed,
+            strength: line.strength,
+        }
     };
     if line.closed && seen.iter().all(Option::is_some) {
         return vec![piece(seen.into_iter().flatten().collect(), true)];
@@ -46,7 +50,7 @@ pub fn visible_pieces(
         0
     };
     let mut pieces = Vec::new();
-    let mut run: Vec<[f64; 2]> = Vec::new();
+    let mut run: Vec<([f64; 2], f64)> = Vec::new();
     for sample in seen[start..].iter().chain(&seen[..start]) {
         match sample {
             Some(point) => run.push(*point),
@@ -59,9 +63,9 @@ pub fn visible_pieces(
 
 /// Move the current run into `pieces` if it has a segment, and start a new one.
 fn close_run(
-    run: &mut Vec<[f64; 2]>,
+    run: &mut Vec<([f64; 2], f64)>,
     pieces: &mut Vec<ScreenPath>,
-    piece: &impl Fn(Vec<[f64; 2]>, bool) -> ScreenPath,
+    piece: &impl Fn(Vec<([f64; 2], f64)>, bool) -> ScreenPath,
 ) {
     let points = std::mem::take(run);
     if points.len() >= 2 {
