@@ -156,12 +156,15 @@ impl MorseSmale {
             gradient::Gradient::new(mesh, &keys)
         });
         let (saddles, regions) = stage(observer, "cells", || {
-            let saddles = cells::measure_saddles(mesh, &keys, &gradient);
-            let regions = (
-                cells::minimum_regions(mesh, &keys, &gradient),
-                cells::maximum_regions(mesh, &keys, &gradient),
-            );
-            (saddles, regions)
+            rayon::join(
+                || cells::measure_saddles(mesh, &keys, &gradient),
+                || {
+                    rayon::join(
+                        || cells::minimum_regions(mesh, &keys, &gradient),
+                        || cells::maximum_regions(mesh, &keys, &gradient),
+                    )
+                },
+            )
         });
         let initial = CriticalCounts {
             minima: gradient.minima.len(),
