@@ -129,6 +129,32 @@ impl Gradient {
         }
         matching.into_gradient()
     }
+
+    /// Reverse the primal path from `start` to its minimum and hang `start` on
+    /// `edge` (whose other end leads to another tree's root).
+    pub fn hang_vertex(&mut self, mesh: &Mesh, start: VertexId, edge: EdgeId) {
+        let mut current = start;
+        let mut incoming = edge;
+        while let Some((e, next)) = self.vertex_step(mesh, current) {
+            self.vertex_parent[current.idx()] = incoming;
+            incoming = e;
+            current = next;
+        }
+        self.vertex_parent[current.idx()] = incoming;
+    }
+
+    /// Reverse the dual path from `start` to its maximum and hang `start` on
+    /// `edge` (across which lies another tree, or the boundary).
+    pub fn hang_face(&mut self, mesh: &Mesh, start: FaceId, edge: EdgeId) {
+        let mut current = start;
+        let mut incoming = edge;
+        while let Some((e, next)) = self.face_step(mesh, current) {
+            self.face_parent[current.idx()] = incoming;
+            incoming = e;
+            current = next;
+        }
+        self.face_parent[current.idx()] = incoming;
+    }
 }
 
 /// The pairing of elements with edges under construction. Nodes are numbered

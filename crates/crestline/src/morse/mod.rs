@@ -19,7 +19,9 @@
 
 pub mod cancel;
 pub mod cells;
+mod disjoint;
 pub mod gradient;
+mod heap;
 mod indicator;
 mod output;
 
