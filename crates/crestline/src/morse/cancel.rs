@@ -3,15 +3,16 @@
 //! either the feature-line-preserving significance of the paper or plain
 //! persistence.
 
+use std::cell::OnceCell;
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
-use petgraph::unionfind::UnionFind;
+use std::collections::{BinaryHeap, VecDeque};
 
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 
 use super::cells::{Integral, Saddle};
+use super::disjoint::DisjointSets;
 use super::gradient::{EdgeRole, Gradient, Keys};
+use super::heap::QuaternaryHeap;
 
 /// How saddles are ranked for cancellation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -52,33 +53,36 @@ pub struct Cancellation {
     pub t: f64,
 }
 
-/// Extrema of one kind, merged by cancellations: each set carries the region
-/// integral, how many live saddle branches end at it, and its non-terminal
-/// cancellation candidates.
+/// Extrema of one kind, merged by cancellations, numbered in id order (the initial
+/// minima, or the initial maxima and then the boundary), so that the sets' arrays
+/// are only as long as the extrema and set indices compare as element ids do
+/// (queue ties are broken by set). Each set carries the region integral, how many
+/// live saddle branches end at it, and its non-terminal cancellation candidates.
 struct Extrema {
-    sets: UnionFind<u32>,
+    sets: DisjointSets,
     region: Vec<Integral>,
     links: Vec<i64>,
     /// Per set, the candidates (s, e) whose branch ends at it, keyed by the part of
     /// their score that does not depend on the extremum; see [`Hierarchy::offset`].
     candidates: Vec<BinaryHeap<Candidate>>,
+    /// The element (vertex or face id) of each index, increasing.
+    ids: Vec<u32>,
     /// The surviving extremum (a vertex or face id) of each set.
     survivor: Vec<u32>,
 }
 
 impl Extrema {
-    fn new(mut region: Vec<Integral>, with_boundary: bool) -> Extrema {
-        if with_boundary {
-            // The boundary: where maxima cancelled against boundary saddles drain.
-            region.push(Integral::default());
-        }
-        let n = region.len();
+    /// The extrema with the element ids `ids` and the regions `region` (indexed by
+    /// element id).
+    fn new(ids: Vec<u32>, region: &[Integral]) -> Extrema {
+        let n = ids.len();
         Extrema {
-            sets: UnionFind::new(n),
-            region,
+            sets: DisjointSets::new(n),
+            region: ids.iter().map(|&id| region[id as usize]).collect(),
             links: vec![0; n],
             candidates: (0..n).map(|_| BinaryHeap::new()).collect(),
-            survivor: (0..n as u32).collect(),
+            survivor: ids.clone(),
+            ids,
         }
     }
 
@@ -88,8 +92,7 @@ impl Extrema {
 
     /// Merge the set of `gone` into that of `kept`; returns the new representative.
     fn merge(&mut self, gone: usize, kept: usize) -> usize {
-        self.sets.union(gone as u32, kept as u32);
-        let rep = self.find(kept as u32);
+        let rep = self.sets.union(gone as u32, kept as u32) as usize;
         let other = if rep == kept { gone } else { kept };
         self.region[rep] = self.region[rep].merged(self.region[other]);
         self.links[rep] += self.links[other];
@@ -98,6 +101,32 @@ impl Extrema {
         self.candidates[rep].append(&mut moved);
         self.survivor[rep] = self.survivor[kept];
         rep
+    }
+
+    /// The index of the tree of each set's surviving extremum.
+    fn survivor_trees(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.ids.len())
+            .filter(|&m| self.find(m as u32) == m)
+            .map(|m| {
+                let survivor = self.survivor[m];
+                self.ids.binary_search(&survivor).unwrap_or_else(|_| {
+                    unreachable!("the survivor {survivor} is no initial extremum")
+                })
+            })
+    }
+
+    /// The best candidate of set `m` that is still a valid cancellation: its saddle
+    /// is alive and its other branch ends at another set (see [`Hierarchy::valid`]).
+    /// The candidates above it are dropped: they stay dead or invalid, as sets only
+    /// merge.
+    fn best_valid(&mut self, m: usize, alive: &[bool]) -> Option<Candidate> {
+        loop {
+            let top = *self.candidates[m].peek()?;
+            if alive[top.saddle()] && self.find(top.far) != m {
+                return Some(top);
+            }
+            self.candidates[m].pop();
+        }
     }
 }
 
@@ -108,24 +137,47 @@ enum Kind {
     Maximum,
 }
 
-/// A cancellation candidate in an extremum's heap: saddle `saddle` with the
-/// extremum at the end of its branch `branch`, smallest `key` first.
-#[derive(Clone, Copy, PartialEq)]
+/// A cancellation candidate in an extremum's heap: saddle `id >> 1` with the
+/// extremum at the end of its branch `id & 1`, smallest `key` first (then by saddle
+/// and branch). `far` is the extremum (set element) at the end of the saddle's other
+/// branch of the same kind, the boundary for a missing ascending branch.
+#[derive(Clone, Copy)]
 struct Candidate {
     key: f64,
-    saddle: u32,
-    branch: u8,
+    id: u32,
+    far: u32,
+}
+
+impl Candidate {
+    fn new(key: f64, saddle: usize, branch: usize, far: u32) -> Candidate {
+        debug_assert!(saddle < 1 << 31);
+        Candidate {
+            key,
+            id: (saddle as u32) << 1 | branch as u32,
+            far,
+        }
+    }
+
+    fn saddle(&self) -> usize {
+        (self.id >> 1) as usize
+    }
+
+    fn branch(&self) -> usize {
+        (self.id & 1) as usize
+    }
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
 }
 
 impl Eq for Candidate {}
 
 impl Ord for Candidate {
     fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .key
-            .total_cmp(&self.key)
-            .then(other.saddle.cmp(&self.saddle))
-            .then(other.branch.cmp(&self.branch))
+        other.key.total_cmp(&self.key).then(other.id.cmp(&self.id))
     }
 }
 
@@ -133,6 +185,16 @@ impl PartialOrd for Candidate {
     fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
         Some(self.cmp(other))
     }
+}
+
+/// The extrema (set elements) at the ends of a saddle's branches: the minima at
+/// the ends of its descending branches and the maxima at the ends of its ascending
+/// ones, the boundary for a missing face. The current extremum of a branch is the
+/// set its end lies in.
+#[derive(Clone, Copy)]
+struct Ends {
+    minima: [u32; 2],
+    maxima: [u32; 2],
 }
 
 /// A queue entry: the best score of an extremum set when queued, held `copies`
@@ -144,20 +206,33 @@ impl PartialOrd for Candidate {
 #[derive(Clone, Copy)]
 struct Entry {
     t: f64,
-    kind: Kind,
-    set: u32,
+    /// The set, with the kind in the top bit (minima first), so that an entry
+    /// takes 16 bytes.
+    slot: u32,
     copies: u32,
 }
 
 impl Entry {
     /// One copy of the entry of set `set` of `kind` at score `t`.
     fn new(t: f64, kind: Kind, set: u32) -> Entry {
+        debug_assert!(set < 1 << 31);
         Entry {
             t,
-            kind,
-            set,
+            slot: (kind as u32) << 31 | set,
             copies: 1,
         }
+    }
+
+    fn kind(&self) -> Kind {
+        if self.slot >> 31 == 0 {
+            Kind::Minimum
+        } else {
+            Kind::Maximum
+        }
+    }
+
+    fn set(&self) -> usize {
+        (self.slot & !(1 << 31)) as usize
     }
 }
 
@@ -170,14 +245,10 @@ impl PartialEq for Entry {
 impl Eq for Entry {}
 
 impl Ord for Entry {
-    /// By key (t, kind, set), smallest first (BinaryHeap is a max-heap); the count
+    /// By key (t, kind, set), smallest first (the queue is a max-heap); the count
     /// is not part of the key.
     fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .t
-            .total_cmp(&self.t)
-            .then(other.kind.cmp(&self.kind))
-            .then(other.set.cmp(&self.set))
+        other.t.total_cmp(&self.t).then(other.slot.cmp(&self.slot))
     }
 }
 
@@ -191,27 +262,32 @@ impl PartialOrd for Entry {
 pub struct Hierarchy<'a> {
     mesh: &'a Mesh,
     keys: &'a Keys,
-    /// The discrete gradient, updated by every cancellation.
-    pub gradient: Gradient,
+    /// The initial gradient, the roles of the cancelled saddle edges updated.
+    initial: Gradient,
+    /// The gradient after the cancellations so far, built on first use.
+    current: OnceCell<Gradient>,
     /// Every saddle of the initial gradient, with its measured 1-cells.
     pub saddles: Vec<Saddle>,
+    /// The extrema at the ends of each saddle's branches.
+    ends: Vec<Ends>,
     /// Whether each saddle is still critical.
     pub alive: Vec<bool>,
     minima: Extrema,
     maxima: Extrema,
-    /// The index of the boundary in `maxima` (one past the faces).
+    /// The index of the boundary in `maxima` (one past the maxima).
     boundary: usize,
     criterion: Criterion,
     live_saddles: usize,
     /// Live saddles with no valid cancellation left: forced by topology.
     forced_saddles: usize,
-    queue: BinaryHeap<Entry>,
+    queue: QuaternaryHeap<Entry>,
     /// The cancellations made, in order.
     pub cancelled: Vec<Cancellation>,
 }
 
 impl<'a> Hierarchy<'a> {
     /// The initial complex, every extremum queued under its best candidate.
+    /// `regions` are the region integrals indexed by vertex and by face.
     pub fn new(
         mesh: &'a Mesh,
         keys: &'a Keys,
@@ -220,58 +296,74 @@ impl<'a> Hierarchy<'a> {
         regions: (Vec<Integral>, Vec<Integral>),
         criterion: Criterion,
     ) -> Hierarchy<'a> {
-        let (minimum_regions, maximum_regions) = regions;
+        let (minimum_regions, mut maximum_regions) = regions;
+        // The boundary: where maxima cancelled against boundary saddles drain.
+        maximum_regions.push(Integral::default());
+        let boundary = gradient.maxima.len();
+        let minima = Extrema::new(
+            gradient.minima.iter().map(|v| v.0).collect(),
+            &minimum_regions,
+        );
+        let maxima = Extrema::new(
+            gradient
+                .maxima
+                .iter()
+                .map(|f| f.0)
+                .chain([mesh.face_count() as u32])
+                .collect(),
+            &maximum_regions,
+        );
         let n = saddles.len();
-        let boundary = maximum_regions.len();
+        let ends = saddle_ends(mesh, &gradient, &saddles);
         let mut hierarchy = Hierarchy {
             mesh,
             keys,
-            gradient,
+            initial: gradient,
+            current: OnceCell::new(),
             saddles,
+            ends,
             alive: vec![true; n],
-            minima: Extrema::new(minimum_regions, false),
-            maxima: Extrema::new(maximum_regions, true),
+            minima,
+            maxima,
             boundary,
             criterion,
             live_saddles: n,
             forced_saddles: 0,
-            queue: BinaryHeap::with_capacity(n),
+            queue: QuaternaryHeap::with_capacity(n),
             cancelled: Vec::new(),
         };
-        let boundary_set = boundary;
-        for s in 0..n {
-            let saddle = &hierarchy.saddles[s];
-            let (low, high) = hierarchy.static_keys(saddle);
-            for (branch, end) in hierarchy.minimum_ends(s).into_iter().enumerate() {
-                hierarchy.minima.links[end] += 1;
-                hierarchy.minima.candidates[end].push(Candidate {
-                    key: low,
-                    saddle: s as u32,
-                    branch: branch as u8,
-                });
-            }
-            for (branch, end) in hierarchy.maximum_ends(s).into_iter().enumerate() {
-                if let Some(end) = end {
-                    hierarchy.maxima.links[end] += 1;
-                    hierarchy.maxima.candidates[end].push(Candidate {
-                        key: high,
-                        saddle: s as u32,
-                        branch: branch as u8,
-                    });
-                }
-            }
-        }
-        // The boundary is never a terminal maximum, nor cancelled.
-        hierarchy.maxima.links[boundary_set] = i64::MAX / 2;
-        hierarchy.maxima.candidates[boundary_set].clear();
+        hierarchy.add_candidates();
         for m in 0..hierarchy.minima.region.len() {
             hierarchy.queue_set(Kind::Minimum, m);
         }
-        for m in 0..boundary_set {
+        for m in 0..boundary {
             hierarchy.queue_set(Kind::Maximum, m);
         }
         hierarchy.forced_saddles = (0..n).filter(|&s| hierarchy.is_forced(s)).count();
         hierarchy
+    }
+
+    /// Link every saddle to the extrema at the ends of its branches, with its
+    /// candidates in their heaps; the boundary is never a terminal maximum, nor
+    /// cancelled.
+    fn add_candidates(&mut self) {
+        for s in 0..self.saddles.len() {
+            let (low, high) = self.static_keys(&self.saddles[s]);
+            let Ends { minima, maxima } = self.ends[s];
+            for (branch, &end) in minima.iter().enumerate() {
+                let far = minima[1 - branch];
+                self.minima.links[end as usize] += 1;
+                self.minima.candidates[end as usize].push(Candidate::new(low, s, branch, far));
+            }
+            for (branch, &end) in maxima.iter().enumerate() {
+                if end as usize != self.boundary {
+                    let far = maxima[1 - branch];
+                    self.maxima.links[end as usize] += 1;
+                    self.maxima.candidates[end as usize].push(Candidate::new(high, s, branch, far));
+                }
+            }
+        }
+        self.maxima.links[self.boundary] = i64::MAX / 2;
     }
 
     /// Number of live saddles.
@@ -286,9 +378,69 @@ impl<'a> Hierarchy<'a> {
         self.live_saddles - self.forced_saddles
     }
 
+    /// The discrete gradient after the cancellations so far. Each cancellation
+    /// reverses the path from the saddle to the extremum it removes and hangs the
+    /// saddle's end there on the saddle edge, which re-roots that tree at the
+    /// surviving extremum. A tree has one orientation towards a given root, so
+    /// the result is found once, here, from the initial forests: only the paths
+    /// from where each initial tree is attached towards its surviving extremum to
+    /// the tree's own root are reversed. The critical cells and root labels stay
+    /// those of the initial gradient.
+    pub fn gradient(&self) -> &Gradient {
+        self.current.get_or_init(|| {
+            let mut gradient = self.initial.clone();
+            for (v, edge) in self.attachments(Kind::Minimum) {
+                gradient.hang_vertex(self.mesh, VertexId(v), edge);
+            }
+            for (f, edge) in self.attachments(Kind::Maximum) {
+                gradient.hang_face(self.mesh, FaceId(f), edge);
+            }
+            gradient
+        })
+    }
+
+    /// Where each initial tree of `kind` hangs on the tree of its surviving
+    /// extremum (or the boundary): the node of the tree and the cancelled saddle
+    /// edge it leaves by, for every tree that holds no surviving extremum.
+    fn attachments(&self, kind: Kind) -> Vec<(u32, EdgeId)> {
+        let (extrema, role) = match kind {
+            Kind::Minimum => (&self.minima, EdgeRole::Primal),
+            Kind::Maximum => (&self.maxima, EdgeRole::Dual),
+        };
+        let links: Vec<Link> = (0..self.saddles.len())
+            .filter(|&s| self.initial.edge_role[self.saddles[s].edge.idx()] == role)
+            .map(|s| {
+                let saddle = &self.saddles[s];
+                let (trees, nodes) = match kind {
+                    Kind::Minimum => (self.ends[s].minima, saddle.vertices.map(|v| v.0)),
+                    Kind::Maximum => (self.ends[s].maxima, saddle.faces.map(|f| f.0)),
+                };
+                Link {
+                    trees,
+                    nodes,
+                    edge: saddle.edge,
+                }
+            })
+            .collect();
+        attach(extrema.region.len(), extrema.survivor_trees(), &links)
+    }
+
     /// Whether saddle `s` has no valid cancellation, with a minimum or a maximum.
     fn is_forced(&self, s: usize) -> bool {
         !self.valid(s, Kind::Minimum) && !self.valid(s, Kind::Maximum)
+    }
+
+    /// The extrema of `kind`.
+    fn extrema(&self, kind: Kind) -> &Extrema {
+        match kind {
+            Kind::Minimum => &self.minima,
+            Kind::Maximum => &self.maxima,
+        }
+    }
+
+    /// The set of the boundary in `maxima`.
+    fn boundary_set(&self) -> usize {
+        self.maxima.find(self.boundary as u32)
     }
 
     /// How many live saddles become forced when the extremum sets `a` and `b` of
@@ -301,7 +453,7 @@ impl<'a> Hierarchy<'a> {
             Kind::Minimum => (&self.minima, Kind::Maximum),
             Kind::Maximum => (&self.maxima, Kind::Minimum),
         };
-        let boundary = self.maxima.find(self.boundary as u32);
+        let boundary = self.boundary_set();
         let scan_a = match kind {
             Kind::Maximum if a == boundary || b == boundary => b == boundary,
             _ => extrema.candidates[a].len() <= extrema.candidates[b].len(),
@@ -309,53 +461,31 @@ impl<'a> Hierarchy<'a> {
         let (scanned, other) = if scan_a { (a, b) } else { (b, a) };
         extrema.candidates[scanned]
             .iter()
-            .map(|c| (c.saddle as usize, 1 - c.branch as usize))
-            .filter(|&(s, far)| self.alive[s] && self.branch_end(kind, s, far) == other)
-            .filter(|&(s, _)| !self.valid(s, other_kind))
+            .filter(|c| self.alive[c.saddle()] && extrema.find(c.far) == other)
+            .filter(|c| !self.valid(c.saddle(), other_kind))
             .count()
-    }
-
-    /// The extremum set at the end of `branch` of saddle `s` (the boundary for a
-    /// missing ascending branch).
-    fn branch_end(&self, kind: Kind, s: usize, branch: usize) -> usize {
-        match kind {
-            Kind::Minimum => self.minimum_ends(s)[branch],
-            Kind::Maximum => self.maximum_ends(s)[branch]
-                .unwrap_or_else(|| self.maxima.find(self.boundary as u32)),
-        }
     }
 
     /// Number of live minima and maxima.
     pub fn extremum_counts(&self) -> (usize, usize) {
-        let boundary = self.maxima.find(self.boundary as u32);
-        let live = |ex: &Extrema, roots: &[u32]| {
-            let mut reps: Vec<usize> = roots
-                .iter()
-                .map(|&r| ex.find(r))
-                .filter(|&r| r != boundary)
-                .collect();
-            reps.sort_unstable();
-            reps.dedup();
-            reps.len()
+        let live = |extrema: &Extrema, count: usize| {
+            (0..count).filter(|&m| extrema.find(m as u32) == m).count()
         };
-        let minima: Vec<u32> = self.gradient.minima.iter().map(|v| v.0).collect();
-        let maxima: Vec<u32> = self.gradient.maxima.iter().map(|f| f.0).collect();
-        (live(&self.minima, &minima), live(&self.maxima, &maxima))
+        // The boundary's set is not a maximum.
+        let maxima = live(&self.maxima, self.boundary + 1) - 1;
+        (live(&self.minima, self.minima.region.len()), maxima)
     }
 
     /// The current minimum (set representative) at the end of each descending branch.
     fn minimum_ends(&self, s: usize) -> [usize; 2] {
-        self.saddles[s]
-            .vertices
-            .map(|v| self.minima.find(self.gradient.vertex_root[v.idx()].0))
+        self.ends[s].minima.map(|m| self.minima.find(m))
     }
 
     /// The current maximum at the end of each ascending branch (none on the boundary).
     fn maximum_ends(&self, s: usize) -> [Option<usize>; 2] {
-        self.saddles[s].faces.map(|f| {
-            f.is_valid()
-                .then(|| self.maxima.find(self.gradient.face_root[f.idx()].0))
-        })
+        self.ends[s]
+            .maxima
+            .map(|m| (m as usize != self.boundary).then(|| self.maxima.find(m)))
     }
 
     /// The lowest-scoring valid cancellation of saddle `s`, if any.
@@ -384,7 +514,7 @@ impl<'a> Hierarchy<'a> {
                 out.push((self.score_minimum(saddle, i, m), Partner::Minimum(i)));
             }
         }
-        let boundary = self.maxima.find(self.boundary as u32);
+        let boundary = self.boundary_set();
         if !valid_only || self.valid(s, Kind::Maximum) {
             for (i, m) in maxs.iter().enumerate() {
                 if let Some(m) = m.filter(|&m| m != boundary) {
@@ -429,65 +559,47 @@ impl<'a> Hierarchy<'a> {
     /// boundary saddle's single ascending branch may drain into the boundary).
     /// Once invalid, a candidate stays invalid, as sets only merge.
     fn valid(&self, s: usize, kind: Kind) -> bool {
-        match kind {
-            Kind::Minimum => {
-                let [a, b] = self.minimum_ends(s);
-                a != b
-            }
-            Kind::Maximum => {
-                let boundary = self.maxima.find(self.boundary as u32);
-                match self.maximum_ends(s) {
-                    [Some(a), Some(b)] => a != b,
-                    [Some(m), None] | [None, Some(m)] => m != boundary,
-                    [None, None] => false,
-                }
-            }
-        }
+        let ends = match kind {
+            Kind::Minimum => self.ends[s].minima,
+            Kind::Maximum => self.ends[s].maxima,
+        };
+        let extrema = self.extrema(kind);
+        extrema.find(ends[0]) != extrema.find(ends[1])
     }
 
     /// The best valid cancellation with extremum set `m` of `kind`: its score, the
     /// saddle and the partner. Drops dead and invalid candidates from the set's
     /// heap on the way.
     fn set_best(&mut self, kind: Kind, m: usize) -> Option<(f64, usize, Partner)> {
-        loop {
-            let top = *match kind {
-                Kind::Minimum => &self.minima.candidates[m],
-                Kind::Maximum => &self.maxima.candidates[m],
-            }
-            .peek()?;
-            let s = top.saddle as usize;
-            if !self.alive[s] || !self.valid(s, kind) {
-                match kind {
-                    Kind::Minimum => self.minima.candidates[m].pop(),
-                    Kind::Maximum => self.maxima.candidates[m].pop(),
-                };
-                continue;
-            }
-            let i = top.branch as usize;
-            let saddle = &self.saddles[s];
-            // A terminal extremum has a single live branch, the top one; its score
-            // includes the Γ term (eqs. 5–8). Otherwise key + offset.
-            return Some(match kind {
-                Kind::Minimum => (
-                    if self.minima.links[m] == 1 {
-                        self.score_minimum(saddle, i, m)
-                    } else {
-                        top.key + self.offset(kind, m)
-                    },
-                    s,
-                    Partner::Minimum(i),
-                ),
-                Kind::Maximum => (
-                    if self.maxima.links[m] == 1 {
-                        self.score_maximum(saddle, i, m)
-                    } else {
-                        top.key + self.offset(kind, m)
-                    },
-                    s,
-                    Partner::Maximum(i),
-                ),
-            });
-        }
+        let top = match kind {
+            Kind::Minimum => self.minima.best_valid(m, &self.alive),
+            Kind::Maximum => self.maxima.best_valid(m, &self.alive),
+        }?;
+        let (s, i) = (top.saddle(), top.branch());
+        let saddle = &self.saddles[s];
+        // A terminal extremum has a single live branch, the top one; its score
+        // includes the Γ term (eqs. 5–8). Otherwise key + offset.
+        let terminal = self.extrema(kind).links[m] == 1;
+        Some(match kind {
+            Kind::Minimum => (
+                if terminal {
+                    self.score_minimum(saddle, i, m)
+                } else {
+                    top.key + self.offset(kind, m)
+                },
+                s,
+                Partner::Minimum(i),
+            ),
+            Kind::Maximum => (
+                if terminal {
+                    self.score_maximum(saddle, i, m)
+                } else {
+                    top.key + self.offset(kind, m)
+                },
+                s,
+                Partner::Maximum(i),
+            ),
+        })
     }
 
     /// Queue extremum set `m` under its current best score.
@@ -496,7 +608,6 @@ impl<'a> Hierarchy<'a> {
             self.queue.push(Entry::new(t, kind, m as u32));
         }
     }
-
     /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
     fn score_minimum(&self, saddle: &Saddle, i: usize, m: usize) -> f64 {
         match self.criterion {
@@ -544,17 +655,15 @@ impl<'a> Hierarchy<'a> {
     /// cancelled with the extremum that attains it.
     pub fn cancel_next(&mut self) -> Option<Cancellation> {
         while let Some(entry) = self.pop_entry() {
-            let m = entry.set as usize;
-            let current = match entry.kind {
-                Kind::Minimum => self.minima.find(entry.set) == m,
-                Kind::Maximum => {
-                    self.maxima.find(entry.set) == m && m != self.maxima.find(self.boundary as u32)
-                }
+            let (kind, m) = (entry.kind(), entry.set());
+            let current = match kind {
+                Kind::Minimum => self.minima.find(m as u32) == m,
+                Kind::Maximum => self.maxima.find(m as u32) == m && m != self.boundary_set(),
             };
             if !current {
                 continue;
             }
-            let Some((t, s, partner)) = self.set_best(entry.kind, m) else {
+            let Some((t, s, partner)) = self.set_best(kind, m) else {
                 continue;
             };
             // Lazy queue: a set whose best score grew since it was queued (its top
@@ -585,71 +694,60 @@ impl<'a> Hierarchy<'a> {
         Some(entry)
     }
 
-    /// Cancel saddle `s` with `partner`: reverse the gradient along the branch to
-    /// the extremum, make the saddle edge part of that forest, merge the extremum
-    /// into the other branch's, and re-score the saddles of extrema that became
-    /// terminal.
+    /// Cancel saddle `s` with `partner`: make the saddle edge part of the forest of
+    /// the extremum (its tree is re-hung when the [`gradient`](Self::gradient) is
+    /// next asked for), merge the extremum into the other branch's, and re-score
+    /// the saddles of extrema that became terminal.
     fn cancel(&mut self, s: usize, partner: Partner, t: f64) -> Cancellation {
         self.alive[s] = false;
         self.live_saddles -= 1;
-        let saddle = self.saddles[s].clone();
+        self.current.take();
+        let edge = self.saddles[s].edge;
         let mins = self.minimum_ends(s);
         let maxs = self.maximum_ends(s);
-        let mut touched_minima = Vec::new();
-        let mut touched_maxima = Vec::new();
-        let record = match partner {
+        // The merged set, and the sets of the other kind whose link counts drop.
+        let (record, merged, others) = match partner {
             Partner::Minimum(i) => {
-                self.reverse_vertex_path(saddle.vertices[i], saddle.edge);
-                self.gradient.edge_role[saddle.edge.idx()] = EdgeRole::Primal;
+                self.initial.edge_role[edge.idx()] = EdgeRole::Primal;
                 let gone_vertex = self.minima.survivor[mins[i]];
                 self.forced_saddles += self.newly_forced(Kind::Minimum, mins[i], mins[1 - i]);
                 self.minima.links[mins[i]] -= 1;
                 self.minima.links[mins[1 - i]] -= 1;
-                touched_minima.push(self.minima.merge(mins[i], mins[1 - i]));
+                let merged = self.minima.merge(mins[i], mins[1 - i]);
                 for m in maxs.into_iter().flatten() {
                     self.maxima.links[m] -= 1;
-                    touched_maxima.push(m);
                 }
-                ("minimum", gone_vertex)
+                let others = maxs.map(|m| m.map(|m| (Kind::Maximum, m)));
+                (("minimum", gone_vertex), (Kind::Minimum, merged), others)
             }
             Partner::Maximum(i) => {
-                self.reverse_face_path(saddle.faces[i], saddle.edge);
-                self.gradient.edge_role[saddle.edge.idx()] = EdgeRole::Dual;
-                let boundary = self.maxima.find(self.boundary as u32);
+                self.initial.edge_role[edge.idx()] = EdgeRole::Dual;
+                let boundary = self.boundary_set();
                 let (gone, kept) = (maxs[i].unwrap_or(boundary), maxs[1 - i].unwrap_or(boundary));
                 let gone_face = self.maxima.survivor[gone];
                 self.forced_saddles += self.newly_forced(Kind::Maximum, gone, kept);
                 self.maxima.links[gone] -= 1;
                 self.maxima.links[kept] -= 1;
-                touched_maxima.push(self.maxima.merge(gone, kept));
+                let merged = self.maxima.merge(gone, kept);
                 for m in mins {
                     self.minima.links[m] -= 1;
-                    touched_minima.push(m);
                 }
-                ("maximum", gone_face)
+                let others = mins.map(|m| Some((Kind::Minimum, m)));
+                (("maximum", gone_face), (Kind::Maximum, merged), others)
             }
         };
         // A cancellation can lower other scores (§3.7): the merged extremum's region
         // and candidates changed, and extrema whose link counts dropped may have
-        // become terminal (the Γ terms of eqs. 7–8). Queue them afresh.
-        let mut touched: Vec<(Kind, usize)> = touched_minima
-            .into_iter()
-            .map(|m| (Kind::Minimum, self.minima.find(m as u32)))
-            .chain(
-                touched_maxima
-                    .into_iter()
-                    .map(|m| (Kind::Maximum, self.maxima.find(m as u32))),
-            )
-            .collect();
-        touched.sort_unstable();
-        touched.dedup();
-        for (kind, m) in touched {
-            if kind == Kind::Minimum || m != self.maxima.find(self.boundary as u32) {
-                self.queue_set(kind, m);
+        // become terminal (the Γ terms of eqs. 7–8). Queue them afresh, once each.
+        self.requeue(merged);
+        match others {
+            [Some(a), Some(b)] if a == b => self.requeue(a),
+            [a, b] => {
+                a.into_iter().chain(b).for_each(|set| self.requeue(set));
             }
         }
         let cancellation = Cancellation {
-            saddle: saddle.edge.0,
+            saddle: edge.0,
             extremum_kind: record.0,
             extremum: record.1,
             t,
@@ -658,29 +756,101 @@ impl<'a> Hierarchy<'a> {
         cancellation
     }
 
-    /// Reverse the primal path from `start` to its minimum and hang `start` on the
-    /// saddle edge (whose other end leads to the surviving minimum).
-    fn reverse_vertex_path(&mut self, start: VertexId, saddle: EdgeId) {
-        let mut current = start;
-        let mut incoming = saddle;
-        while let Some((e, next)) = self.gradient.vertex_step(self.mesh, current) {
-            self.gradient.vertex_parent[current.idx()] = incoming;
-            incoming = e;
-            current = next;
+    /// Queue the set (kind, index) afresh, unless it is the boundary's.
+    fn requeue(&mut self, (kind, m): (Kind, usize)) {
+        if kind == Kind::Minimum || m != self.boundary_set() {
+            self.queue_set(kind, m);
         }
-        self.gradient.vertex_parent[current.idx()] = incoming;
     }
+}
 
-    /// Reverse the dual path from `start` to its maximum and hang `start` on the
-    /// saddle edge.
-    fn reverse_face_path(&mut self, start: FaceId, saddle: EdgeId) {
-        let mut current = start;
-        let mut incoming = saddle;
-        while let Some((e, next)) = self.gradient.face_step(self.mesh, current) {
-            self.gradient.face_parent[current.idx()] = incoming;
-            incoming = e;
-            current = next;
-        }
-        self.gradient.face_parent[current.idx()] = incoming;
+/// A cancelled saddle as a link between two initial trees of one forest (set
+/// elements; the boundary for a missing face), with its node in each (its
+/// vertices, or its faces) and its edge.
+#[derive(Clone, Copy)]
+struct Link {
+    trees: [u32; 2],
+    nodes: [u32; 2],
+    edge: EdgeId,
+}
+
+/// Walk the `n` trees joined by `links` breadth first from `roots`: the node and
+/// edge of the link by which every other tree is reached. The cancellations link
+/// the initial trees of a set into a tree, so each is reached once.
+fn attach(n: usize, roots: impl Iterator<Item = usize>, links: &[Link]) -> Vec<(u32, EdgeId)> {
+    let (first, incident) = incidence(n, links);
+    let mut reached = vec![false; n];
+    let mut queue: VecDeque<usize> = roots.collect();
+    for &tree in &queue {
+        reached[tree] = true;
     }
+    let mut attachments = Vec::with_capacity(n);
+    while let Some(tree) = queue.pop_front() {
+        for &(l, side) in &incident[first[tree]..first[tree + 1]] {
+            let link = links[l];
+            let next = link.trees[side] as usize;
+            if !std::mem::replace(&mut reached[next], true) {
+                attachments.push((link.nodes[side], link.edge));
+                queue.push_back(next);
+            }
+        }
+    }
+    attachments
+}
+
+/// The links at each of `n` trees, in compressed rows: those of tree `t` are
+/// `incident[first[t]..first[t + 1]]`, each as the link and the side across it.
+fn incidence(n: usize, links: &[Link]) -> (Vec<usize>, Vec<(usize, usize)>) {
+    let mut first = vec![0; n + 1];
+    for link in links {
+        for tree in link.trees {
+            first[tree as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        first[i + 1] += first[i];
+    }
+    let mut fill = first.clone();
+    let mut incident = vec![(0, 0); 2 * links.len()];
+    for (l, link) in links.iter().enumerate() {
+        for (side, &tree) in link.trees.iter().enumerate() {
+            incident[fill[tree as usize]] = (l, 1 - side);
+            fill[tree as usize] += 1;
+        }
+    }
+    (first, incident)
+}
+
+/// The extrema (set elements) at the ends of every saddle's branches: the minima
+/// numbered in the order of `gradient.minima`, the maxima in that of
+/// `gradient.maxima`, and the boundary after them.
+fn saddle_ends(mesh: &Mesh, gradient: &Gradient, saddles: &[Saddle]) -> Vec<Ends> {
+    let numbering = |n: usize, ids: &mut dyn Iterator<Item = u32>| {
+        let mut index = vec![u32::MAX; n];
+        for (i, id) in ids.enumerate() {
+            index[id as usize] = i as u32;
+        }
+        index
+    };
+    let minimum = numbering(
+        mesh.vertex_count(),
+        &mut gradient.minima.iter().map(|v| v.0),
+    );
+    let maximum = numbering(mesh.face_count(), &mut gradient.maxima.iter().map(|f| f.0));
+    let boundary = gradient.maxima.len() as u32;
+    saddles
+        .iter()
+        .map(|saddle| Ends {
+            minima: saddle
+                .vertices
+                .map(|v| minimum[gradient.vertex_root[v.idx()].idx()]),
+            maxima: saddle.faces.map(|f| {
+                if f.is_valid() {
+                    maximum[gradient.face_root[f.idx()].idx()]
+                } else {
+                    boundary
+                }
+            }),
+        })
+        .collect()
 }

@@ -1,6 +1,8 @@
 //! The 1-cells of every saddle, and the integrals the cancellation criterion needs
 //! (Sahner et al. 2008, §3.2–3.4).
 
+use rayon::prelude::*;
+
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 
 use super::gradient::{Gradient, Keys};
@@ -101,8 +103,6 @@ impl Gradient {
 /// by area(T) f_T; descending paths weight each edge by |e| f_e, with the saddle edge
 /// split half to each branch. The result does not depend on the order of the saddles.
 pub fn measure_saddles(mesh: &Mesh, keys: &Keys, gradient: &Gradient) -> Vec<Saddle> {
-    let face_next = |f: FaceId| gradient.face_step(mesh, f).map(|(_, g)| g);
-    let vertex_next = |v: VertexId| gradient.vertex_step(mesh, v).map(|(_, w)| w);
     let sides: Vec<([FaceId; 2], [VertexId; 2])> = gradient
         .saddles
         .iter()
@@ -114,60 +114,83 @@ pub fn measure_saddles(mesh: &Mesh, keys: &Keys, gradient: &Gradient) -> Vec<Sad
             )
         })
         .collect();
-    let face_shared = branching_points(
-        mesh.face_count(),
-        sides
-            .iter()
-            .flat_map(|(faces, _)| faces.iter().filter(|f| f.is_valid()).map(|f| f.0)),
-        |f| face_next(FaceId(f)).map(|g| g.0),
-    );
-    let vertex_shared = branching_points(
-        mesh.vertex_count(),
-        sides
-            .iter()
-            .flat_map(|(_, vertices)| vertices.iter().map(|v| v.0)),
-        |v| vertex_next(VertexId(v)).map(|w| w.0),
+    let (face_shared, vertex_shared) = rayon::join(
+        || {
+            branching_points(
+                mesh.face_count(),
+                sides
+                    .iter()
+                    .flat_map(|(faces, _)| faces.iter().filter(|f| f.is_valid()).map(|f| f.0)),
+                |f| gradient.face_step(mesh, FaceId(f)).map(|(_, g)| g.0),
+            )
+        },
+        || {
+            branching_points(
+                mesh.vertex_count(),
+                sides
+                    .iter()
+                    .flat_map(|(_, vertices)| vertices.iter().map(|v| v.0)),
+                |v| gradient.vertex_step(mesh, VertexId(v)).map(|(_, w)| w.0),
+            )
+        },
     );
     gradient
         .saddles
-        .iter()
+        .par_iter()
         .zip(sides)
-        .map(|(&edge, (faces, vertices))| {
-            let ascending = faces.map(|f| {
-                let mut branch = Integral::default();
-                let mut current = f.is_valid().then_some(f);
-                while let Some(f) = current {
-                    branch.add(mesh.face_area(f), keys.face[f.idx()]);
-                    if face_shared[f.idx()] {
-                        break;
-                    }
-                    current = face_next(f);
-                }
-                branch
-            });
-            let half_saddle = 0.5 * mesh.edge_length(edge);
-            let descending = vertices.map(|v| {
-                let mut branch = Integral::default();
-                branch.add(half_saddle, keys.edge[edge.idx()]);
-                let mut current = v;
-                while !vertex_shared[current.idx()] {
-                    let Some((e, next)) = gradient.vertex_step(mesh, current) else {
-                        break;
-                    };
-                    branch.add(mesh.edge_length(e), keys.edge[e.idx()]);
-                    current = next;
-                }
-                branch
-            });
-            Saddle {
-                edge,
-                faces,
-                vertices,
-                ascending,
-                descending,
-            }
+        .map(|(&edge, (faces, vertices))| Saddle {
+            edge,
+            faces,
+            vertices,
+            ascending: faces.map(|f| ascending_branch(mesh, keys, gradient, f, &face_shared)),
+            descending: vertices
+                .map(|v| descending_branch(mesh, keys, gradient, edge, v, &vertex_shared)),
         })
         .collect()
+}
+
+/// The triangle strip from `start` (none if invalid) up to and including the
+/// first branching point in `shared`, each triangle weighted by its area.
+fn ascending_branch(
+    mesh: &Mesh,
+    keys: &Keys,
+    gradient: &Gradient,
+    start: FaceId,
+    shared: &[bool],
+) -> Integral {
+    let mut branch = Integral::default();
+    let mut current = start.is_valid().then_some(start);
+    while let Some(f) = current {
+        branch.add(mesh.face_area(f), keys.face[f.idx()]);
+        if shared[f.idx()] {
+            break;
+        }
+        current = gradient.face_step(mesh, f).map(|(_, g)| g);
+    }
+    branch
+}
+
+/// Half the saddle edge, then the vertex path from `start` down to the first
+/// branching point in `shared`, each edge weighted by its length.
+fn descending_branch(
+    mesh: &Mesh,
+    keys: &Keys,
+    gradient: &Gradient,
+    saddle: EdgeId,
+    start: VertexId,
+    shared: &[bool],
+) -> Integral {
+    let mut branch = Integral::default();
+    branch.add(0.5 * mesh.edge_length(saddle), keys.edge[saddle.idx()]);
+    let mut current = start;
+    while !shared[current.idx()] {
+        let Some((e, next)) = gradient.vertex_step(mesh, current) else {
+            break;
+        };
+        branch.add(mesh.edge_length(e), keys.edge[e.idx()]);
+        current = next;
+    }
+    branch
 }
 
 /// Which of `n` forest nodes are branching points of the paths from `starts` to

@@ -9,6 +9,7 @@
 //! descending 1-cell falls and every ascending 1-cell climbs.
 
 use std::cmp::Ordering;
+use std::collections::VecDeque;
 
 use rayon::prelude::*;
 
@@ -115,28 +116,44 @@ impl Gradient {
     /// the roots are exactly the local extrema of the data (plus, should an element
     /// find no augmenting path, that element). Edges in neither forest are saddles.
     pub fn new(mesh: &Mesh, keys: &Keys) -> Gradient {
-        let vertex_roots = local_minimum_vertices(mesh, keys);
-        let face_roots = local_maximum_faces(mesh, keys);
         let mut matching = Matching::new(mesh, keys);
-        let mut order: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
-        // Keys are unique (ties broken by id), so an unstable sort gives the one order.
-        order.par_sort_unstable_by(|&a, &b| {
-            compare(keys.vertex_key(VertexId(a)), keys.vertex_key(VertexId(b)))
-        });
-        let vertices = order.iter().copied().filter(|&v| !vertex_roots[v as usize]);
-        let faces = (0..mesh.face_count() as u32).filter(|&f| !face_roots[f as usize]);
-        let nodes: Vec<u32> = vertices
-            .chain(faces.map(|f| f + mesh.vertex_count() as u32))
-            .collect();
-        for &node in &nodes {
-            matching.take_free(node);
-        }
-        for &node in &nodes {
+        matching.take_steepest();
+        // Every vertex got its steepest option (see `take_steepest`) and augmenting
+        // paths keep paired nodes paired: only faces can be left without an edge.
+        let vertex_count = mesh.vertex_count() as u32;
+        for f in 0..mesh.face_count() as u32 {
+            let node = f + vertex_count;
             if !matching.paired(node) {
                 matching.augment(node);
             }
         }
-        matching.into_gradient(vertex_roots, face_roots)
+        matching.into_gradient()
+    }
+
+    /// Reverse the primal path from `start` to its minimum and hang `start` on
+    /// `edge` (whose other end leads to another tree's root).
+    pub fn hang_vertex(&mut self, mesh: &Mesh, start: VertexId, edge: EdgeId) {
+        let mut current = start;
+        let mut incoming = edge;
+        while let Some((e, next)) = self.vertex_step(mesh, current) {
+            self.vertex_parent[current.idx()] = incoming;
+            incoming = e;
+            current = next;
+        }
+        self.vertex_parent[current.idx()] = incoming;
+    }
+
+    /// Reverse the dual path from `start` to its maximum and hang `start` on
+    /// `edge` (across which lies another tree, or the boundary).
+    pub fn hang_face(&mut self, mesh: &Mesh, start: FaceId, edge: EdgeId) {
+        let mut current = start;
+        let mut incoming = edge;
+        while let Some((e, next)) = self.face_step(mesh, current) {
+            self.face_parent[current.idx()] = incoming;
+            incoming = e;
+            current = next;
+        }
+        self.face_parent[current.idx()] = incoming;
     }
 }
 
@@ -154,6 +171,10 @@ struct Matching<'a> {
     /// The node from which the current search reached each edge.
     came_from: Vec<u32>,
     stamp: u32,
+    /// The buffers of the augmenting searches: nodes to expand, and the options
+    /// of the node being expanded.
+    queue: VecDeque<u32>,
+    options: Vec<((f64, u32), EdgeId)>,
 }
 
 const FREE: u32 = u32::MAX;
@@ -170,6 +191,8 @@ impl<'a> Matching<'a> {
             visited: vec![0; mesh.edge_count()],
             came_from: vec![FREE; mesh.edge_count()],
             stamp: 0,
+            queue: VecDeque::new(),
+            options: Vec::new(),
         }
     }
 
@@ -214,33 +237,52 @@ impl<'a> Matching<'a> {
         }
     }
 
-    /// The edges `node` may pair with, steepest first.
-    fn eligible(&self, node: u32) -> Vec<EdgeId> {
-        let mut options = Vec::new();
-        self.for_each_option(node, |key, e| options.push((key, e)));
-        options.sort_by(|a, b| self.steepest_first(node, a.0, b.0));
-        options.into_iter().map(|(_, e)| e).collect()
-    }
-
     fn assign(&mut self, node: u32, e: EdgeId) {
         self.owner[e.idx()] = node;
         self.pair[node as usize] = e;
     }
 
-    /// Pair `node` with its steepest free edge, if any (one pass, no allocation:
-    /// this runs for every element).
-    fn take_free(&mut self, node: u32) {
+    /// The steepest option of `node` that `free` accepts, if any (one pass, no
+    /// allocation: this runs for every element).
+    fn steepest(&self, node: u32, free: impl Fn(EdgeId) -> bool) -> EdgeId {
         let mut best: Option<((f64, u32), EdgeId)> = None;
         self.for_each_option(node, |key, e| {
-            let free = self.owner[e.idx()] == FREE;
             let steeper =
                 |(b, _): ((f64, u32), EdgeId)| self.steepest_first(node, key, b) == Ordering::Less;
-            if free && best.is_none_or(steeper) {
+            if free(e) && best.is_none_or(steeper) {
                 best = Some((key, e));
             }
         });
-        if let Some((_, e)) = best {
-            self.assign(node, e);
+        best.map_or(EdgeId::INVALID, |(_, e)| e)
+    }
+
+    /// Pair every element with its steepest free option, as if taking the vertices
+    /// and then the faces one by one, but in parallel: an edge is an option of at
+    /// most one vertex (its upper end) and of at most one face (its lower side), so
+    /// every vertex gets its steepest option, and a face's choice depends only on the
+    /// edges the vertices took.
+    fn take_steepest(&mut self) {
+        let vertex_count = self.mesh.vertex_count();
+        let mut pair = std::mem::take(&mut self.pair);
+        let (vertex_pairs, face_pairs) = pair.split_at_mut(vertex_count);
+        vertex_pairs
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(v, e)| *e = self.steepest(v as u32, |_| true));
+        self.own(vertex_pairs, 0);
+        face_pairs.par_iter_mut().enumerate().for_each(|(f, e)| {
+            *e = self.steepest((vertex_count + f) as u32, |e| self.owner[e.idx()] == FREE);
+        });
+        self.own(face_pairs, vertex_count);
+        self.pair = pair;
+    }
+
+    /// Record the nodes `first`, `first + 1`, … as the owners of their edges `pairs`.
+    fn own(&mut self, pairs: &[EdgeId], first: usize) {
+        for (i, e) in pairs.iter().enumerate() {
+            if e.is_valid() {
+                self.owner[e.idx()] = (first + i) as u32;
+            }
         }
     }
 
@@ -249,10 +291,31 @@ impl<'a> Matching<'a> {
     /// at a free edge. Shifts the pairs along it; returns whether one was found.
     fn augment(&mut self, start: u32) -> bool {
         self.stamp += 1;
-        let mut queue = std::collections::VecDeque::from([start]);
+        // The search buffers are kept between searches.
+        let mut queue = std::mem::take(&mut self.queue);
+        let mut options = std::mem::take(&mut self.options);
+        queue.clear();
+        queue.push_back(start);
+        let found = self.search(start, &mut queue, &mut options);
+        self.queue = queue;
+        self.options = options;
+        found
+    }
+
+    /// The search of [`Self::augment`] from `start`, expanding the nodes of `queue`
+    /// in turn, each node's options (gathered in `options`) steepest first.
+    fn search(
+        &mut self,
+        start: u32,
+        queue: &mut VecDeque<u32>,
+        options: &mut Vec<((f64, u32), EdgeId)>,
+    ) -> bool {
         let mut explored = 0;
         while let Some(node) = queue.pop_front() {
-            for e in self.eligible(node) {
+            options.clear();
+            self.for_each_option(node, |key, e| options.push((key, e)));
+            options.sort_by(|a, b| self.steepest_first(node, a.0, b.0));
+            for &(_, e) in options.iter() {
                 if self.visited[e.idx()] == self.stamp {
                     continue;
                 }
@@ -288,54 +351,52 @@ impl<'a> Matching<'a> {
         }
     }
 
-    /// The forests the pairs define, with root labels.
-    fn into_gradient(self, mut vertex_roots: Vec<bool>, mut face_roots: Vec<bool>) -> Gradient {
+    /// The forests the pairs define, with root labels. Elements left unpaired
+    /// (local extrema, or no augmenting path) are the roots.
+    fn into_gradient(self) -> Gradient {
         let (mesh, vertex_count) = (self.mesh, self.mesh.vertex_count());
-        let mut edge_role = vec![EdgeRole::Saddle; mesh.edge_count()];
-        for (e, &node) in self.owner.iter().enumerate() {
-            if node != FREE {
-                edge_role[e] = if (node as usize) < vertex_count {
-                    EdgeRole::Primal
-                } else {
-                    EdgeRole::Dual
-                };
-            }
-        }
-        let (vertex_pairs, face_pairs) = self.pair.split_at(vertex_count);
-        // Elements left unpaired (no augmenting path) are extra extrema.
-        for (v, pair) in vertex_pairs.iter().enumerate() {
-            vertex_roots[v] |= !pair.is_valid();
-        }
-        for (f, pair) in face_pairs.iter().enumerate() {
-            face_roots[f] |= !pair.is_valid();
-        }
-        let vertex_parent = vertex_pairs.to_vec();
-        let face_parent = face_pairs.to_vec();
-        let vertex_root = roots_of(vertex_count, &vertex_parent, |v, e| {
-            let [a, b] = mesh.edge_vertices(e);
-            if a.0 == v {
-                b.0
-            } else {
-                a.0
-            }
-        });
-        let face_root = roots_of(mesh.face_count(), &face_parent, |f, e| {
-            let h = mesh.edge_halfedge(e, 0);
-            let (g0, g1) = (mesh.face(h).0, mesh.face(mesh.twin(h)).0);
-            if g0 == f {
-                g1
-            } else {
-                g0
-            }
-        });
-        let flagged = |flags: &[bool]| -> Vec<u32> {
-            (0..flags.len() as u32)
-                .filter(|&i| flags[i as usize])
+        let edge_role: Vec<EdgeRole> = self
+            .owner
+            .par_iter()
+            .map(|&node| match node {
+                FREE => EdgeRole::Saddle,
+                node if (node as usize) < vertex_count => EdgeRole::Primal,
+                _ => EdgeRole::Dual,
+            })
+            .collect();
+        let mut vertex_parent = self.pair;
+        let face_parent = vertex_parent.split_off(vertex_count);
+        let (vertex_root, face_root) = rayon::join(
+            || {
+                roots_of(&vertex_parent, |v, e| {
+                    let [a, b] = mesh.edge_vertices(e);
+                    if a.0 == v {
+                        b.0
+                    } else {
+                        a.0
+                    }
+                })
+            },
+            || {
+                roots_of(&face_parent, |f, e| {
+                    let h = mesh.edge_halfedge(e, 0);
+                    let (g0, g1) = (mesh.face(h).0, mesh.face(mesh.twin(h)).0);
+                    if g0 == f {
+                        g1
+                    } else {
+                        g0
+                    }
+                })
+            },
+        );
+        let unpaired = |parent: &[EdgeId]| -> Vec<u32> {
+            (0..parent.len() as u32)
+                .filter(|&i| !parent[i as usize].is_valid())
                 .collect()
         };
         Gradient {
-            minima: flagged(&vertex_roots).into_iter().map(VertexId).collect(),
-            maxima: flagged(&face_roots).into_iter().map(FaceId).collect(),
+            minima: unpaired(&vertex_parent).into_iter().map(VertexId).collect(),
+            maxima: unpaired(&face_parent).into_iter().map(FaceId).collect(),
             saddles: mesh
                 .edges()
                 .filter(|e| edge_role[e.idx()] == EdgeRole::Saddle)
@@ -351,7 +412,8 @@ impl<'a> Matching<'a> {
 
 /// The root of every node of a forest given by parent edges (`step(node, edge)` is
 /// the node across `edge`), following each path once with memoisation.
-fn roots_of(n: usize, parent: &[EdgeId], step: impl Fn(u32, EdgeId) -> u32) -> Vec<u32> {
+fn roots_of(parent: &[EdgeId], step: impl Fn(u32, EdgeId) -> u32) -> Vec<u32> {
+    let n = parent.len();
     let mut root = vec![FREE; n];
     let mut path = Vec::new();
     for start in 0..n as u32 {

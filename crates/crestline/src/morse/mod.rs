@@ -19,7 +19,9 @@
 
 pub mod cancel;
 pub mod cells;
+mod disjoint;
 pub mod gradient;
+mod heap;
 mod indicator;
 mod output;
 
@@ -164,12 +166,15 @@ impl MorseSmale {
             gradient::Gradient::new(mesh, &keys)
         });
         let (saddles, regions) = stage(observer, "cells", || {
-            let saddles = cells::measure_saddles(mesh, &keys, &gradient);
-            let regions = (
-                cells::minimum_regions(mesh, &keys, &gradient),
-                cells::maximum_regions(mesh, &keys, &gradient),
-            );
-            (saddles, regions)
+            rayon::join(
+                || cells::measure_saddles(mesh, &keys, &gradient),
+                || {
+                    rayon::join(
+                        || cells::minimum_regions(mesh, &keys, &gradient),
+                        || cells::maximum_regions(mesh, &keys, &gradient),
+                    )
+                },
+            )
         });
         let initial = CriticalCounts {
             minima: gradient.minima.len(),

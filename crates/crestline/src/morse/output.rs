@@ -198,7 +198,7 @@ fn strip(
         start,
         drawn,
         FaceId::idx,
-        |f| hierarchy.gradient.face_step(mesh, f),
+        |f| hierarchy.gradient().face_step(mesh, f),
         centroid,
         |e| Some(midpoint(e)),
     )
@@ -237,7 +237,7 @@ fn path(
         start,
         drawn,
         VertexId::idx,
-        |v| hierarchy.gradient.vertex_step(mesh, v),
+        |v| hierarchy.gradient().vertex_step(mesh, v),
         |v| SurfaceLocation::Vertex { vertex: v.0 },
         |_| None,
     )
