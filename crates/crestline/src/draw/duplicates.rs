@@ -123,7 +123,8 @@ pub fn clear_of_silhouettes(
     }
     let piece = |range: std::ops::Range<usize>| ScreenPath {
         points: points[range.clone()].to_vec(),
-        depths: path.depths[range].to_vec(),
+        // Paths made without depths keep none.
+        depths: path.depths.get(range.clone()).unwrap_or_default().to_vec(),
         closed: false,
         strength: path.strength,
     };

@@ -122,7 +122,7 @@ impl SymmetricBuilder {
 }
 
 /// A square sparse matrix in compressed sparse column form (both triangles stored),
-/// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`] reads it.
+/// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`](super::CholeskyFactor) reads it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SymmetricMatrix {
     n: usize,

@@ -137,7 +137,7 @@ impl SpdSolver {
     /// ordering and symbolic analysis are made now, once for every copy of this
     /// solver (e.g. one per extremality field, solved in parallel).
     ///
-    /// An [`Error::Argument`] if the matrix has a non-finite entry.
+    /// An [`Error::Argument`](crate::Error::Argument) if the matrix has a non-finite entry.
     pub fn analyze(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
         if self.solver.resolve(matrix) != Solver::Iterative && self.analysis.is_none() {
             self.analysis = Some(CholeskyAnalysis::new(matrix)?);
@@ -148,7 +148,7 @@ impl SpdSolver {
     /// The matrix of the next solves. The direct method factors it now (reusing
     /// the symbolic analysis of a previous matrix with the same pattern).
     ///
-    /// An [`Error::Argument`] if it is not positive definite as far as the method
+    /// An [`Error::Argument`](crate::Error::Argument) if it is not positive definite as far as the method
     /// can tell (a non-positive pivot or diagonal entry, a non-finite entry).
     pub fn set_matrix(&mut self, matrix: SymmetricMatrix) -> Result<()> {
         self.method = self.solver.resolve(&matrix);
