@@ -1,14 +1,17 @@
-//! `crestline draw`: a line drawing of a mesh (feature lines and silhouettes, hidden
-//! lines removed) as SVG, with an optional PNG preview.
+//! `crestline draw`: a line drawing of a mesh (feature lines, silhouettes, borders,
+//! creases and suggestive contours, hidden lines removed) as SVG, with an optional
+//! PNG preview.
 
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
+use crestline::curvature::estimate_curvature;
 use crestline::draw::{
-    svg_document, visible_drawing, write_png, write_svg, Camera, DepthBuffer, DrawOptions,
-    Projection, Style, View,
+    borders, creases, group_name, silhouettes, suggestive_contours, svg_document, visible_drawing,
+    write_png, write_svg, Camera, DepthBuffer, DrawOptions, Projection, Style, SuggestiveOptions,
+    View,
 };
-use crestline::lines::FeatureLines;
+use crestline::lines::{FeatureLines, LineKind};
 use crestline::mesh::Mesh;
 use crestline::{Error, Point, Result, Vector};
 
@@ -48,6 +51,9 @@ pub struct DrawArgs {
     /// (nearly parallel) closer than this many pixels; 0 keeps them.
     #[arg(long, value_name = "PX", default_value_t = DrawOptions::default().silhouette_clearance)]
     pub silhouette_clearance: f64,
+    /// Borders, creases and suggestive contours.
+    #[command(flatten)]
+    pub families: FamilyArgs,
     /// Viewing direction in degrees; 0,0 looks along -z with +y up, a positive
     /// azimuth turns the eye about +y towards +x, a positive elevation raises it.
     #[arg(long, value_name = "AZIMUTH,ELEVATION", value_parser = parse_view,
@@ -80,6 +86,22 @@ pub struct DrawArgs {
     pub report: ReportArg,
 }
 
+/// The line families `draw` can add besides the silhouettes.
+#[derive(clap::Args, Debug)]
+pub struct FamilyArgs {
+    /// Also draw the borders (boundary loops) of an open mesh.
+    #[arg(long)]
+    pub borders: bool,
+    /// Also draw the creases: edges whose two faces meet at a dihedral angle above
+    /// DEG degrees (strictly between 0 and 180).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub creases: Option<f64>,
+    /// Also draw the suggestive contours (DeCarlo et al. 2003), from the curvature
+    /// of --estimator.
+    #[arg(long)]
+    pub suggestive: bool,
+}
+
 /// The files `draw` reads: the mesh, the smoothing weights and the style.
 fn inputs(args: &DrawArgs) -> Vec<Role<'_>> {
     let mut inputs = args.tracer.inputs(&args.mesh);
@@ -109,8 +131,12 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     let options = DrawOptions {
         silhouettes: args.silhouettes,
         silhouette_clearance: args.silhouette_clearance,
+        borders: args.families.borders,
+        crease_angle: args.families.creases,
+        suggestive: args.families.suggestive.then(SuggestiveOptions::default),
         ..DrawOptions::default()
     };
+    options.check()?;
     let mut report = report_with_progress("draw", &args.mesh);
     let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let [width, height] = args.size;
@@ -129,11 +155,25 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     report.section("extraction_stages", &extraction.stages);
 
     if options.silhouettes {
-        let contours = report.stage("silhouettes", || {
-            crestline::draw::silhouettes(&mesh, &camera, options.silhouette_min_length)
-        });
-        report.count("silhouette_lines", contours.len());
-        lines.lines.extend(contours.lines);
+        add_stage(&mut report, &mut lines, LineKind::Silhouette, || {
+            Ok(silhouettes(&mesh, &camera, options.silhouette_min_length))
+        })?;
+    }
+    if options.borders {
+        add_stage(&mut report, &mut lines, LineKind::Border, || {
+            Ok(borders(&mesh))
+        })?;
+    }
+    if let Some(angle) = options.crease_angle {
+        add_stage(&mut report, &mut lines, LineKind::Crease, || {
+            creases(&mesh, angle)
+        })?;
+    }
+    if let Some(suggestive) = &options.suggestive {
+        add_stage(&mut report, &mut lines, LineKind::Suggestive, || {
+            let field = estimate_curvature(&mesh, &*args.tracer.estimator.build())?;
+            suggestive_contours(&mesh, &field, &camera, suggestive)
+        })?;
     }
     let drawing = report.stage("visibility", || {
         let buffer = DepthBuffer::render(&mesh, &camera, options.supersampling);
@@ -162,6 +202,20 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     files.commit()
 }
 
+/// Run `trace` as the stage named after the SVG group of `kind`, count its lines
+/// as `<kind>_lines` and add them to `lines`.
+fn add_stage(
+    report: &mut Report,
+    lines: &mut FeatureLines,
+    kind: LineKind,
+    trace: impl FnOnce() -> Result<FeatureLines>,
+) -> Result<()> {
+    let traced = report.stage(group_name(kind), trace)?;
+    report.count(&format!("{}_lines", kind.name()), traced.len());
+    lines.lines.extend(traced.lines);
+    Ok(())
+}
+
 /// Warn when the drawing has no path, saying why where it can (an empty result
 /// of the feature lines is warned about where they are extracted).
 fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: bool) {
@@ -172,10 +226,16 @@ fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: 
     {
         return;
     }
-    let why = if args.lines == LinesChoice::None && !args.silhouettes {
-        "the drawing is empty: --lines none without --silhouettes draws nothing"
+    let FamilyArgs {
+        borders,
+        creases,
+        suggestive,
+    } = args.families;
+    let families = args.silhouettes || borders || creases.is_some() || suggestive;
+    let why = if args.lines == LinesChoice::None && !families {
+        "the drawing is empty: --lines none without --silhouettes, --borders, --creases or --suggestive draws nothing"
     } else if no_lines {
-        "the drawing is empty: no feature lines or silhouettes were found"
+        "the drawing is empty: no lines were found"
     } else {
         "the drawing is empty: every line is hidden in this view; try another --view"
     };

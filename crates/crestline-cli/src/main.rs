@@ -39,7 +39,8 @@ enum Command {
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
     /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
-    Draw(draw::DrawArgs),
+    // Boxed: its arguments are by far the largest.
+    Draw(Box<draw::DrawArgs>),
     /// Feature lines from the Morse-Smale complex of a curvature indicator (Sahner et al. 2008).
     Morse(morse::MorseCommand),
 }

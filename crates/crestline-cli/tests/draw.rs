@@ -58,8 +58,10 @@ fn the_draw_command_rejects_absurd_values_with_one_line() {
     let svg = dir.path().join("out.svg");
     let svg = svg.to_str().unwrap();
     let mesh = "meshes/bunny_small.obj";
-    let cases: [(&str, &[&str], &str); 5] = [
+    let cases: [(&str, &[&str], &str); 7] = [
         (svg, &["--size", "0x100"], "between 1 and 20000"),
+        (svg, &["--creases", "180"], "crease angle"),
+        (svg, &["--creases", "-5"], "got -5"),
         (svg, &["--perspective", "180"], "field of view"),
         (svg, &["--view", "nan,0"], "finite"),
         (
@@ -157,4 +159,55 @@ fn ridges_do_not_double_the_silhouettes() {
             "{mesh}: {kept:?} {cleaned:?}"
         );
     }
+}
+
+#[test]
+fn the_draw_command_draws_the_line_families_it_is_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("bunny.svg");
+    let report = dir.path().join("report.json");
+    let out = crestline(&[
+        "draw",
+        "meshes/bunny_small.obj",
+        "-o",
+        svg.to_str().unwrap(),
+        "--lines",
+        "none",
+        "--borders",
+        "--creases",
+        "60",
+        "--suggestive",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let stages: Vec<&str> = report["stages"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    for stage in ["borders", "creases", "suggestive"] {
+        assert!(stages.contains(&stage), "{stages:?}");
+    }
+    assert!(!stages.contains(&"silhouettes"), "{stages:?}");
+    // The bunny is closed: it has no border.
+    assert_eq!(report["counts"]["border_lines"], 0);
+    assert!(report["counts"]["crease_lines"].is_u64(), "{report}");
+    let suggestive = report["counts"]["suggestive_lines"].as_u64().unwrap();
+    let drawn = report["counts"]["paths"]["suggestive"]
+        .as_u64()
+        .unwrap_or(0);
+    assert!(suggestive > 0 && drawn > 0, "{report}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert!(doc
+        .descendants()
+        .any(|n| n.has_tag_name("g") && n.attribute("id") == Some("suggestive")));
 }

@@ -106,7 +106,10 @@ fn kinds_have_stable_names_and_codes() {
             "crest",
             "parabolic",
             "silhouette",
-            "contour"
+            "contour",
+            "border",
+            "crease",
+            "suggestive"
         ]
     );
     for (code, kind) in LineKind::ALL.iter().enumerate() {

@@ -6,8 +6,9 @@
 //! function of its own:
 //! 1. a [`Camera`] frames the mesh ([`Camera::framing`]: orthographic by default,
 //!    an orbit direction or an explicit eye, target and up);
-//! 2. optionally the [`silhouettes`] (smooth occluding contours) are traced on the
-//!    mesh and drawn like any other line;
+//! 2. optionally the [`silhouettes`] (smooth occluding contours), the [`borders`]
+//!    of an open mesh, its [`creases`] and its [`suggestive_contours`] are traced
+//!    on the mesh and drawn like any other line;
 //! 3. a [`DepthBuffer`] of the mesh is rasterized ([`DepthBuffer::render`]);
 //! 4. every line is resampled below a pixel, each sample tested against the buffer,
 //!    and the visible runs kept and simplified (Douglas–Peucker)
@@ -24,16 +25,20 @@
 mod camera;
 mod depth;
 mod duplicates;
+mod edge_lines;
 #[cfg(feature = "png")]
 mod raster;
 mod silhouette;
 mod simplify;
 mod style;
+mod suggestive;
 mod svg;
 mod visibility;
+mod zero_lines;
 
 use rayon::prelude::*;
 
+use crate::curvature::{estimate_curvature, ShapeOperator};
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
 use crate::{Error, Result};
@@ -41,11 +46,13 @@ use crate::{Error, Result};
 pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
 pub use depth::DepthBuffer;
 pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex, PARALLEL_ANGLE};
+pub use edge_lines::{borders, creases};
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
 pub use simplify::{douglas_peucker, douglas_peucker_kept};
 pub use style::{group_name, KindStyle, Style};
+pub use suggestive::{suggestive_contours, SuggestiveOptions};
 pub use svg::{svg_document, write_svg};
 pub use visibility::visible_pieces;
 
@@ -124,6 +131,12 @@ pub struct DrawOptions {
     pub silhouettes: bool,
     /// Silhouette lines shorter than this many mean edge lengths are dropped.
     pub silhouette_min_length: f64,
+    /// Draw the borders (boundary loops) of an open mesh.
+    pub borders: bool,
+    /// Draw the creases: edges whose dihedral angle exceeds this many degrees.
+    pub crease_angle: Option<f64>,
+    /// Trace and draw the suggestive contours with these settings.
+    pub suggestive: Option<SuggestiveOptions>,
     /// How far behind the surface a feature line may lie and still be drawn, in
     /// mean edge lengths.
     pub depth_tolerance: f64,
@@ -146,6 +159,9 @@ impl Default for DrawOptions {
         DrawOptions {
             silhouettes: true,
             silhouette_min_length: 3.0,
+            borders: false,
+            crease_angle: None,
+            suggestive: None,
             depth_tolerance: 1.0,
             silhouette_depth_tolerance: 2.0,
             supersampling: 2,
@@ -158,8 +174,15 @@ impl Default for DrawOptions {
 
 impl DrawOptions {
     /// Check that every setting is usable: finite, non-negative lengths and
-    /// tolerances, a positive sample spacing and supersampling.
+    /// tolerances, a positive sample spacing and supersampling, a crease angle
+    /// strictly between 0 and 180 degrees and usable suggestive contour settings.
     pub fn check(&self) -> Result<()> {
+        if let Some(angle) = self.crease_angle {
+            edge_lines::check_crease_angle(angle)?;
+        }
+        if let Some(suggestive) = &self.suggestive {
+            suggestive.check()?;
+        }
         let non_negative = [
             ("silhouette minimum length", self.silhouette_min_length),
             ("depth tolerance", self.depth_tolerance),
@@ -190,8 +213,9 @@ impl DrawOptions {
     }
 }
 
-/// Draw `lines` on `mesh` as seen by `camera`: the silhouettes if asked for, a
-/// depth buffer, and the visible pieces of every line.
+/// Draw `lines` on `mesh` as seen by `camera`: the silhouettes, borders, creases
+/// and suggestive contours (with curvature by the [`ShapeOperator`]) if asked
+/// for, a depth buffer, and the visible pieces of every line.
 pub fn draw(
     mesh: &Mesh,
     lines: &FeatureLines,
@@ -203,6 +227,17 @@ pub fn draw(
     if options.silhouettes {
         all.lines
             .extend(silhouettes(mesh, camera, options.silhouette_min_length).lines);
+    }
+    if options.borders {
+        all.lines.extend(borders(mesh).lines);
+    }
+    if let Some(angle) = options.crease_angle {
+        all.lines.extend(creases(mesh, angle)?.lines);
+    }
+    if let Some(suggestive) = &options.suggestive {
+        let field = estimate_curvature(mesh, &ShapeOperator)?;
+        all.lines
+            .extend(suggestive_contours(mesh, &field, camera, suggestive)?.lines);
     }
     let buffer = DepthBuffer::render(mesh, camera, options.supersampling);
     visible_drawing(&all, camera, &buffer, options)

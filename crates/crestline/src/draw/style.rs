@@ -25,12 +25,15 @@ use crate::lines::LineKind;
 use crate::{Error, Result};
 
 /// The SVG group of a kind of line: `ridges`, `valleys`, `ascending`,
-/// `descending`, `silhouettes`, and for the other kinds their [`LineKind::name`].
+/// `descending`, `silhouettes`, `borders`, `creases`, `suggestive`, and for the
+/// other kinds their [`LineKind::name`].
 pub fn group_name(kind: LineKind) -> &'static str {
     match kind {
         LineKind::Ridge => "ridges",
         LineKind::Valley => "valleys",
         LineKind::Silhouette => "silhouettes",
+        LineKind::Border => "borders",
+        LineKind::Crease => "creases",
         other => other.name(),
     }
 }
@@ -58,7 +61,8 @@ pub struct Style {
 impl Default for Style {
     /// White background; every family its own colour: ridges red, valleys blue,
     /// ascending Morse-Smale lines orange, descending ones teal, silhouettes dark
-    /// grey and slightly wider.
+    /// grey and slightly wider, borders a little lighter and thinner than
+    /// silhouettes, creases dark brown, suggestive contours mid grey and thin.
     fn default() -> Self {
         let stroke = |color: &str, width: f64| KindStyle {
             color: color.to_string(),
@@ -74,6 +78,9 @@ impl Default for Style {
             LineKind::Parabolic => stroke("#1e8449", 1.2),
             LineKind::Silhouette => stroke("#333333", 1.5),
             LineKind::Contour => stroke("#555555", 1.0),
+            LineKind::Border => stroke("#474747", 1.3),
+            LineKind::Crease => stroke("#5d4030", 1.2),
+            LineKind::Suggestive => stroke("#8c8c8c", 0.9),
         });
         Style {
             background: Some("#ffffff".to_string()),

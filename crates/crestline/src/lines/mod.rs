@@ -71,11 +71,18 @@ pub enum LineKind {
     Silhouette,
     /// Code 7: a contour or iso-line of a scalar field.
     Contour,
+    /// Code 8: a border, a boundary loop of an open surface.
+    Border,
+    /// Code 9: a crease, a chain of edges where the surface folds sharply.
+    Crease,
+    /// Code 10: a suggestive contour seen from a camera, where the radial curvature
+    /// is zero and increasing towards the viewer (DeCarlo et al. 2003).
+    Suggestive,
 }
 
 impl LineKind {
     /// Every kind, in the order of their codes.
-    pub const ALL: [LineKind; 8] = [
+    pub const ALL: [LineKind; 11] = [
         LineKind::Ridge,
         LineKind::Valley,
         LineKind::Ascending,
@@ -84,6 +91,9 @@ impl LineKind {
         LineKind::Parabolic,
         LineKind::Silhouette,
         LineKind::Contour,
+        LineKind::Border,
+        LineKind::Crease,
+        LineKind::Suggestive,
     ];
 
     /// The lowercase name, as written in JSON and in file comments.
@@ -97,6 +107,9 @@ impl LineKind {
             LineKind::Parabolic => "parabolic",
             LineKind::Silhouette => "silhouette",
             LineKind::Contour => "contour",
+            LineKind::Border => "border",
+            LineKind::Crease => "crease",
+            LineKind::Suggestive => "suggestive",
         }
     }
 
