@@ -8,7 +8,9 @@
 //! taken only where the field interpolated there stays at or above the point's
 //! floor, so the line cannot slide off the crest it follows.
 
-use crate::mesh::{FaceId, Mesh, VertexId};
+use rayon::prelude::*;
+
+use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 use crate::{Point, Vector};
 
 use super::location::SurfaceLocation;
@@ -16,28 +18,49 @@ use super::location::SurfaceLocation;
 /// Fairs the line through `locations` on `mesh` with `iterations` steps (see the
 /// module documentation), keeping every point where `field` (one value per
 /// vertex) is at least `floor(i)` for point `i`. End points of open lines stay;
-/// a closed line (first point not repeated) moves all its points.
+/// a closed line (first point not repeated) moves all its points. Stops early
+/// once no point moves more than a thousandth of the mean point spacing.
 pub fn fair_on_surface(
     mesh: &Mesh,
     locations: &mut [SurfaceLocation],
     closed: bool,
     iterations: usize,
     field: &[f64],
-    floor: impl Fn(usize) -> f64,
+    floor: impl Fn(usize) -> f64 + Sync,
 ) {
     let n = locations.len();
     if n < 3 {
         return;
     }
     let movable = |i: usize| closed || (i > 0 && i + 1 < n);
+    let mut points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
+    // Settled: no point moves more than this (a thousandth of the mean spacing).
+    let spacing = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>() / n as f64;
+    let settled = 1e-3 * spacing;
+    let mut previous = points.clone();
     for _ in 0..iterations {
-        let points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
-        for i in (0..n).filter(|&i| movable(i)) {
-            let (prev, next) = (points[(i + n - 1) % n], points[(i + 1) % n]);
-            let target = points[i] + (nalgebra::center(&prev, &next) - points[i]) * 0.5;
-            if let Some(moved) = closest_admissible(mesh, &locations[i], &target, field, floor(i)) {
-                locations[i] = moved;
-            }
+        // Every point moves from the previous positions, so the points of a long
+        // line are moved in parallel.
+        let largest_move = locations
+            .par_iter_mut()
+            .zip(points.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .filter(|(i, _)| movable(*i))
+            .map(|(i, (at, point))| {
+                let (prev, next) = (previous[(i + n - 1) % n], previous[(i + 1) % n]);
+                let target = previous[i] + (nalgebra::center(&prev, &next) - previous[i]) * 0.5;
+                let Some(moved) = closest_admissible(mesh, at, &target, field, floor(i)) else {
+                    return 0.0;
+                };
+                *at = moved;
+                *point = moved.position(mesh);
+                (*point - previous[i]).norm()
+            })
+            .reduce(|| 0.0, f64::max);
+        previous.copy_from_slice(&points);
+        if largest_move <= settled {
+            break;
         }
     }
 }
@@ -52,37 +75,52 @@ fn closest_admissible(
     floor: f64,
 ) -> Option<SurfaceLocation> {
     let mut best: Option<(f64, SurfaceLocation)> = None;
-    for face in faces_around(mesh, at) {
-        let corners = mesh.face_points(face);
-        let barycentric = closest_on_triangle(target, &corners);
-        let candidate = SurfaceLocation::Face {
-            face: face.0,
-            barycentric,
-        };
+    let (centre, own_face) = nearest_vertex(mesh, at);
+    for face in mesh.vertex_faces(centre).chain(own_face) {
+        let corners = mesh.face_vertices(face);
+        let values = corners.map(|v| field[v.idx()]);
+        // No point of a face whose corners all lie below the floor is admissible.
+        if values.iter().all(|&value| value < floor) {
+            continue;
+        }
+        let points = corners.map(|v| mesh.position(v));
+        let barycentric = closest_on_triangle(target, &points);
         // NaN values are never admissible.
-        let value = candidate.interpolate(mesh, field);
+        let value: f64 = (0..3).map(|k| barycentric[k] * values[k]).sum();
         if value.is_nan() || value < floor {
             continue;
         }
-        let distance = (candidate.position(mesh) - target).norm_squared();
+        let position: Vector = (0..3).map(|k| points[k].coords * barycentric[k]).sum();
+        let distance = (position - target.coords).norm_squared();
         if best.as_ref().is_none_or(|(d, _)| distance < *d) {
-            best = Some((distance, candidate));
+            let location = SurfaceLocation::Face {
+                face: face.0,
+                barycentric,
+            };
+            best = Some((distance, location));
         }
     }
     best.map(|(_, location)| location)
 }
 
-/// The faces around the vertices `at` interpolates (its star, or the stars of its
-/// edge's or face's corners), each once.
-fn faces_around(mesh: &Mesh, at: &SurfaceLocation) -> Vec<FaceId> {
-    let mut faces: Vec<FaceId> = at
-        .weights(mesh)
-        .iter()
-        .flat_map(|&(v, _): &(VertexId, f64)| mesh.vertex_faces(v))
-        .collect();
-    faces.sort_unstable_by_key(|f| f.0);
-    faces.dedup();
-    faces
+/// The vertex with the largest weight at `at`, and the face `at` lies in (if it
+/// lies inside one): a point moves over the star of that vertex, which holds the
+/// faces across the edges it is nearest to.
+fn nearest_vertex(mesh: &Mesh, at: &SurfaceLocation) -> (VertexId, Option<FaceId>) {
+    match *at {
+        SurfaceLocation::Vertex { vertex } => (VertexId(vertex), None),
+        SurfaceLocation::Edge { edge, t } => {
+            let [a, b] = mesh.edge_vertices(EdgeId(edge));
+            (if t <= 0.5 { a } else { b }, None)
+        }
+        SurfaceLocation::Face { face, barycentric } => {
+            let corners = mesh.face_vertices(FaceId(face));
+            let k = (0..3)
+                .max_by(|&i, &j| barycentric[i].total_cmp(&barycentric[j]))
+                .unwrap_or(0);
+            (corners[k], Some(FaceId(face)))
+        }
+    }
 }
 
 /// Barycentric coordinates of the point of the triangle `corners` closest to `p`

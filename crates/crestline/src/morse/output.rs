@@ -1,5 +1,7 @@
 //! The 1-cells of the simplified complex as feature lines.
 
+use rayon::prelude::*;
+
 use crate::lines::surface_fair::fair_on_surface;
 use crate::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
@@ -57,7 +59,7 @@ pub fn lines(
     let fairing = CrestFairing::new(values, config.smooth_iterations);
     let mut drawn_faces = vec![false; mesh.face_count()];
     let mut drawn_vertices = vec![false; mesh.vertex_count()];
-    let mut lines = FeatureLines::new(String::new());
+    let mut cells = Vec::new();
     for (s, strength) in shown {
         let saddle = &hierarchy.saddles[s];
         let mut polylines = Vec::new();
@@ -70,10 +72,21 @@ pub fn lines(
             let points = descending_points(mesh, hierarchy, saddle.vertices, &mut drawn_vertices);
             polylines.push((LineKind::Descending, points));
         }
-        for (kind, locations) in polylines {
-            lines.push(polyline(mesh, values, kind, strength, locations, &fairing));
-        }
+        cells.extend(
+            polylines
+                .into_iter()
+                .map(|(kind, locations)| (kind, strength, locations)),
+        );
     }
+    // The walks above mark what is drawn, in order; the fairing of each line is
+    // independent.
+    let mut lines = FeatureLines::new(String::new());
+    lines.lines = cells
+        .into_par_iter()
+        .map(|(kind, strength, locations)| {
+            polyline(mesh, values, kind, strength, locations, &fairing)
+        })
+        .collect();
     lines
 }
 
