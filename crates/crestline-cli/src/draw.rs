@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use crate::report::Report;
 use crestline::curvature::estimate_curvature;
 use crestline::draw::{
-    borders, creases, group_name, silhouettes, suggestive_contours, svg_document, visible_drawing,
-    write_png, write_svg, Camera, DepthBuffer, DrawOptions, Projection, Style, SuggestiveOptions,
-    View,
+    borders, check_taper, creases, group_name, silhouettes, suggestive_contours, svg_document,
+    visible_drawing, write_png, write_svg, Camera, DepthBuffer, DrawOptions, Projection, Style,
+    SuggestiveOptions, View,
 };
 use crestline::lines::{FeatureLines, LineKind};
 use crestline::mesh::Mesh;
@@ -74,6 +74,14 @@ pub struct DrawArgs {
     /// JSON file overriding colours and widths per kind of line.
     #[arg(long, value_name = "FILE")]
     pub style: Option<PathBuf>,
+    /// Narrow the ends of every open line over this many pixels (as the style
+    /// key `taper` of every kind).
+    #[arg(long, value_name = "PX")]
+    pub taper: Option<f64>,
+    /// Thin every line with depth, down to half its width at the farthest point
+    /// (as the style key `width_by_depth` of every kind).
+    #[arg(long)]
+    pub width_by_depth: bool,
     /// Also render a PNG preview next to the SVG (same name, .png).
     #[arg(long)]
     pub png: bool,
@@ -102,6 +110,19 @@ pub struct FamilyArgs {
     pub suggestive: bool,
 }
 
+/// `style` with the line weights asked for on the command line.
+fn line_weights(mut style: Style, args: &DrawArgs) -> Result<Style> {
+    if let Some(taper) = args.taper {
+        check_taper("--taper", taper).map_err(Error::Argument)?;
+    }
+    for kind in LineKind::ALL {
+        let stroke = style.kind_mut(kind);
+        stroke.taper = args.taper.unwrap_or(stroke.taper);
+        stroke.width_by_depth |= args.width_by_depth;
+    }
+    Ok(style)
+}
+
 /// The files `draw` reads: the mesh, the smoothing weights and the style.
 fn inputs(args: &DrawArgs) -> Vec<Role<'_>> {
     let mut inputs = args.tracer.inputs(&args.mesh);
@@ -122,12 +143,14 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     .flatten()
     .collect();
     check_paths(&inputs(args), &outputs)?;
-    let style = args
-        .style
-        .as_deref()
-        .map(Style::read)
-        .transpose()?
-        .unwrap_or_default();
+    let style = line_weights(
+        args.style
+            .as_deref()
+            .map(Style::read)
+            .transpose()?
+            .unwrap_or_default(),
+        args,
+    )?;
     let options = DrawOptions {
         silhouettes: args.silhouettes,
         silhouette_clearance: args.silhouette_clearance,

@@ -58,8 +58,10 @@ fn the_draw_command_rejects_absurd_values_with_one_line() {
     let svg = dir.path().join("out.svg");
     let svg = svg.to_str().unwrap();
     let mesh = "meshes/bunny_small.obj";
-    let cases: [(&str, &[&str], &str); 7] = [
+    let cases: [(&str, &[&str], &str); 9] = [
         (svg, &["--size", "0x100"], "between 1 and 20000"),
+        (svg, &["--taper=-5"], "--taper must be from 0"),
+        (svg, &["--silhouette-clearance=nan"], "silhouette clearance"),
         (svg, &["--creases", "180"], "crease angle"),
         (svg, &["--creases", "-5"], "got -5"),
         (svg, &["--perspective", "180"], "field of view"),

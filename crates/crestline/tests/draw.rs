@@ -4,8 +4,8 @@
 use std::f64::consts::TAU;
 
 use crestline::draw::{
-    clear_of_silhouettes, draw, svg_document, write_png, Camera, DrawOptions, Drawing, Projection,
-    ScreenPath, SilhouetteIndex, Style, View,
+    clear_of_silhouettes, draw, svg_document, write_png, Camera, DrawOptions, Drawing, Group,
+    Projection, ScreenPath, SilhouetteIndex, Style, View,
 };
 use crestline::lines::{FeatureLines, LineKind, Polyline};
 use crestline::mesh::generate::{sphere, Sampling};
@@ -374,4 +374,74 @@ fn feature_lines_are_cleared_only_where_they_double_a_silhouette() {
     let first = kept[0].points[0];
     assert!(first[0] > 200.0 && first[1] > 103.0, "{first:?}");
     assert_eq!(kept[0].points.last(), leaving.points.last());
+}
+
+/// The stroke widths of the `<path>`s of group `id` in an SVG document, in order.
+fn path_widths(svg: &str, id: &str) -> Vec<f64> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let group = doc
+        .descendants()
+        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
+        .unwrap();
+    let default: f64 = group.attribute("stroke-width").unwrap().parse().unwrap();
+    group
+        .children()
+        .filter(|n| n.has_tag_name("path"))
+        .map(|n| {
+            n.attribute("stroke-width")
+                .map_or(default, |w| w.parse().unwrap())
+        })
+        .collect()
+}
+
+/// Tapered lines narrow towards both ends and keep their width in the middle;
+/// lines weighted by depth are thinner where they are farther, down to half.
+#[test]
+fn line_weights_follow_the_taper_and_the_depth() {
+    let mut path = screen_path([100.0, 100.0], [300.0, 100.0]);
+    // Depth grows from 0 at the left end to 1 at the right.
+    path.depths = path.points.iter().map(|p| (p[0] - 100.0) / 200.0).collect();
+    let drawing = Drawing {
+        source: "test".into(),
+        width: 400,
+        height: 200,
+        groups: vec![Group {
+            kind: LineKind::Ridge,
+            paths: vec![path],
+        }],
+    };
+    let mut style = Style::default();
+    let full = style.kind(LineKind::Ridge).width;
+    assert_eq!(
+        path_widths(&svg_document(&drawing, &style), "ridges"),
+        vec![full]
+    );
+
+    style.kind_mut(LineKind::Ridge).taper = 20.0;
+    let tapered = path_widths(&svg_document(&drawing, &style), "ridges");
+    let middle = tapered.len() / 2;
+    assert!(tapered.len() >= 5, "{tapered:?}");
+    assert!((tapered[middle] - full).abs() < 1e-9, "{tapered:?}");
+    assert!(
+        tapered[0] < 0.3 * full && tapered[tapered.len() - 1] < 0.3 * full,
+        "{tapered:?}"
+    );
+    assert!(
+        tapered[..=middle].windows(2).all(|w| w[0] <= w[1]),
+        "{tapered:?}"
+    );
+    assert!(
+        tapered[middle..].windows(2).all(|w| w[0] >= w[1]),
+        "{tapered:?}"
+    );
+
+    style.kind_mut(LineKind::Ridge).taper = 0.0;
+    style.kind_mut(LineKind::Ridge).width_by_depth = true;
+    let by_depth = path_widths(&svg_document(&drawing, &style), "ridges");
+    assert!((by_depth[0] - full).abs() < 1e-9, "{by_depth:?}");
+    assert!(
+        (by_depth[by_depth.len() - 1] - 0.5 * full).abs() < 0.06 * full,
+        "{by_depth:?}"
+    );
+    assert!(by_depth.windows(2).all(|w| w[0] >= w[1]), "{by_depth:?}");
 }

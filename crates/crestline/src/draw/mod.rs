@@ -51,7 +51,7 @@ pub use edge_lines::{borders, creases};
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
 pub use simplify::{douglas_peucker, douglas_peucker_kept};
-pub use style::{group_name, KindStyle, Style};
+pub use style::{check_taper, group_name, KindStyle, Style, MAX_TAPER};
 pub use suggestive::{suggestive_contours, SuggestiveOptions};
 pub use svg::{svg_document, write_svg};
 pub use visibility::visible_pieces;

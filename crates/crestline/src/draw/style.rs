@@ -15,6 +15,9 @@
 //! ([`group_name`]). Colours are `#rgb`, `#rrggbb` or a CSS colour name; widths are
 //! in pixels. With `width_by_strength`, a line's width is scaled by its strength
 //! relative to the median strength of its group, between half and twice the width.
+//! With `width_by_depth`, lines thin with depth, from the full width at the nearest
+//! point of the drawing to half of it at the farthest. `taper` (pixels, 0 for
+//! none) narrows the ends of open lines over that length, as a pen lifting off.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -47,6 +50,10 @@ pub struct KindStyle {
     pub width: f64,
     /// Scale each line's width by its strength (see the module docs).
     pub width_by_strength: bool,
+    /// Thin lines with depth (see the module docs).
+    pub width_by_depth: bool,
+    /// Length in pixels over which the ends of open lines narrow; 0 for none.
+    pub taper: f64,
 }
 
 /// The look of a drawing: a background and a stroke per kind of line.
@@ -68,6 +75,8 @@ impl Default for Style {
             color: color.to_string(),
             width,
             width_by_strength: false,
+            width_by_depth: false,
+            taper: 0.0,
         };
         let kinds = LineKind::ALL.map(|kind| match kind {
             LineKind::Ridge => stroke("#c0392b", 1.2),
@@ -106,6 +115,8 @@ struct KindOverride {
     color: Option<String>,
     width: Option<f64>,
     width_by_strength: Option<bool>,
+    width_by_depth: Option<bool>,
+    taper: Option<f64>,
 }
 
 /// Tell a key given as `null` (`Some(None)`) from a missing key (`None`).
@@ -179,8 +190,29 @@ impl Style {
             if let Some(by_strength) = entry.width_by_strength {
                 style.width_by_strength = by_strength;
             }
+            if let Some(by_depth) = entry.width_by_depth {
+                style.width_by_depth = by_depth;
+            }
+            if let Some(taper) = entry.taper {
+                check_taper(&format!("kinds.{name}.taper"), taper)?;
+                style.taper = taper;
+            }
         }
         Ok(self)
+    }
+}
+
+/// The longest taper a style may ask for, in pixels.
+pub const MAX_TAPER: f64 = 1000.0;
+
+/// Accept a taper length from 0 to [`MAX_TAPER`] pixels.
+pub fn check_taper(key: &str, taper: f64) -> std::result::Result<(), String> {
+    if (0.0..=MAX_TAPER).contains(&taper) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{key} must be from 0 to {MAX_TAPER} pixels, got {taper}"
+        ))
     }
 }
 

@@ -31,15 +31,18 @@ pub fn svg_document(drawing: &Drawing, style: &Style) -> String {
             "<rect id=\"background\" x=\"0\" y=\"0\" width=\"{width}\" height=\"{height}\" fill=\"{background}\"/>"
         );
     }
+    let depths = depth_range(drawing);
     for group in &drawing.groups {
-        write_group(&mut svg, group, style.kind(group.kind));
+        write_group(&mut svg, group, style.kind(group.kind), depths);
     }
     svg.push_str("</svg>\n");
     svg
 }
 
-/// One `<g>` with the stroke of its kind and a `<path>` per piece.
-fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle) {
+/// One `<g>` with the stroke of its kind and a `<path>` per piece; a piece whose
+/// width varies along it (by depth, or tapered) is written as short paths of
+/// constant width ([`write_varying`]). `depths` is the drawing's depth range.
+fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle, depths: (f64, f64)) {
     let _ = writeln!(
         svg,
         "<g id=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linecap=\"round\" stroke-linejoin=\"round\">",
@@ -49,25 +52,119 @@ fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle) {
     );
     let median = median_strength(&group.paths);
     for path in &group.paths {
-        svg.push_str("<path d=\"");
-        path_data(svg, path);
-        svg.push('"');
+        let mut width = stroke.width;
         if stroke.width_by_strength && median > 0.0 {
-            let factor = (path.strength / median).clamp(WIDTH_FACTORS.0, WIDTH_FACTORS.1);
-            let _ = write!(svg, " stroke-width=\"{:.2}\"", stroke.width * factor);
+            width *= (path.strength / median).clamp(WIDTH_FACTORS.0, WIDTH_FACTORS.1);
+        }
+        let depth = stroke.width_by_depth && path.depths.len() == path.points.len();
+        let taper = if path.closed { 0.0 } else { stroke.taper };
+        if depth || taper > 0.0 {
+            let factors = width_factors(path, depth.then_some(depths), taper);
+            write_varying(svg, path, width, &factors);
+            continue;
+        }
+        svg.push_str("<path d=\"");
+        path_data(svg, &path.points, path.closed);
+        svg.push('"');
+        if width != stroke.width {
+            let _ = write!(svg, " stroke-width=\"{width:.2}\"");
         }
         svg.push_str("/>\n");
     }
     svg.push_str("</g>\n");
 }
 
+/// The smallest share of the width a line keeps at its farthest point (by depth)
+/// and at its very ends (tapered).
+const THINNEST: (f64, f64) = (0.5, 0.15);
+
+/// The width factor at every point of `path`: from 1 at the nearest depth of the
+/// drawing to [`THINNEST`]`.0` at the farthest (if `depths` is given), times a
+/// ramp from [`THINNEST`]`.1` at each end up to 1 at `taper` pixels from it.
+fn width_factors(path: &ScreenPath, depths: Option<(f64, f64)>, taper: f64) -> Vec<f64> {
+    let mut along = Vec::with_capacity(path.points.len());
+    let mut length = 0.0;
+    for (i, p) in path.points.iter().enumerate() {
+        if i > 0 {
+            let q = path.points[i - 1];
+            length += (p[0] - q[0]).hypot(p[1] - q[1]);
+        }
+        along.push(length);
+    }
+    along
+        .iter()
+        .enumerate()
+        .map(|(i, &s)| {
+            let by_depth = depths.map_or(1.0, |(near, far)| {
+                let t = if far > near {
+                    (path.depths[i] - near) / (far - near)
+                } else {
+                    0.0
+                };
+                1.0 - (1.0 - THINNEST.0) * t.clamp(0.0, 1.0)
+            });
+            let by_taper = if taper > 0.0 {
+                let ramp = (s.min(length - s) / taper).clamp(0.0, 1.0);
+                THINNEST.1 + (1.0 - THINNEST.1) * ramp
+            } else {
+                1.0
+            };
+            by_depth * by_taper
+        })
+        .collect()
+}
+
+/// Steps of the width a varying path is split at, as a share of its width.
+const WIDTH_STEP: f64 = 0.1;
+
+/// `path` as consecutive `<path>`s over which the width (`width` times the
+/// point's factor, rounded to a [`WIDTH_STEP`] of the width) is constant; they
+/// share their end points, and round caps join them.
+fn write_varying(svg: &mut String, path: &ScreenPath, width: f64, factors: &[f64]) {
+    let level = |i: usize| (factors[i] / WIDTH_STEP).round();
+    let mut points = path.points.clone();
+    let mut factors = factors.to_vec();
+    if path.closed {
+        points.extend(points.first().copied());
+        factors.extend(factors.first().copied());
+    }
+    let mut start = 0;
+    for end in 1..points.len() {
+        let last = end + 1 == points.len();
+        if last || level(end) != level(start) {
+            let w = width * level(start).max(1.0) * WIDTH_STEP;
+            svg.push_str("<path d=\"");
+            path_data(svg, &points[start..=end], false);
+            let _ = writeln!(svg, "\" stroke-width=\"{w:.2}\"/>");
+            start = end;
+        }
+    }
+}
+
+/// The nearest and farthest depth of any point of `drawing` ((0, 0) without
+/// depths).
+fn depth_range(drawing: &Drawing) -> (f64, f64) {
+    let depths = drawing
+        .groups
+        .iter()
+        .flat_map(|g| &g.paths)
+        .flat_map(|p| &p.depths)
+        .copied()
+        .filter(|d| d.is_finite());
+    depths
+        .fold(None, |range: Option<(f64, f64)>, d| {
+            Some(range.map_or((d, d), |(near, far)| (near.min(d), far.max(d))))
+        })
+        .unwrap_or((0.0, 0.0))
+}
+
 /// `M x y L x y ... [Z]` with two decimals.
-fn path_data(svg: &mut String, path: &ScreenPath) {
-    for (i, [x, y]) in path.points.iter().enumerate() {
+fn path_data(svg: &mut String, points: &[[f64; 2]], closed: bool) {
+    for (i, [x, y]) in points.iter().enumerate() {
         let command = if i == 0 { 'M' } else { 'L' };
         let _ = write!(svg, "{command}{x:.2} {y:.2}");
     }
-    if path.closed {
+    if closed {
         svg.push('Z');
     }
 }
