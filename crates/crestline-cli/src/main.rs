@@ -9,6 +9,7 @@ mod info;
 mod load;
 mod morse;
 mod outputs;
+mod plot;
 mod report;
 mod ridges;
 

@@ -7,12 +7,15 @@ use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
-use crestline::morse::{Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simplification};
+use crestline::morse::{
+    Cancellation, Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simplification,
+};
 use crestline::Result;
 
 use super::failure::explain;
 use super::load::{load_mesh, report_with_progress, warn_repairs, StrictArg};
 use super::outputs::{check_paths, OutputSet, Role};
+use super::plot::write_hierarchy_png;
 use super::ReportArg;
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
@@ -77,9 +80,16 @@ pub struct MorseCommand {
     pub estimator: Estimator,
     #[command(flatten)]
     pub morse: MorseArgs,
-    /// Write the cancellation sequence (saddle, extremum, t) as JSON.
+    /// Write the cancellation sequence as JSON: per cancellation the saddle, the
+    /// extremum, the criterion t, the significance (the largest t so far, so it
+    /// never decreases) and the saddles left.
     #[arg(long, value_name = "FILE")]
     pub hierarchy: Option<PathBuf>,
+    /// Plot significance against saddles left (PNG) to choose --keep-saddles: a
+    /// knee in the curve is a natural place to stop. Run with --keep-saddles 0
+    /// to see the whole hierarchy.
+    #[arg(long, value_name = "FILE.png")]
+    pub hierarchy_plot: Option<PathBuf>,
     #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
@@ -140,6 +150,9 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     let outputs: Vec<Role<'_>> = [
         Some(("-o", args.output.as_path())),
         args.hierarchy.as_deref().map(|h| ("--hierarchy", h)),
+        args.hierarchy_plot
+            .as_deref()
+            .map(|h| ("--hierarchy-plot", h)),
         args.report.output(),
     ]
     .into_iter()
@@ -162,18 +175,57 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     if let Some(path) = &args.hierarchy {
         files.write(path, |p| write_hierarchy(p, &summary))?;
     }
+    if let Some(path) = &args.hierarchy_plot {
+        let points: Vec<(f64, f64)> = hierarchy_steps(&summary)
+            .map(|step| (step.saddles_left as f64, step.significance))
+            .collect();
+        let kept = summary.after.saddles as f64;
+        files.write(path, |p| write_hierarchy_png(p, &points, kept))?;
+    }
     if let Some(path) = &args.report.report {
         files.write(path, |p| report.write(p))?;
     }
     files.commit()
 }
 
-/// Write the cancellation sequence as `{"cancellations": [...]}`.
+/// One cancellation of the hierarchy as written.
+#[derive(serde::Serialize)]
+struct Step<'a> {
+    #[serde(flatten)]
+    cancellation: &'a Cancellation,
+    /// The largest criterion value so far: non-decreasing along the sequence.
+    significance: f64,
+    /// Saddles left after this cancellation.
+    saddles_left: usize,
+}
+
+/// The cancellations with their significance and the saddles left.
+fn hierarchy_steps(summary: &MorseSummary) -> impl Iterator<Item = Step<'_>> {
+    let initial = summary.initial.saddles;
+    summary.hierarchy.iter().enumerate().scan(
+        f64::NEG_INFINITY,
+        move |significance, (k, cancellation)| {
+            *significance = significance.max(cancellation.t);
+            Some(Step {
+                cancellation,
+                significance: *significance,
+                saddles_left: initial.saturating_sub(k + 1),
+            })
+        },
+    )
+}
+
+/// Write the cancellation sequence as
+/// `{"initial_saddles": n, "cancellations": [...]}`.
 fn write_hierarchy(path: &Path, summary: &MorseSummary) -> Result<()> {
+    let steps: Vec<Step<'_>> = hierarchy_steps(summary).collect();
     crestline::atomic::write_atomically(path, |w| {
         serde_json::to_writer_pretty(
             &mut *w,
-            &serde_json::json!({ "cancellations": summary.hierarchy }),
+            &serde_json::json!({
+                "initial_saddles": summary.initial.saddles,
+                "cancellations": steps,
+            }),
         )?;
         std::io::Write::write_all(w, b"\n")
     })

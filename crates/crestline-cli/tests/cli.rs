@@ -251,10 +251,11 @@ fn smoothing_weights_come_from_a_text_file_or_a_property() {
 #[test]
 fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
     let dir = tempfile::tempdir().unwrap();
-    let (out, report, hierarchy) = (
+    let (out, report, hierarchy, plot) = (
         dir.path().join("m.json"),
         dir.path().join("r.json"),
         dir.path().join("h.json"),
+        dir.path().join("h.png"),
     );
     let run = crestline(&[
         "morse",
@@ -267,6 +268,8 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
         report.to_str().unwrap(),
         "--hierarchy",
         hierarchy.to_str().unwrap(),
+        "--hierarchy-plot",
+        plot.to_str().unwrap(),
     ]);
     assert!(run.status.success(), "{}", stderr(&run));
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
@@ -285,6 +288,23 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
     assert!(cancelled
         .iter()
         .all(|c| c["t"].is_number() && c["saddle"].is_u64()));
+    // Significance never decreases, is at least each t, and one saddle goes per
+    // cancellation down to the 20 kept.
+    let field = |c: &serde_json::Value, key: &str| c[key].as_f64().unwrap();
+    assert!(cancelled
+        .windows(2)
+        .all(|w| field(&w[0], "significance") <= field(&w[1], "significance")));
+    assert!(cancelled
+        .iter()
+        .all(|c| field(c, "significance") >= field(c, "t")));
+    let left: Vec<u64> = cancelled
+        .iter()
+        .map(|c| c["saddles_left"].as_u64().unwrap())
+        .collect();
+    assert_eq!(left.first(), Some(&(initial as u64 - 1)));
+    assert_eq!(left.last(), Some(&20));
+    let png = std::fs::read(&plot).unwrap();
+    assert!(png.starts_with(b"\x89PNG"), "not a PNG");
     let lines = crestline::lines::read_json(&out).unwrap();
     assert!(lines
         .iter()
