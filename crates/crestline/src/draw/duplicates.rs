@@ -11,8 +11,9 @@ use super::simplify::distance_to_chord;
 use super::ScreenPath;
 
 /// Whether lines of `kind` are cleared from beside the silhouettes: the crest
-/// lines (ridges, valleys, Morse-Smale cells, crests of images), not the
-/// silhouettes themselves nor the other families.
+/// lines (ridges, valleys, Morse-Smale cells, crests of images) and creases, not
+/// the silhouettes themselves, borders or suggestive contours (which by
+/// definition keep away from silhouettes).
 pub fn runs_along_outlines(kind: LineKind) -> bool {
     matches!(
         kind,
@@ -21,6 +22,7 @@ pub fn runs_along_outlines(kind: LineKind) -> bool {
             | LineKind::Ascending
             | LineKind::Descending
             | LineKind::Crest
+            | LineKind::Crease
     )
 }
 

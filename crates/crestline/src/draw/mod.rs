@@ -148,7 +148,7 @@ pub struct DrawOptions {
     pub sample_spacing: f64,
     /// Douglas–Peucker tolerance of the drawn paths, in pixels.
     pub simplify_tolerance: f64,
-    /// Feature lines (ridges, valleys, Morse cells, crests) are not drawn where
+    /// Feature lines (ridges, valleys, Morse cells, crests, creases) are not drawn where
     /// they run beside a visible silhouette (within [`PARALLEL_ANGLE`]) closer
     /// than this many pixels: the outline already shows that crest. 0 keeps them.
     pub silhouette_clearance: f64,

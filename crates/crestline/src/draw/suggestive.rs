@@ -17,6 +17,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
+use crate::lines::fair::fair_polyline;
 use crate::lines::zero_set::{LinePoint, ZeroSet};
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::{EdgeId, FaceId, Mesh};
@@ -40,6 +41,10 @@ pub struct SuggestiveOptions {
     pub min_derivative: f64,
     /// Lines shorter than this many mean edge lengths are dropped.
     pub min_length: f64,
+    /// Fairing iterations of the lines ([`fair_polyline`], each point kept
+    /// within half a mean edge length of the zero set): the zero set of a
+    /// scan's noisy curvature zigzags from edge to edge.
+    pub fairing: usize,
 }
 
 impl Default for SuggestiveOptions {
@@ -48,6 +53,7 @@ impl Default for SuggestiveOptions {
             min_view_angle: 15.0,
             min_derivative: 0.1,
             min_length: 8.0,
+            fairing: 10,
         }
     }
 }
@@ -142,13 +148,22 @@ pub fn suggestive_contours(
         .flatten()
         .map(|[a, b]| [LinePoint::Edge(a), LinePoint::Edge(b)])
         .collect();
-    Ok(zero_set_lines(
+    let mut lines = zero_set_lines(
         mesh,
         &zero_set,
         &segments,
         LineKind::Suggestive,
         options.min_length,
-    ))
+    );
+    if options.fairing > 0 {
+        let h = mesh.mean_edge_length();
+        for line in &mut lines.lines {
+            fair_polyline(&mut line.points, line.closed, options.fairing, 0.5 * h);
+            // Faired points leave the surface.
+            line.locations.clear();
+        }
+    }
+    Ok(lines)
 }
 
 /// The unit vector from `p` towards the viewer.

@@ -83,25 +83,32 @@ impl SystemPattern {
             col_ptr,
             ends,
         };
+        // Edges between the same two vertices (left by repairs of non-manifold
+        // scans) share their entry, where their weights add up.
+        let mut col_ptr = vec![0; n + 1];
         for v in 0..n {
             let column = &mut entries[pattern.col_ptr[v]..pattern.col_ptr[v + 1]];
             column.sort_unstable();
-            for (offset, &(row, e)) in column.iter().enumerate() {
-                let slot = pattern.col_ptr[v] + offset;
-                pattern.row_idx.push(row);
+            for (k, &(row, e)) in column.iter().enumerate() {
+                if k == 0 || column[k - 1].0 != row {
+                    pattern.row_idx.push(row);
+                }
+                let slot = pattern.row_idx.len() - 1;
                 match e {
                     usize::MAX => pattern.diagonal[v] = slot,
                     // Column v is q's for the entry (p, q) with p = row.
                     e => pattern.edges[e][usize::from(pattern.ends[e][1] == v)] = slot,
                 }
             }
+            col_ptr[v + 1] = pattern.row_idx.len();
         }
+        pattern.col_ptr = col_ptr;
         pattern
     }
 
     /// The matrix with `mass` on the diagonal plus, for every edge (p, q) with
     /// weight w = `weights[e]` and sign σ = `sign(p, q)`, K_pp += w, K_qq += w and
-    /// K_pq = K_qp = −σ w (summed in edge order).
+    /// K_pq += −σ w, K_qp += −σ w (summed in edge order).
     fn matrix(
         &self,
         mass: &[f64],
@@ -116,8 +123,8 @@ impl SystemPattern {
             values[self.diagonal[p]] += w;
             values[self.diagonal[q]] += w;
             let off = -w * sign(p, q);
-            values[slots[0]] = off;
-            values[slots[1]] = off;
+            values[slots[0]] += off;
+            values[slots[1]] += off;
         }
         SymmetricMatrix::from_csc(
             self.diagonal.len(),
