@@ -4,13 +4,12 @@
 
 use rayon::prelude::*;
 
-use crate::lines::chain::chain;
-use crate::lines::zero_set::{LinePoint, ZeroSet};
-use crate::lines::{FeatureLines, LineKind, Polyline};
+use crate::lines::zero_set::ZeroSet;
+use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
-use crate::Point;
 
 use super::camera::Camera;
+use super::zero_lines::zero_set_lines;
 
 /// The silhouettes of `mesh` seen by `camera`, as [`LineKind::Silhouette`] lines
 /// lying on the mesh edges. Per vertex g = n_v · (eye − p_v) (n_v the angle-weighted
@@ -33,22 +32,5 @@ pub fn silhouettes(mesh: &Mesh, camera: &Camera, min_length: f64) -> FeatureLine
         .collect();
     let zero_set = ZeroSet::new(facing);
     let segments = zero_set.segments(mesh);
-    let h = mesh.mean_edge_length();
-    let locate = |point: LinePoint| (zero_set.location(mesh, point).position(mesh), 1.0 / h);
-    let mut lines = FeatureLines::new(String::new());
-    for piece in chain(&segments, locate, min_length) {
-        let locations: Vec<_> = piece
-            .points
-            .iter()
-            .map(|&p| zero_set.location(mesh, p))
-            .collect();
-        let points: Vec<Point> = locations.iter().map(|at| at.position(mesh)).collect();
-        if points.len() >= if piece.closed { 3 } else { 2 } {
-            lines.push(
-                Polyline::new(LineKind::Silhouette, piece.closed, piece.strength, points)
-                    .with_locations(locations),
-            );
-        }
-    }
-    lines
+    zero_set_lines(mesh, &zero_set, &segments, LineKind::Silhouette, min_length)
 }
