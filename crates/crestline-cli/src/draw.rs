@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use crate::report::Report;
 use crestline::curvature::estimate_curvature;
 use crestline::draw::{
-    borders, check_taper, creases, group_name, silhouettes, suggestive_contours, svg_document,
-    visible_drawing, write_png, write_svg, Camera, DepthBuffer, DrawOptions, Projection, Style,
-    SuggestiveOptions, View,
+    borders, check_taper, creases, group_name, runs_along_outlines, silhouettes,
+    suggestive_contours, svg_document, visible_drawing, with_facing, write_png, write_svg, Camera,
+    DepthBuffer, DrawOptions, Projection, Style, SuggestiveOptions, View,
 };
 use crestline::lines::{FeatureLines, LineKind};
 use crestline::mesh::Mesh;
@@ -82,6 +82,10 @@ pub struct DrawArgs {
     /// (as the style key `width_by_depth` of every kind).
     #[arg(long)]
     pub width_by_depth: bool,
+    /// Fade the ridges, valleys and Morse-Smale lines where the surface turns away
+    /// from the viewer (as the style key `fade_by_view` of those kinds).
+    #[arg(long)]
+    pub fade_by_view: bool,
     /// Also render a PNG preview next to the SVG (same name, .png).
     #[arg(long)]
     pub png: bool,
@@ -119,6 +123,7 @@ fn line_weights(mut style: Style, args: &DrawArgs) -> Result<Style> {
         let stroke = style.kind_mut(kind);
         stroke.taper = args.taper.unwrap_or(stroke.taper);
         stroke.width_by_depth |= args.width_by_depth;
+        stroke.fade_by_view |= args.fade_by_view && runs_along_outlines(kind);
     }
     Ok(style)
 }
@@ -199,6 +204,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         })?;
     }
     let drawing = report.stage("visibility", || {
+        with_facing(&mesh, &camera, &mut lines);
         let buffer = DepthBuffer::render(&mesh, &camera, options.supersampling);
         visible_drawing(&lines, &camera, &buffer, &options)
     })?;

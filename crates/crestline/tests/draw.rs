@@ -4,10 +4,10 @@
 use std::f64::consts::TAU;
 
 use crestline::draw::{
-    clear_of_silhouettes, draw, svg_document, write_png, Camera, DrawOptions, Drawing, Group,
-    Projection, ScreenPath, SilhouetteIndex, Style, View,
+    clear_of_silhouettes, draw, svg_document, with_facing, write_png, Camera, DrawOptions, Drawing,
+    Group, Projection, ScreenPath, SilhouetteIndex, Style, View, FACING,
 };
-use crestline::lines::{FeatureLines, LineKind, Polyline};
+use crestline::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
 use crestline::mesh::generate::{sphere, Sampling};
 use crestline::mesh::Mesh;
 use crestline::Point;
@@ -346,6 +346,7 @@ fn screen_path(from: [f64; 2], to: [f64; 2]) -> ScreenPath {
         .collect();
     ScreenPath {
         depths: vec![0.0; points.len()],
+        facings: vec![1.0; points.len()],
         points,
         closed: false,
         strength: 1.0,
@@ -394,13 +395,33 @@ fn path_widths(svg: &str, id: &str) -> Vec<f64> {
         .collect()
 }
 
+/// The stroke opacities of the `<path>`s of group `id`, in order.
+fn path_opacities(svg: &str, id: &str) -> Vec<f64> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let group = doc
+        .descendants()
+        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
+        .unwrap();
+    group
+        .children()
+        .filter(|n| n.has_tag_name("path"))
+        .map(|n| {
+            n.attribute("stroke-opacity")
+                .map_or(1.0, |o| o.parse().unwrap())
+        })
+        .collect()
+}
+
 /// Tapered lines narrow towards both ends and keep their width in the middle;
-/// lines weighted by depth are thinner where they are farther, down to half.
+/// lines weighted by depth are thinner where they are farther, down to half;
+/// lines faded by view are opaque where the surface faces the viewer and vanish
+/// where it is seen edge-on.
 #[test]
-fn line_weights_follow_the_taper_and_the_depth() {
+fn line_weights_follow_the_taper_the_depth_and_the_view() {
     let mut path = screen_path([100.0, 100.0], [300.0, 100.0]);
-    // Depth grows from 0 at the left end to 1 at the right.
+    // Depth grows from 0 at the left end to 1 at the right, n · v falls from 1 to 0.
     path.depths = path.points.iter().map(|p| (p[0] - 100.0) / 200.0).collect();
+    path.facings = path.depths.iter().map(|d| 1.0 - d).collect();
     let drawing = Drawing {
         source: "test".into(),
         width: 400,
@@ -444,4 +465,31 @@ fn line_weights_follow_the_taper_and_the_depth() {
         "{by_depth:?}"
     );
     assert!(by_depth.windows(2).all(|w| w[0] >= w[1]), "{by_depth:?}");
+}
+
+/// n · v along a line on a sphere seen along −z is the cosine z / r of its points.
+#[test]
+fn facing_is_the_cosine_between_normal_and_view() {
+    let mesh = sphere(2.0, 4000, Sampling::jittered(5)).unwrap().mesh;
+    let locations: Vec<SurfaceLocation> = (0..mesh.vertex_count() as u32)
+        .step_by(97)
+        .map(|vertex| SurfaceLocation::Vertex { vertex })
+        .collect();
+    let points: Vec<Point> = locations.iter().map(|at| at.position(&mesh)).collect();
+    let mut lines = FeatureLines::new(String::new());
+    lines
+        .push(Polyline::new(LineKind::Ridge, false, 1.0, points.clone()).with_locations(locations));
+    let camera = Camera::framing(
+        mesh.positions(),
+        View::default(),
+        Projection::Orthographic,
+        400,
+        400,
+    )
+    .unwrap();
+    with_facing(&mesh, &camera, &mut lines);
+    let facing = &lines.lines[0].values[FACING];
+    for (p, f) in points.iter().zip(facing) {
+        assert!((f - p.z / p.coords.norm()).abs() < 0.05, "{p}: {f}");
+    }
 }

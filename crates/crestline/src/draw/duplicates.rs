@@ -125,8 +125,9 @@ pub fn clear_of_silhouettes(
     }
     let piece = |range: std::ops::Range<usize>| ScreenPath {
         points: points[range.clone()].to_vec(),
-        // Paths made without depths keep none.
+        // Paths made without depths or facings keep none.
         depths: path.depths.get(range.clone()).unwrap_or_default().to_vec(),
+        facings: path.facings.get(range.clone()).unwrap_or_default().to_vec(),
         closed: false,
         strength: path.strength,
     };

@@ -64,6 +64,10 @@ pub struct ScreenPath {
     /// The depth of every point along the viewing direction (mesh units; larger
     /// is farther), for widths that vary with depth.
     pub depths: Vec<f64>,
+    /// n · v at every point (the surface normal against the unit vector towards
+    /// the viewer), for lines that fade where the surface turns away; empty if
+    /// the line did not carry it ([`with_facing`]).
+    pub facings: Vec<f64>,
     /// Whether the piece is a whole closed line.
     pub closed: bool,
     /// The strength of the line the piece comes from.
@@ -77,6 +81,7 @@ impl ScreenPath {
         let kept = douglas_peucker_kept(&self.points, self.closed, tolerance);
         retain_flagged(&mut self.points, &kept);
         retain_flagged(&mut self.depths, &kept);
+        retain_flagged(&mut self.facings, &kept);
     }
 }
 
@@ -122,6 +127,37 @@ impl Drawing {
             .map(|g| (group_name(g.kind), g.paths.len()))
             .collect()
     }
+}
+
+/// The per-point value of a line that holds n · v, the cosine between the surface
+/// normal and the direction towards the viewer ([`with_facing`]).
+pub const FACING: &str = "facing";
+
+/// Gives every line of `lines` that keeps its surface locations the value
+/// [`FACING`]: n · v at each point, with n the vertex normals interpolated at the
+/// location and v the unit vector towards the viewer. Lines faded by view
+/// ([`KindStyle::fade_by_view`]) need it.
+pub fn with_facing(mesh: &Mesh, camera: &Camera, lines: &mut FeatureLines) {
+    let normals = mesh.vertex_normals();
+    lines.lines.par_iter_mut().for_each(|line| {
+        if line.locations.len() != line.points.len() {
+            return;
+        }
+        let facing = line
+            .locations
+            .iter()
+            .map(|at| {
+                let normal: crate::Vector = at
+                    .weights(mesh)
+                    .iter()
+                    .map(|&(v, w)| normals[v.idx()] * w)
+                    .sum();
+                let toward = camera.toward_viewer(&at.position(mesh));
+                normal.normalize().dot(&toward.normalize())
+            })
+            .collect();
+        line.values.insert(FACING.to_string(), facing);
+    });
 }
 
 /// The settings of [`draw`] and [`visible_drawing`].
@@ -239,6 +275,7 @@ pub fn draw(
         all.lines
             .extend(suggestive_contours(mesh, &field, camera, suggestive)?.lines);
     }
+    with_facing(mesh, camera, &mut all);
     let buffer = DepthBuffer::render(mesh, camera, options.supersampling);
     visible_drawing(&all, camera, &buffer, options)
 }

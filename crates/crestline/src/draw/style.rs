@@ -18,6 +18,8 @@
 //! With `width_by_depth`, lines thin with depth, from the full width at the nearest
 //! point of the drawing to half of it at the farthest. `taper` (pixels, 0 for
 //! none) narrows the ends of open lines over that length, as a pen lifting off.
+//! With `fade_by_view`, lines fade where the surface turns away from the viewer
+//! (fully drawn where n · v ≥ ½, gone where the surface is seen edge-on).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -54,6 +56,9 @@ pub struct KindStyle {
     pub width_by_depth: bool,
     /// Length in pixels over which the ends of open lines narrow; 0 for none.
     pub taper: f64,
+    /// Fade lines where the surface turns away from the viewer (see the module
+    /// docs); lines that keep their surface locations only.
+    pub fade_by_view: bool,
 }
 
 /// The look of a drawing: a background and a stroke per kind of line.
@@ -77,6 +82,7 @@ impl Default for Style {
             width_by_strength: false,
             width_by_depth: false,
             taper: 0.0,
+            fade_by_view: false,
         };
         let kinds = LineKind::ALL.map(|kind| match kind {
             LineKind::Ridge => stroke("#c0392b", 1.2),
@@ -117,6 +123,7 @@ struct KindOverride {
     width_by_strength: Option<bool>,
     width_by_depth: Option<bool>,
     taper: Option<f64>,
+    fade_by_view: Option<bool>,
 }
 
 /// Tell a key given as `null` (`Some(None)`) from a missing key (`None`).
@@ -192,6 +199,9 @@ impl Style {
             }
             if let Some(by_depth) = entry.width_by_depth {
                 style.width_by_depth = by_depth;
+            }
+            if let Some(fade) = entry.fade_by_view {
+                style.fade_by_view = fade;
             }
             if let Some(taper) = entry.taper {
                 check_taper(&format!("kinds.{name}.taper"), taper)?;

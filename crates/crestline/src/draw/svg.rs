@@ -40,8 +40,9 @@ pub fn svg_document(drawing: &Drawing, style: &Style) -> String {
 }
 
 /// One `<g>` with the stroke of its kind and a `<path>` per piece; a piece whose
-/// width varies along it (by depth, or tapered) is written as short paths of
-/// constant width ([`write_varying`]). `depths` is the drawing's depth range.
+/// width or opacity varies along it (by depth, tapered, faded by view) is written
+/// as short paths of constant width and opacity ([`write_varying`]). `depths` is
+/// the drawing's depth range.
 fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle, depths: (f64, f64)) {
     let _ = writeln!(
         svg,
@@ -56,11 +57,14 @@ fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle, depths: (f64
         if stroke.width_by_strength && median > 0.0 {
             width *= (path.strength / median).clamp(WIDTH_FACTORS.0, WIDTH_FACTORS.1);
         }
-        let depth = stroke.width_by_depth && path.depths.len() == path.points.len();
-        let taper = if path.closed { 0.0 } else { stroke.taper };
-        if depth || taper > 0.0 {
-            let factors = width_factors(path, depth.then_some(depths), taper);
-            write_varying(svg, path, width, &factors);
+        let profile = Profile {
+            depths: (stroke.width_by_depth && path.depths.len() == path.points.len())
+                .then_some(depths),
+            taper: if path.closed { 0.0 } else { stroke.taper },
+            fade: stroke.fade_by_view && path.facings.len() == path.points.len(),
+        };
+        if profile.varies() {
+            write_varying(svg, path, width, &profile.along(path));
             continue;
         }
         svg.push_str("<path d=\"");
@@ -78,64 +82,101 @@ fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle, depths: (f64
 /// and at its very ends (tapered).
 const THINNEST: (f64, f64) = (0.5, 0.15);
 
-/// The width factor at every point of `path`: from 1 at the nearest depth of the
-/// drawing to [`THINNEST`]`.0` at the farthest (if `depths` is given), times a
-/// ramp from [`THINNEST`]`.1` at each end up to 1 at `taper` pixels from it.
-fn width_factors(path: &ScreenPath, depths: Option<(f64, f64)>, taper: f64) -> Vec<f64> {
-    let mut along = Vec::with_capacity(path.points.len());
-    let mut length = 0.0;
-    for (i, p) in path.points.iter().enumerate() {
-        if i > 0 {
-            let q = path.points[i - 1];
-            length += (p[0] - q[0]).hypot(p[1] - q[1]);
-        }
-        along.push(length);
-    }
-    along
-        .iter()
-        .enumerate()
-        .map(|(i, &s)| {
-            let by_depth = depths.map_or(1.0, |(near, far)| {
-                let t = if far > near {
-                    (path.depths[i] - near) / (far - near)
-                } else {
-                    0.0
-                };
-                1.0 - (1.0 - THINNEST.0) * t.clamp(0.0, 1.0)
-            });
-            let by_taper = if taper > 0.0 {
-                let ramp = (s.min(length - s) / taper).clamp(0.0, 1.0);
-                THINNEST.1 + (1.0 - THINNEST.1) * ramp
-            } else {
-                1.0
-            };
-            by_depth * by_taper
-        })
-        .collect()
+/// Faded by view, a line is fully opaque where n · v is at least this, and fades
+/// linearly to nothing where the surface is seen edge-on (n · v = 0).
+const FADE_FACING: f64 = 0.5;
+
+/// How the width and opacity of a path vary along it.
+struct Profile {
+    /// The drawing's depth range, if the width follows depth.
+    depths: Option<(f64, f64)>,
+    /// The taper length in pixels (0 for none).
+    taper: f64,
+    /// Whether the opacity follows n · v.
+    fade: bool,
 }
 
-/// Steps of the width a varying path is split at, as a share of its width.
-const WIDTH_STEP: f64 = 0.1;
+impl Profile {
+    fn varies(&self) -> bool {
+        self.depths.is_some() || self.taper > 0.0 || self.fade
+    }
+
+    /// (width factor, opacity) at every point of `path`: the width from 1 at the
+    /// nearest depth of the drawing to [`THINNEST`]`.0` at the farthest, times a
+    /// ramp from [`THINNEST`]`.1` at each end up to 1 at `taper` pixels from it;
+    /// the opacity n · v / [`FADE_FACING`], clamped to [0, 1].
+    fn along(&self, path: &ScreenPath) -> Vec<(f64, f64)> {
+        let mut along = Vec::with_capacity(path.points.len());
+        let mut length = 0.0;
+        for (i, p) in path.points.iter().enumerate() {
+            if i > 0 {
+                let q = path.points[i - 1];
+                length += (p[0] - q[0]).hypot(p[1] - q[1]);
+            }
+            along.push(length);
+        }
+        along
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| {
+                let by_depth = self.depths.map_or(1.0, |(near, far)| {
+                    let t = if far > near {
+                        (path.depths[i] - near) / (far - near)
+                    } else {
+                        0.0
+                    };
+                    1.0 - (1.0 - THINNEST.0) * t.clamp(0.0, 1.0)
+                });
+                let by_taper = if self.taper > 0.0 {
+                    let ramp = (s.min(length - s) / self.taper).clamp(0.0, 1.0);
+                    THINNEST.1 + (1.0 - THINNEST.1) * ramp
+                } else {
+                    1.0
+                };
+                let opacity = if self.fade {
+                    (path.facings[i] / FADE_FACING).clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                (by_depth * by_taper, opacity)
+            })
+            .collect()
+    }
+}
+
+/// Steps of the width (as a share of it) and of the opacity a varying path is
+/// split at.
+const STEP: f64 = 0.1;
 
 /// `path` as consecutive `<path>`s over which the width (`width` times the
-/// point's factor, rounded to a [`WIDTH_STEP`] of the width) is constant; they
-/// share their end points, and round caps join them.
-fn write_varying(svg: &mut String, path: &ScreenPath, width: f64, factors: &[f64]) {
-    let level = |i: usize| (factors[i] / WIDTH_STEP).round();
+/// point's factor) and the opacity, each rounded to a [`STEP`], are constant;
+/// they share their end points, and round caps join them. Invisible runs are
+/// left out.
+fn write_varying(svg: &mut String, path: &ScreenPath, width: f64, profile: &[(f64, f64)]) {
     let mut points = path.points.clone();
-    let mut factors = factors.to_vec();
+    let mut profile = profile.to_vec();
     if path.closed {
         points.extend(points.first().copied());
-        factors.extend(factors.first().copied());
+        profile.extend(profile.first().copied());
     }
+    let level = |i: usize| {
+        let (w, o) = profile[i];
+        ((w / STEP).round().max(1.0), (o / STEP).round())
+    };
     let mut start = 0;
     for end in 1..points.len() {
         let last = end + 1 == points.len();
         if last || level(end) != level(start) {
-            let w = width * level(start).max(1.0) * WIDTH_STEP;
-            svg.push_str("<path d=\"");
-            path_data(svg, &points[start..=end], false);
-            let _ = writeln!(svg, "\" stroke-width=\"{w:.2}\"/>");
+            let (w, o) = level(start);
+            if o > 0.0 {
+                svg.push_str("<path d=\"");
+                path_data(svg, &points[start..=end], false);
+                let _ = write!(svg, "\" stroke-width=\"{:.2}\"", width * w * STEP);
+                if o < 1.0 / STEP {
+                    let _ = write!(svg, " stroke-opacity=\"{:.1}\"", o * STEP);
+                }
+                svg.push_str("/>\n");
+            }
             start = end;
         }
     }
