@@ -465,6 +465,23 @@ fn line_weights_follow_the_taper_the_depth_and_the_view() {
         "{by_depth:?}"
     );
     assert!(by_depth.windows(2).all(|w| w[0] >= w[1]), "{by_depth:?}");
+
+    style.kind_mut(LineKind::Ridge).width_by_depth = false;
+    style.kind_mut(LineKind::Ridge).fade_by_view = true;
+    let svg = svg_document(&drawing, &style);
+    let faded = path_opacities(&svg, "ridges");
+    // Opaque while n · v ≥ ½ (the left half), then fading; the last stretch,
+    // seen edge-on, is not drawn at all.
+    assert_eq!(faded[0], 1.0, "{faded:?}");
+    assert!(faded.windows(2).all(|w| w[0] >= w[1]), "{faded:?}");
+    assert!(*faded.last().unwrap() <= 0.1, "{faded:?}");
+    let drawn: f64 = roxmltree::Document::parse(&svg)
+        .unwrap()
+        .descendants()
+        .filter_map(|n| n.attribute("d"))
+        .filter_map(|d| d.rsplit('L').next()?.split(' ').next()?.parse::<f64>().ok())
+        .fold(0.0, f64::max);
+    assert!(drawn < 300.0 && drawn > 280.0, "drawn up to x = {drawn}");
 }
 
 /// n · v along a line on a sphere seen along −z is the cosine z / r of its points.
