@@ -181,9 +181,12 @@ impl MorseSmale {
             saddles: gradient.saddles.len(),
             maxima: gradient.maxima.len(),
         };
-        let mut hierarchy =
-            cancel::Hierarchy::new(mesh, &keys, gradient, saddles, regions, self.criterion);
-        stage(observer, "cancellation", || self.simplify(&mut hierarchy));
+        let hierarchy = stage(observer, "cancellation", || {
+            let mut hierarchy =
+                cancel::Hierarchy::new(mesh, &keys, gradient, saddles, regions, self.criterion);
+            self.simplify(&mut hierarchy);
+            hierarchy
+        });
         let (minima, maxima) = hierarchy.extremum_counts();
         let after = CriticalCounts {
             minima,
