@@ -414,3 +414,285 @@ fn raw_samples_in_both_byte_orders() {
         );
     }
 }
+
+// ---------------------------------------------------------------- NRRD
+
+/// A NRRD header for the test grid with `extra` lines, then `data` attached after
+/// a blank line (no blank line and no data for a detached header).
+fn nrrd(type_name: &str, extra: &str, data: Option<&[u8]>) -> Vec<u8> {
+    let mut bytes = format!(
+        "NRRD0004\n# a comment\ntype: {type_name}\ndimension: 3\nsizes: 4 3 2\n\
+         space: right-anterior-superior\nspace directions: (0,0.5,0) (-1.5,0,0) (0,0,2)\n\
+         space origin: (10,-20,30)\nunits:=mm\n{extra}"
+    )
+    .into_bytes();
+    if let Some(data) = data {
+        bytes.push(b'\n');
+        bytes.extend_from_slice(data);
+    }
+    bytes
+}
+
+const NRRD_TYPES: [&str; 8] = [
+    "uchar",
+    "int8",
+    "short",
+    "unsigned short",
+    "int",
+    "uint32",
+    "float",
+    "double",
+];
+
+fn check_ramp_geometry(volume: &Volume) {
+    assert_eq!(volume.dims(), DIMS);
+    assert_close(volume.spacing(), [0.5, 1.5, 2.0]);
+    assert_close(volume.origin(), [10.0, -20.0, 30.0]);
+    assert_direction(volume, quarter_turn());
+}
+
+#[test]
+fn nrrd_types_encodings_byte_orders_and_detached_data() {
+    let dir = tempfile::tempdir().unwrap();
+    for (sample_type, type_name) in ALL_TYPES.into_iter().zip(NRRD_TYPES) {
+        for little in [true, false] {
+            let (data, values) = encode(sample_type, little);
+            let endian = format!("endian: {}\n", if little { "little" } else { "big" });
+            let raw = nrrd(type_name, &format!("encoding: raw\n{endian}"), Some(&data));
+            let path = write(dir.path(), "raw.nrrd", &raw);
+            let volume = read_volume(&path).unwrap_or_else(|e| panic!("{e}"));
+            check_ramp_geometry(&volume);
+            assert_eq!(volume.samples(), values.as_slice(), "{type_name}");
+
+            let gz = nrrd(
+                type_name,
+                &format!("encoding: gzip\n{endian}"),
+                Some(&gzip(&data)),
+            );
+            let path = write(dir.path(), "gz.nrrd", &gz);
+            assert_eq!(read_volume(&path).unwrap().samples(), values.as_slice());
+
+            let skipped = [&[9u8; 5][..], &data].concat();
+            write(dir.path(), "ramp.raw", &skipped);
+            let extra = format!("encoding: raw\n{endian}byte skip: 5\ndata file: ramp.raw\n");
+            let path = write(dir.path(), "detached.nhdr", &nrrd(type_name, &extra, None));
+            assert_eq!(read_volume(&path).unwrap().samples(), values.as_slice());
+            let extra = format!("encoding: raw\n{endian}byte skip: -1\ndata file: ramp.raw\n");
+            let path = write(dir.path(), "at_end.nhdr", &nrrd(type_name, &extra, None));
+            assert_eq!(read_volume(&path).unwrap().samples(), values.as_slice());
+        }
+    }
+}
+
+#[test]
+fn nrrd_spacings_without_directions() {
+    let dir = tempfile::tempdir().unwrap();
+    let (data, values) = encode(SampleType::U8, true);
+    let header =
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 3 2\nspacings: 0.5 1.5 2\nencoding: raw\n\n";
+    let path = write(
+        dir.path(),
+        "spacings.nrrd",
+        &[header.as_bytes(), &data].concat(),
+    );
+    let volume = read_volume(&path).unwrap();
+    assert_eq!(volume.samples(), values.as_slice());
+    assert_close(volume.spacing(), [0.5, 1.5, 2.0]);
+    assert_close(volume.origin(), [0.0; 3]);
+    assert_direction(&volume, Matrix3::identity());
+}
+
+#[test]
+fn nrrd_malformed_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (data, _) = encode(SampleType::I16, true);
+    let ok = "encoding: raw\nendian: little\n";
+    let cases: [(&str, Vec<u8>, &str); 8] = [
+        (
+            "short.nrrd",
+            nrrd("short", ok, Some(&data[..40])),
+            "data ends after 40 of 48 bytes",
+        ),
+        (
+            "ascii.nrrd",
+            nrrd("short", "encoding: ascii\nendian: little\n", Some(&data)),
+            "unsupported encoding 'ascii'",
+        ),
+        (
+            "complex.nrrd",
+            nrrd("block", ok, Some(&data)),
+            "unsupported type 'block'",
+        ),
+        (
+            "noendian.nrrd",
+            nrrd("short", "encoding: raw\n", Some(&data)),
+            "missing field 'endian'",
+        ),
+        (
+            "fourd.nrrd",
+            b"NRRD0004\ntype: short\ndimension: 4\nsizes: 4 3 2 1\nencoding: raw\n\n".to_vec(),
+            "only 3-D",
+        ),
+        ("notnrrd.nrrd", b"P6\n".to_vec(), "not a NRRD file"),
+        (
+            "line.nrrd",
+            b"NRRD0004\ntype short\n\n".to_vec(),
+            "line 2: expected 'field: value'",
+        ),
+        (
+            "sizes.nrrd",
+            b"NRRD0004\ntype: short\ndimension: 3\nsizes: 4 x 2\nencoding: raw\nendian: big\n\n"
+                .to_vec(),
+            "line 4: field 'sizes': cannot read 'x'",
+        ),
+    ];
+    for (name, bytes, word) in cases {
+        let path = write(dir.path(), name, &bytes);
+        read_error(&path, word);
+    }
+    let path = write(
+        dir.path(),
+        "missing.nhdr",
+        &nrrd("short", &format!("{ok}data file: nowhere.raw\n"), None),
+    );
+    read_error(&path, "nowhere.raw");
+    write(dir.path(), "short.raw", &data[..10]);
+    let path = write(
+        dir.path(),
+        "shortdata.nhdr",
+        &nrrd("short", &format!("{ok}data file: short.raw\n"), None),
+    );
+    let message = read_error(&path, "ends after 10 of 48 bytes");
+    assert!(message.contains("short.raw"), "{message}");
+    let huge = b"NRRD0004\ntype: short\ndimension: 3\nsizes: 100000 100000 100000\nencoding: raw\nendian: big\n\n";
+    let path = write(dir.path(), "huge.nrrd", huge);
+    read_error(&path, "more than");
+}
+
+// ---------------------------------------------------------------- MetaImage
+
+/// A MetaImage header for the test grid ending with `ElementDataFile = data_file`.
+fn metaimage(element_type: &str, extra: &str, data_file: &str) -> String {
+    format!(
+        "ObjectType = Image\nNDims = 3\nDimSize = 4 3 2\nElementSpacing = 0.5 1.5 2\n\
+         Offset = 10 -20 30\nTransformMatrix = 0 1 0 -1 0 0 0 0 1\n\
+         ElementType = {element_type}\n{extra}ElementDataFile = {data_file}\n"
+    )
+}
+
+const MET_TYPES: [&str; 8] = [
+    "MET_UCHAR",
+    "MET_CHAR",
+    "MET_SHORT",
+    "MET_USHORT",
+    "MET_INT",
+    "MET_UINT",
+    "MET_FLOAT",
+    "MET_DOUBLE",
+];
+
+fn zlib(bytes: &[u8]) -> Vec<u8> {
+    let mut encoder = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+    encoder.write_all(bytes).unwrap();
+    encoder.finish().unwrap()
+}
+
+#[test]
+fn metaimage_types_byte_orders_compression_and_detached_data() {
+    let dir = tempfile::tempdir().unwrap();
+    for (sample_type, type_name) in ALL_TYPES.into_iter().zip(MET_TYPES) {
+        for little in [true, false] {
+            let (data, values) = encode(sample_type, little);
+            let msb = format!(
+                "BinaryDataByteOrderMSB = {}\n",
+                if little { "False" } else { "True" }
+            );
+            let header = metaimage(type_name, &msb, "LOCAL");
+            let path = write(
+                dir.path(),
+                "local.mha",
+                &[header.as_bytes(), &data].concat(),
+            );
+            let volume = read_volume(&path).unwrap_or_else(|e| panic!("{e}"));
+            check_ramp_geometry(&volume);
+            assert_eq!(volume.samples(), values.as_slice(), "{type_name}");
+
+            let extra = format!("{msb}CompressedData = True\n");
+            let header = metaimage(type_name, &extra, "LOCAL");
+            let path = write(
+                dir.path(),
+                "zlib.mha",
+                &[header.as_bytes(), &zlib(&data)].concat(),
+            );
+            assert_eq!(read_volume(&path).unwrap().samples(), values.as_slice());
+
+            write(dir.path(), "ramp.raw", &[&[0u8; 3][..], &data].concat());
+            let header = metaimage(type_name, &format!("{msb}HeaderSize = 3\n"), "ramp.raw");
+            let path = write(dir.path(), "detached.mhd", header.as_bytes());
+            let volume = read_volume(&path).unwrap();
+            check_ramp_geometry(&volume);
+            assert_eq!(volume.samples(), values.as_slice());
+        }
+    }
+}
+
+#[test]
+fn metaimage_malformed_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (data, _) = encode(SampleType::I16, true);
+    let with_data = |header: String, data: &[u8]| [header.as_bytes(), data].concat();
+    let cases: [(&str, Vec<u8>, &str); 7] = [
+        (
+            "short.mha",
+            with_data(metaimage("MET_SHORT", "", "LOCAL"), &data[..30]),
+            "data ends after 30 of 48 bytes",
+        ),
+        (
+            "type.mha",
+            with_data(metaimage("MET_LONG_LONG", "", "LOCAL"), &data),
+            "unsupported ElementType 'MET_LONG_LONG'",
+        ),
+        (
+            "twod.mha",
+            b"NDims = 2\nDimSize = 4 3\nElementType = MET_SHORT\nElementDataFile = LOCAL\n"
+                .to_vec(),
+            "only 3-D",
+        ),
+        (
+            "noend.mha",
+            b"NDims = 3\nDimSize = 4 3 2\n".to_vec(),
+            "missing field 'ElementDataFile'",
+        ),
+        (
+            "line.mha",
+            b"NDims = 3\nDimSize 4 3 2\nElementDataFile = LOCAL\n".to_vec(),
+            "line 2: expected 'Key = Value'",
+        ),
+        (
+            "dims.mha",
+            with_data(
+                metaimage("MET_SHORT", "", "LOCAL").replace("4 3 2", "4 3"),
+                &data,
+            ),
+            "field 'DimSize': expected 3 values",
+        ),
+        (
+            "zlib.mha",
+            with_data(
+                metaimage("MET_SHORT", "CompressedData = True\n", "LOCAL"),
+                &data,
+            ),
+            "cannot be read",
+        ),
+    ];
+    for (name, bytes, word) in cases {
+        let path = write(dir.path(), name, &bytes);
+        read_error(&path, word);
+    }
+    let path = write(
+        dir.path(),
+        "missing.mhd",
+        metaimage("MET_SHORT", "", "gone.raw").as_bytes(),
+    );
+    read_error(&path, "gone.raw");
+}

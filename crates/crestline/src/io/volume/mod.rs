@@ -13,10 +13,13 @@
 //! of a text header, the field of a binary one, or how many bytes a truncated file
 //! holds ("the data ends after N of M bytes").
 
+mod metaimage;
 mod nifti;
+mod nrrd;
+mod text_header;
 
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use flate2::read::{MultiGzDecoder, ZlibDecoder};
 
@@ -57,7 +60,7 @@ impl SampleType {
 }
 
 /// The file extensions [`read_volume`] understands (compared case-insensitively).
-pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &["nii", "nii.gz"];
+pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &["nii", "nii.gz", "nrrd", "nhdr", "mha", "mhd"];
 
 /// Read a 3D image, choosing the reader by the extension in any letter case:
 ///
@@ -135,6 +138,8 @@ fn reader_for(path: &Path) -> Result<Reader> {
     let problem = match extension.as_deref() {
         Some("nii") => return Ok(nifti::read),
         Some("gz") if name.ends_with(".nii.gz") => return Ok(nifti::read),
+        Some("nrrd" | "nhdr") => return Ok(nrrd::read),
+        Some("mha" | "mhd") => return Ok(metaimage::read),
         Some(other) => format!("unsupported file extension '.{other}'"),
         None => "no file extension to tell the image format".to_string(),
     };
@@ -174,14 +179,6 @@ fn open_error(path: &Path, err: std::io::Error) -> Error {
         },
         _ => Error::io(path, err),
     }
-}
-
-/// The path of a data file named `name` in the header `header_path`: relative
-/// names are relative to the header's folder.
-fn detached_path(header_path: &Path, name: &str) -> PathBuf {
-    header_path
-        .parent()
-        .map_or_else(|| PathBuf::from(name), |folder| folder.join(name))
 }
 
 /// How the sample bytes are compressed.
