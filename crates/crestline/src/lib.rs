@@ -34,6 +34,7 @@ pub mod morse;
 mod named;
 pub mod progress;
 pub mod ridges;
+pub mod volume;
 
 pub use error::{Error, Result};
 

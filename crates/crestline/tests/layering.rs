@@ -16,6 +16,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("linalg", 0),
     ("named", 0),
     ("mesh", 1),
+    ("volume", 1),
     ("io", 2),
     ("curvature", 3),
     ("lines", 4),

@@ -16,6 +16,9 @@
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
 //! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
 //! crate they go through [`crate::atomic::write_atomically`].
+//!
+//! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage) into a
+//! [`crate::volume::Volume`], and [`read_raw_volume`] headerless samples.
 
 mod obj;
 mod off;
@@ -25,12 +28,14 @@ mod ply_header;
 mod ply_records;
 mod soup;
 mod stl;
+mod volume;
 
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
 pub use soup::write_soup;
 pub use stl::read_stl;
+pub use volume::{read_raw_volume, read_volume, SampleType, SUPPORTED_VOLUME_EXTENSIONS};
 
 use std::path::Path;
 

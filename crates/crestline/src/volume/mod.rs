@@ -1,0 +1,253 @@
+//! 3D images: a regular grid of scalar samples placed in world space.
+//!
+//! A [`Volume`] holds `nx × ny × nz` samples as `f32`, x fastest in memory, with the
+//! geometry that places voxel `(i, j, k)` in the world:
+//!
+//! `world = origin + direction · (spacing ⊙ (i, j, k))`
+//!
+//! where `spacing` is the size of a voxel along each index axis (world units,
+//! usually mm) and the columns of `direction` are the world directions of the
+//! three index axes. The readers in [`crate::io`] fill volumes from image files;
+//! which world convention a volume uses (e.g. RAS+ for NIfTI) is stated by each
+//! reader.
+
+use crate::{Error, Point, Result, Vector};
+use nalgebra::Matrix3;
+
+/// A scalar 3D image: samples on a regular grid with its placement in world space.
+///
+/// Built by [`Volume::new`], which checks that the geometry is usable; the fields
+/// are read through accessors so that the checks hold for the volume's lifetime.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume {
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    direction: Matrix3<f64>,
+    /// `(direction · diag(spacing))⁻¹`, cached for [`Volume::world_to_index`].
+    world_to_grid: Matrix3<f64>,
+    samples: Vec<f32>,
+}
+
+impl Volume {
+    /// A volume of `dims` samples (x fastest: sample `(i, j, k)` is at
+    /// `i + nx·(j + ny·k)`), voxel `spacing`, world position `origin` of voxel
+    /// `(0, 0, 0)` and `direction` matrix whose columns are the world directions of
+    /// the index axes (the identity for an axis-aligned image).
+    ///
+    /// Errors ([`Error::Argument`]) if a dimension is zero, the number of voxels
+    /// overflows, `samples` does not hold exactly that many values, a spacing is not
+    /// finite and positive, or the origin or direction is not finite or the
+    /// direction is singular.
+    pub fn new(
+        dims: [usize; 3],
+        spacing: [f64; 3],
+        origin: [f64; 3],
+        direction: Matrix3<f64>,
+        samples: Vec<f32>,
+    ) -> Result<Volume> {
+        let count = voxel_count(dims)?;
+        if samples.len() != count {
+            return Err(invalid(format!(
+                "{} samples for {}×{}×{} = {count} voxels",
+                samples.len(),
+                dims[0],
+                dims[1],
+                dims[2]
+            )));
+        }
+        if !spacing.iter().all(|s| s.is_finite() && *s > 0.0) {
+            return Err(invalid(format!(
+                "the voxel spacing {spacing:?} is not finite and positive"
+            )));
+        }
+        if !origin.iter().all(|o| o.is_finite()) {
+            return Err(invalid(format!("the origin {origin:?} is not finite")));
+        }
+        let world_to_grid = grid_inverse(&direction, spacing)?;
+        Ok(Volume {
+            dims,
+            spacing,
+            origin,
+            direction,
+            world_to_grid,
+            samples,
+        })
+    }
+
+    /// The number of samples along x, y and z.
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
+    /// The size of a voxel along each index axis, in world units.
+    pub fn spacing(&self) -> [f64; 3] {
+        self.spacing
+    }
+
+    /// The world position of voxel `(0, 0, 0)`.
+    pub fn origin(&self) -> [f64; 3] {
+        self.origin
+    }
+
+    /// The direction matrix: column `a` is the world direction of index axis `a`.
+    pub fn direction(&self) -> &Matrix3<f64> {
+        &self.direction
+    }
+
+    /// All samples, x fastest, then y, then z.
+    pub fn samples(&self) -> &[f32] {
+        &self.samples
+    }
+
+    /// The number of samples (`nx · ny · nz`).
+    pub fn len(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Whether the volume has no samples: never true, since [`Volume::new`] refuses
+    /// zero dimensions.
+    pub fn is_empty(&self) -> bool {
+        self.samples.is_empty()
+    }
+
+    /// The position of sample `(i, j, k)` in [`Volume::samples`], or `None` outside
+    /// the grid.
+    pub fn linear_index(&self, i: usize, j: usize, k: usize) -> Option<usize> {
+        let [nx, ny, nz] = self.dims;
+        (i < nx && j < ny && k < nz).then(|| i + nx * (j + ny * k))
+    }
+
+    /// The sample at voxel `(i, j, k)`, or `None` outside the grid.
+    pub fn value(&self, i: usize, j: usize, k: usize) -> Option<f32> {
+        self.linear_index(i, j, k).map(|at| self.samples[at])
+    }
+
+    /// The world position of the (possibly fractional) voxel index `index`.
+    pub fn index_to_world(&self, index: [f64; 3]) -> Point {
+        let scaled = Vector::new(
+            index[0] * self.spacing[0],
+            index[1] * self.spacing[1],
+            index[2] * self.spacing[2],
+        );
+        Point::from(self.origin) + self.direction * scaled
+    }
+
+    /// The fractional voxel index of world position `point`: the inverse of
+    /// [`Volume::index_to_world`].
+    pub fn world_to_index(&self, point: &Point) -> [f64; 3] {
+        let grid = self.world_to_grid * (point - Point::from(self.origin));
+        [grid.x, grid.y, grid.z]
+    }
+}
+
+/// Most voxels a volume may have (2^34, 64 GiB of `f32`): far more than any image
+/// that fits in memory, few enough that a corrupt header is caught before anything
+/// is allocated for it.
+pub const MAX_VOXELS: u64 = 1 << 34;
+
+/// `nx · ny · nz`, checked: every dimension positive and the product at most
+/// [`MAX_VOXELS`].
+pub fn voxel_count(dims: [usize; 3]) -> Result<usize> {
+    if dims.contains(&0) {
+        return Err(invalid(format!("a dimension is zero in {dims:?}")));
+    }
+    dims.iter()
+        .try_fold(1u64, |product, &n| {
+            product
+                .checked_mul(u64::try_from(n).ok()?)
+                .filter(|&p| p <= MAX_VOXELS)
+        })
+        .and_then(|count| usize::try_from(count).ok())
+        .ok_or_else(|| {
+            invalid(format!(
+                "{}×{}×{} voxels are more than the {MAX_VOXELS} supported (a corrupt header?)",
+                dims[0], dims[1], dims[2]
+            ))
+        })
+}
+
+/// `(direction · diag(spacing))⁻¹`, or an error if `direction` is not finite or
+/// is singular.
+fn grid_inverse(direction: &Matrix3<f64>, spacing: [f64; 3]) -> Result<Matrix3<f64>> {
+    if !direction.iter().all(|d| d.is_finite()) {
+        return Err(invalid("the direction matrix is not finite".to_string()));
+    }
+    let scaled = direction * Matrix3::from_diagonal(&Vector::from(spacing));
+    let singular = direction.determinant().abs() < 1e-9;
+    match scaled.try_inverse() {
+        Some(inverse) if !singular => Ok(inverse),
+        _ => Err(invalid(format!(
+            "the direction matrix is singular: {:?}",
+            direction.as_slice()
+        ))),
+    }
+}
+
+/// An [`Error::Argument`] about an invalid volume.
+fn invalid(message: String) -> Error {
+    Error::Argument(format!("invalid volume: {message}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp() -> Volume {
+        let samples = (0..24).map(|v| v as f32).collect();
+        Volume::new(
+            [4, 3, 2],
+            [0.5, 1.0, 2.0],
+            [10.0, 20.0, 30.0],
+            Matrix3::identity(),
+            samples,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn samples_are_x_fastest() {
+        let volume = ramp();
+        assert_eq!(volume.len(), 24);
+        assert_eq!(volume.value(1, 0, 0), Some(1.0));
+        assert_eq!(volume.value(0, 1, 0), Some(4.0));
+        assert_eq!(volume.value(0, 0, 1), Some(12.0));
+        assert_eq!(volume.value(3, 2, 1), Some(23.0));
+        assert_eq!(volume.value(4, 0, 0), None);
+    }
+
+    #[test]
+    fn index_and_world_are_inverse() {
+        let rotation = Matrix3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        let volume = Volume::new(
+            [2, 2, 2],
+            [0.5, 2.0, 3.0],
+            [1.0, 2.0, 3.0],
+            rotation,
+            vec![0.0; 8],
+        )
+        .unwrap();
+        let world = volume.index_to_world([1.0, 1.0, 1.0]);
+        assert_eq!(world, Point::new(1.0 - 2.0, 2.0 + 0.5, 3.0 + 3.0));
+        let back = volume.world_to_index(&world);
+        for (b, e) in back.iter().zip([1.0, 1.0, 1.0]) {
+            assert!((b - e).abs() < 1e-12, "{back:?}");
+        }
+    }
+
+    #[test]
+    fn bad_geometry_is_refused() {
+        let identity = Matrix3::identity();
+        let new = |dims, spacing, origin, direction, n| {
+            Volume::new(dims, spacing, origin, direction, vec![0.0; n])
+        };
+        assert!(new([0, 1, 1], [1.0; 3], [0.0; 3], identity, 0).is_err());
+        assert!(new([2, 1, 1], [1.0; 3], [0.0; 3], identity, 1).is_err());
+        assert!(new([1, 1, 1], [1.0, 0.0, 1.0], [0.0; 3], identity, 1).is_err());
+        assert!(new([1, 1, 1], [1.0, f64::NAN, 1.0], [0.0; 3], identity, 1).is_err());
+        assert!(new([1, 1, 1], [1.0; 3], [f64::INFINITY, 0.0, 0.0], identity, 1).is_err());
+        assert!(new([1, 1, 1], [1.0; 3], [0.0; 3], Matrix3::zeros(), 1).is_err());
+        let huge = voxel_count([usize::MAX, 2, 1]).unwrap_err().to_string();
+        assert!(huge.contains("more than"), "{huge}");
+    }
+}
