@@ -377,39 +377,32 @@ fn feature_lines_are_cleared_only_where_they_double_a_silhouette() {
     assert_eq!(kept[0].points.last(), leaving.points.last());
 }
 
-/// The stroke widths of the `<path>`s of group `id` in an SVG document, in order.
-fn path_widths(svg: &str, id: &str) -> Vec<f64> {
+/// Attribute `name` of every `<path>` of group `id` in an SVG document, in order,
+/// as a number; where a path lacks it, the group's value, else `default`.
+fn path_attribute(svg: &str, id: &str, name: &str, default: f64) -> Vec<f64> {
     let doc = roxmltree::Document::parse(svg).unwrap();
     let group = doc
         .descendants()
         .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
         .unwrap();
-    let default: f64 = group.attribute("stroke-width").unwrap().parse().unwrap();
+    let inherited = group
+        .attribute(name)
+        .map_or(default, |v| v.parse().unwrap());
     group
         .children()
         .filter(|n| n.has_tag_name("path"))
-        .map(|n| {
-            n.attribute("stroke-width")
-                .map_or(default, |w| w.parse().unwrap())
-        })
+        .map(|n| n.attribute(name).map_or(inherited, |v| v.parse().unwrap()))
         .collect()
+}
+
+/// The stroke widths of the `<path>`s of group `id`, in order.
+fn path_widths(svg: &str, id: &str) -> Vec<f64> {
+    path_attribute(svg, id, "stroke-width", f64::NAN)
 }
 
 /// The stroke opacities of the `<path>`s of group `id`, in order.
 fn path_opacities(svg: &str, id: &str) -> Vec<f64> {
-    let doc = roxmltree::Document::parse(svg).unwrap();
-    let group = doc
-        .descendants()
-        .find(|n| n.has_tag_name("g") && n.attribute("id") == Some(id))
-        .unwrap();
-    group
-        .children()
-        .filter(|n| n.has_tag_name("path"))
-        .map(|n| {
-            n.attribute("stroke-opacity")
-                .map_or(1.0, |o| o.parse().unwrap())
-        })
-        .collect()
+    path_attribute(svg, id, "stroke-opacity", 1.0)
 }
 
 /// Tapered lines narrow towards both ends and keep their width in the middle;
