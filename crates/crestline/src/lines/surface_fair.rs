@@ -50,11 +50,13 @@ pub fn fair_on_surface(
             .map(|(i, (at, point))| {
                 let (prev, next) = (previous[(i + n - 1) % n], previous[(i + 1) % n]);
                 let target = previous[i] + (nalgebra::center(&prev, &next) - previous[i]) * 0.5;
-                let Some(moved) = closest_admissible(mesh, at, &target, field, floor(i)) else {
+                let Some((moved, position)) =
+                    closest_admissible(mesh, at, &target, field, floor(i))
+                else {
                     return 0.0;
                 };
                 *at = moved;
-                *point = moved.position(mesh);
+                *point = position;
                 (*point - previous[i]).norm()
             })
             .reduce(|| 0.0, f64::max);
@@ -66,15 +68,15 @@ pub fn fair_on_surface(
 }
 
 /// The point of the faces around `at` closest to `target` among those where
-/// `field` is at least `floor`; `None` if there is none.
+/// `field` is at least `floor`, and its position; `None` if there is none.
 fn closest_admissible(
     mesh: &Mesh,
     at: &SurfaceLocation,
     target: &Point,
     field: &[f64],
     floor: f64,
-) -> Option<SurfaceLocation> {
-    let mut best: Option<(f64, SurfaceLocation)> = None;
+) -> Option<(SurfaceLocation, Point)> {
+    let mut best: Option<(f64, SurfaceLocation, Point)> = None;
     let (centre, own_face) = nearest_vertex(mesh, at);
     for face in mesh.vertex_faces(centre).chain(own_face) {
         let corners = mesh.face_vertices(face);
@@ -92,15 +94,15 @@ fn closest_admissible(
         }
         let position: Vector = (0..3).map(|k| points[k].coords * barycentric[k]).sum();
         let distance = (position - target.coords).norm_squared();
-        if best.as_ref().is_none_or(|(d, _)| distance < *d) {
+        if best.as_ref().is_none_or(|(d, ..)| distance < *d) {
             let location = SurfaceLocation::Face {
                 face: face.0,
                 barycentric,
             };
-            best = Some((distance, location));
+            best = Some((distance, location, Point::from(position)));
         }
     }
-    best.map(|(_, location)| location)
+    best.map(|(_, location, position)| (location, position))
 }
 
 /// The vertex with the largest weight at `at`, and the face `at` lies in (if it
