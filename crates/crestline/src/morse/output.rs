@@ -56,7 +56,7 @@ pub fn lines(
         .collect();
     shown.sort_by(|a, b| b.1.total_cmp(&a.1));
 
-    let fairing = CrestFairing::new(values, config.smooth_iterations);
+    let fairing = CrestFairing::new(values, config.smooth_iterations, config.cells);
     let mut drawn_faces = vec![false; mesh.face_count()];
     let mut drawn_vertices = vec![false; mesh.vertex_count()];
     let mut cells = Vec::new();
@@ -117,31 +117,40 @@ fn polyline(
 /// point and the indicator's upper quartile over the mesh (a descending line: at
 /// most the higher of its value and the lower quartile). Lines on the crest stay
 /// on it; lines below it do not sink.
-struct CrestFairing {
+struct CrestFairing<'a> {
     iterations: usize,
-    /// The indicator (for ascending lines) and its negation (descending).
-    fields: [Vec<f64>; 2],
-    /// The upper quartile of each field.
-    quartiles: [f64; 2],
+    /// The indicator and its upper quartile, for ascending lines.
+    ascending: Option<(&'a [f64], f64)>,
+    /// The negated indicator and its upper quartile, for descending lines.
+    descending: Option<(Vec<f64>, f64)>,
 }
 
-impl CrestFairing {
-    fn new(values: &[f64], iterations: usize) -> CrestFairing {
-        let fields = [values.to_vec(), values.iter().map(|v| -v).collect()];
-        let quartiles = [upper_quartile(&fields[0]), upper_quartile(&fields[1])];
+impl<'a> CrestFairing<'a> {
+    /// The fairing of the `cells` asked for; nothing is prepared without
+    /// iterations.
+    fn new(values: &'a [f64], iterations: usize, cells: Cells) -> CrestFairing<'a> {
+        let faired = |side: Cells| iterations > 0 && cells != side;
+        let ascending = faired(Cells::Descending).then(|| (values, upper_quartile(values)));
+        let descending = faired(Cells::Ascending).then(|| {
+            let negated: Vec<f64> = values.iter().map(|v| -v).collect();
+            let quartile = upper_quartile(&negated);
+            (negated, quartile)
+        });
         CrestFairing {
             iterations,
-            fields,
-            quartiles,
+            ascending,
+            descending,
         }
     }
 
     fn fair(&self, mesh: &Mesh, kind: LineKind, locations: &mut [SurfaceLocation]) {
-        if self.iterations == 0 {
+        let side = match kind {
+            LineKind::Descending => self.descending.as_ref().map(|(f, q)| (f.as_slice(), *q)),
+            _ => self.ascending,
+        };
+        let Some((field, quartile)) = side else {
             return;
-        }
-        let side = usize::from(kind == LineKind::Descending);
-        let (field, quartile) = (&self.fields[side], self.quartiles[side]);
+        };
         let floors: Vec<f64> = locations
             .iter()
             .map(|at| at.interpolate(mesh, field).min(quartile))
