@@ -204,7 +204,13 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         })?;
     }
     let drawing = report.stage("visibility", || {
-        with_facing(&mesh, &camera, &mut lines);
+        // n · v per point is only drawn by lines faded by view.
+        if LineKind::ALL
+            .into_iter()
+            .any(|kind| style.kind(kind).fade_by_view)
+        {
+            with_facing(&mesh, &camera, &mut lines);
+        }
         let buffer = DepthBuffer::render(&mesh, &camera, options.supersampling);
         visible_drawing(&lines, &camera, &buffer, &options)
     })?;
