@@ -1,34 +1,41 @@
-//! `crestline info`: what a mesh file contains.
+//! `crestline info`: what a mesh or image file contains.
 
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
+use crestline::io::is_volume_path;
 use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
 use crestline::Result;
 
 use super::load::{load_mesh, report_with_progress, StrictArg};
 use super::outputs::{check_paths, OutputSet};
+use super::volume_info;
 use super::ReportArg;
 
 /// Arguments of `crestline info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The mesh file (.obj, .ply, .off, .stl).
-    pub mesh: PathBuf,
+    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
+    /// .mha, .mhd).
+    #[arg(value_name = "MESH|VOLUME")]
+    pub input: PathBuf,
     #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
     pub report: ReportArg,
 }
 
-/// Load the mesh and print its summary to stdout.
+/// Load the mesh or volume and print its summary to stdout.
 pub fn run(args: &InfoArgs) -> Result<()> {
     let outputs: Vec<_> = args.report.output().into_iter().collect();
-    check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
-    let mut report = report_with_progress("info", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
+    check_paths(&[("the input", &args.input)], &outputs)?;
+    let mut report = report_with_progress("info", &args.input);
+    if is_volume_path(&args.input) {
+        return volume_info::run(&args.input, &args.report, report);
+    }
+    let (mesh, repairs) = load_mesh(&args.input, args.strict, &mut report)?;
     let components = report.stage("topology", || mesh.components());
-    super::print_stdout(&summary(&args.mesh, &mesh, &components, &repairs));
+    super::print_stdout(&summary(&args.input, &mesh, &components, &repairs));
     if let Some(path) = &args.report.report {
         fill_counts(&mut report, &mesh, &components);
         report.section("repairs", &repairs);

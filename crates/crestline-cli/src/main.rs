@@ -12,6 +12,7 @@ mod outputs;
 mod plot;
 mod report;
 mod ridges;
+mod volume_info;
 
 use std::path::PathBuf;
 
@@ -33,7 +34,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Print the size, topology and geometry of a mesh, and every repair its file needed.
+    /// Print the size, topology and geometry of a mesh and every repair its file needed, or the
+    /// grid, placement and value statistics of a 3D image.
     Info(info::InfoArgs),
     /// Estimate principal curvatures and directions per vertex; write them as PLY properties.
     Curvature(curvature::CurvatureArgs),

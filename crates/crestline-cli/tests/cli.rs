@@ -40,6 +40,56 @@ fn info_prints_the_bunny_summary() {
 }
 
 #[test]
+fn info_summarises_the_mni_template() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("r.json");
+    let out = crestline(&[
+        "info",
+        "volumes/mni152_t1_1mm.nii.gz",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in [
+        "dimensions        197 × 233 × 189 (8675289 voxels)",
+        "origin            [-98.0000, -134.0000, -72.0000]",
+        "index axes        i → +x, j → +y, k → +z",
+        "values            0.000000 .. 255.000000",
+        "non-finite        0",
+    ] {
+        assert!(text.contains(line), "missing '{line}' in\n{text}");
+    }
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let values = &json["values"];
+    assert_eq!(values["histogram"].as_array().unwrap().len(), 64);
+    // Otsu's level of a T1 head lies between the dark background and the tissue.
+    let otsu = values["otsu"].as_f64().unwrap();
+    assert!(otsu > 40.0 && otsu < 160.0, "Otsu level {otsu}");
+}
+
+#[test]
+fn info_refuses_a_truncated_volume_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let cut = dir.path().join("cut.nii");
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../volumes/mni152_t1_1mm.nii.gz"
+    ))
+    .unwrap();
+    let mut decoded = Vec::new();
+    use std::io::Read;
+    flate2::read::GzDecoder::new(&bytes[..])
+        .take(352 + 1000)
+        .read_to_end(&mut decoded)
+        .unwrap();
+    std::fs::write(&cut, &decoded).unwrap();
+    let path = cut.to_str().unwrap();
+    let out = crestline(&["info", path]);
+    assert_one_line_error(&out, path, "ends after");
+}
+
+#[test]
 fn info_lists_repairs() {
     let out = crestline(&["info", "meshes/cow.obj"]);
     let text = String::from_utf8(out.stdout).unwrap();

@@ -35,7 +35,9 @@ pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
 pub use soup::write_soup;
 pub use stl::read_stl;
-pub use volume::{read_raw_volume, read_volume, SampleType, SUPPORTED_VOLUME_EXTENSIONS};
+pub use volume::{
+    is_volume_path, read_raw_volume, read_volume, SampleType, SUPPORTED_VOLUME_EXTENSIONS,
+};
 
 use std::path::Path;
 

@@ -11,6 +11,10 @@
 //! which world convention a volume uses (e.g. RAS+ for NIfTI) is stated by each
 //! reader.
 
+mod statistics;
+
+pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
+
 use crate::{Error, Point, Result, Vector};
 use nalgebra::Matrix3;
 

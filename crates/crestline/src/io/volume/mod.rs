@@ -62,6 +62,13 @@ impl SampleType {
 /// The file extensions [`read_volume`] understands (compared case-insensitively).
 pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &["nii", "nii.gz", "nrrd", "nhdr", "mha", "mhd"];
 
+/// Whether `path` names an image file by its extension (one of
+/// [`SUPPORTED_VOLUME_EXTENSIONS`], in any letter case), so that a command can
+/// tell volumes from meshes.
+pub fn is_volume_path(path: &Path) -> bool {
+    reader_for(path).is_ok()
+}
+
 /// Read a 3D image, choosing the reader by the extension in any letter case:
 ///
 /// - `.nii`, `.nii.gz`: NIfTI-1 or NIfTI-2, either byte order. Coordinates are in
