@@ -109,3 +109,78 @@ pub fn implicit_curvature(
     let shape = projector * hessian * projector / norm;
     (PrincipalCurvatures::from_tangent_operator(&shape, &n), n)
 }
+
+/// The third partial derivatives of a scalar field at a point: `t[i][j][k]` =
+/// ∂³f/∂x_i∂x_j∂x_k, symmetric in its three indices.
+pub type ThirdDerivatives = [[[f64; 3]; 3]; 3];
+
+/// The curvature of the iso-surface of an image through one point, and how it
+/// changes along the principal directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IsoCurvature {
+    /// Principal curvatures and directions, signed so that a bright convex object
+    /// (inside f ≥ I) has positive curvature.
+    pub principal: PrincipalCurvatures,
+    /// The unit normal n = −∇f/|∇f|, pointing out of the object (toward darker
+    /// values).
+    pub normal: Vector,
+    /// The extremality e_max = ∇k_max · d_max: zero on ridges and on the other
+    /// extremal curves of k_max. Its sign follows the arbitrary sign of `d_max`.
+    pub e_max: f64,
+    /// The extremality e_min = ∇k_min · d_min.
+    pub e_min: f64,
+}
+
+/// Curvature and extremalities of the iso-surface f = f(p) through a point p, from
+/// the gradient, Hessian and third derivatives of the image f at p (Thirion and
+/// Gourdon 1993, part 1, with the conventions of DESIGN.md): n = −g/|g|,
+/// P = I − n nᵀ, shape operator W = −P H P / |g|, restricted to the tangent plane
+/// ([`PrincipalCurvatures::from_tangent_operator`], symmetric in x, y and z).
+///
+/// The extremality along a principal direction t with curvature k is, by
+/// Hellmann–Feynman (∂k = tᵀ (∂W) t where the curvatures differ), with ∂_j n =
+/// −P H e_j / |g| and ∂_j |g| = −nᵀ H e_j:
+///
+/// `e = ∇k · t = (−f_ttt + 3 k nᵀ H t) / |g|`
+///
+/// with f_ttt = Σ f_ijk t_i t_j t_k. `None` where the gradient vanishes or a value
+/// is not finite. At umbilics (k_max = k_min) the directions, and so the
+/// extremalities, are arbitrary.
+pub fn isosurface_curvature(
+    gradient: &Vector,
+    hessian: &Matrix3<f64>,
+    third: &ThirdDerivatives,
+) -> Option<IsoCurvature> {
+    let norm = gradient.norm();
+    let finite = hessian.iter().all(|h| h.is_finite())
+        && third.iter().flatten().flatten().all(|t| t.is_finite());
+    if !(norm > 0.0 && norm.is_finite() && finite) {
+        return None;
+    }
+    // The object is where f is large: the implicit surface F = −f with outward
+    // normal ∇F/|∇F| = −g/|g|.
+    let (principal, normal) = implicit_curvature(&-gradient, &-hessian);
+    let extremality = |k: f64, t: &Vector| {
+        let f_ttt = directional_third(third, t);
+        (-f_ttt + 3.0 * k * normal.dot(&(hessian * t))) / norm
+    };
+    Some(IsoCurvature {
+        e_max: extremality(principal.k_max, &principal.d_max),
+        e_min: extremality(principal.k_min, &principal.d_min),
+        principal,
+        normal,
+    })
+}
+
+/// The third directional derivative Σ_ijk t_ijk v_i v_j v_k.
+pub fn directional_third(third: &ThirdDerivatives, v: &Vector) -> f64 {
+    let mut sum = 0.0;
+    for (i, plane) in third.iter().enumerate() {
+        for (j, row) in plane.iter().enumerate() {
+            for (k, t) in row.iter().enumerate() {
+                sum += t * v[i] * v[j] * v[k];
+            }
+        }
+    }
+    sum
+}
