@@ -11,9 +11,9 @@
 //! polynomials of degree ≤ 3 exactly away from the border. Its third derivatives
 //! exist inside each cell but jump across cell faces.
 
-use super::Volume;
-use super::jet::Jet;
 use super::derivatives::Partial;
+use super::jet::Jet;
+use super::Volume;
 use crate::{Point, Vector};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
@@ -150,8 +150,18 @@ impl AxisWeights {
         Some(AxisWeights {
             nodes: [0, 1, 2, 3].map(|m| mirror(base + m, n)),
             weights: [
-                [s * s * s / 6.0, (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0, (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0, t * t * t / 6.0],
-                [-s * s / 2.0, 1.5 * t * t - 2.0 * t, -1.5 * t * t + t + 0.5, t * t / 2.0],
+                [
+                    s * s * s / 6.0,
+                    (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+                    (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+                    t * t * t / 6.0,
+                ],
+                [
+                    -s * s / 2.0,
+                    1.5 * t * t - 2.0 * t,
+                    -1.5 * t * t + t + 0.5,
+                    t * t / 2.0,
+                ],
                 [s, 3.0 * t - 2.0, 1.0 - 3.0 * t, t],
                 [-1.0, 3.0, -3.0, 1.0],
             ],
@@ -182,12 +192,10 @@ fn prefilter_x(samples: &mut [f32], dims: [usize; 3]) {
 
 /// Prefilters every y line, in parallel over z slices.
 fn prefilter_y(samples: &mut [f32], dims: [usize; 3]) {
-    samples
-        .par_chunks_mut(dims[0] * dims[1])
-        .for_each(|slice| {
-            let mut rows: Vec<&mut [f32]> = slice.chunks_mut(dims[0]).collect();
-            prefilter_across(&mut rows);
-        });
+    samples.par_chunks_mut(dims[0] * dims[1]).for_each(|slice| {
+        let mut rows: Vec<&mut [f32]> = slice.chunks_mut(dims[0]).collect();
+        prefilter_across(&mut rows);
+    });
 }
 
 /// Prefilters every z line, in parallel over bundles of [`Z_BUNDLE`] x positions.
@@ -229,7 +237,8 @@ fn prefilter_line(line: &mut [f64]) {
     if n < 2 {
         return;
     }
-    line.iter_mut().for_each(|v| *v *= (1.0 - POLE) * (1.0 - 1.0 / POLE));
+    line.iter_mut()
+        .for_each(|v| *v *= (1.0 - POLE) * (1.0 - 1.0 / POLE));
     line[0] = initial_causal(line);
     for k in 1..n {
         line[k] += POLE * line[k - 1];

@@ -10,11 +10,11 @@
 //! direction matrix (which must therefore be orthonormal).
 //!
 //! Borders are clamped to the edge: samples outside the grid repeat the nearest
-//! sample. Derivatives within `max(⌈4σ⌉, 2)` voxels of the border feel that
+//! sample. Derivatives within `max(⌈5σ⌉, 2)` voxels of the border feel that
 //! extension; further in, cubic polynomials are differentiated exactly.
 
-use super::jet::{Jet, ThirdOrder, hessian_from_components};
-use super::kernels::{Kernel, MAX_ORDER, check_sigma};
+use super::jet::{hessian_from_components, Jet, ThirdOrder};
+use super::kernels::{check_sigma, Kernel, MAX_ORDER};
 use super::separable::{self, AxisKernels, HalfKernel};
 use super::Volume;
 use crate::{Error, Result, Vector};
@@ -131,11 +131,7 @@ impl Derivatives {
     /// matrix is not orthonormal (a Gaussian isotropic in the world needs it), or σ
     /// is not finite and positive, is under a tenth of a voxel along an axis, or is
     /// more voxels than the samples along an axis (at least 4 voxels are allowed).
-    pub fn with_partials(
-        volume: &Volume,
-        sigma: f64,
-        partials: &[Partial],
-    ) -> Result<Derivatives> {
+    pub fn with_partials(volume: &Volume, sigma: f64, partials: &[Partial]) -> Result<Derivatives> {
         if partials.is_empty() {
             return Err(Error::Argument(
                 "no partial derivative was requested".to_string(),
@@ -231,7 +227,9 @@ impl Derivatives {
 /// The volume's direction matrix, or an error unless it is orthonormal.
 fn orthonormal_direction(volume: &Volume) -> Result<Matrix3<f64>> {
     let direction = *volume.direction();
-    let defect = (direction.transpose() * direction - Matrix3::identity()).abs().max();
+    let defect = (direction.transpose() * direction - Matrix3::identity())
+        .abs()
+        .max();
     if defect > 1e-6 {
         return Err(Error::Argument(format!(
             "Gaussian derivatives need an orthonormal direction matrix (a Gaussian \

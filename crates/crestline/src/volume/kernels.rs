@@ -35,8 +35,11 @@ use crate::{Error, Result};
 /// Highest derivative order with a kernel.
 pub const MAX_ORDER: usize = 3;
 
-/// Kernels reach at least this many standard deviations on each side.
-pub const RADIUS_IN_SIGMAS: f64 = 4.0;
+/// Kernels reach this many standard deviations on each side. At 4σ the truncated
+/// third-derivative kernel misses about 6 % of its third moment; the correction
+/// restores it, but then costs about 1 % of the third derivative on signals whose
+/// scale is close to σ. At 5σ both effects are below 1e-3.
+pub const RADIUS_IN_SIGMAS: f64 = 5.0;
 
 /// Kernels have at least this radius (in samples), so that the four moment
 /// conditions can be met however small σ is.
@@ -65,7 +68,7 @@ pub struct Kernel {
 impl Kernel {
     /// The corrected Gaussian derivative kernel of `order` (0 to 3) for a Gaussian
     /// of standard deviation `sigma`, in samples, with radius
-    /// `max(⌈4σ⌉, 2)` (see the module documentation).
+    /// `max(⌈5σ⌉, 2)` (see the module documentation).
     ///
     /// Errors ([`Error::Argument`]) if `order > 3` or `sigma` is not finite or is
     /// below [`MIN_SIGMA_VOXELS`]; no upper bound is checked here (see
@@ -109,7 +112,11 @@ impl Kernel {
         let Some(&w) = self.half.get(k.unsigned_abs()) else {
             return 0.0;
         };
-        if k < 0 && self.is_odd() { -w } else { w }
+        if k < 0 && self.is_odd() {
+            -w
+        } else {
+            w
+        }
     }
 
     /// All `2R + 1` weights, offset `−R` first.
@@ -179,7 +186,7 @@ pub fn check_sigma(sigma: f64, spacing: f64, samples: usize, axis: usize) -> Res
     Ok(voxels)
 }
 
-/// `max(⌈4σ⌉, 2)` samples.
+/// `max(⌈5σ⌉, 2)` samples.
 fn kernel_radius(sigma: f64) -> usize {
     ((RADIUS_IN_SIGMAS * sigma).ceil() as usize).max(MIN_RADIUS)
 }
@@ -209,7 +216,11 @@ fn correct_moments(half: &mut [f64], sigma: f64, order: usize) {
         (0..half.len())
             .map(|k| {
                 let term = (k as f64).powi(j) * v(k);
-                if k == 0 { term } else { 2.0 * term }
+                if k == 0 {
+                    term
+                } else {
+                    2.0 * term
+                }
             })
             .sum()
     };
@@ -258,7 +269,10 @@ mod tests {
             let r = kernel.radius() as isize;
             for k in -r..=r {
                 let plain = gaussian_derivative(k as f64, sigma, order);
-                assert!((kernel.weight(k) - plain).abs() < 1e-4, "order {order} k {k}");
+                assert!(
+                    (kernel.weight(k) - plain).abs() < 1e-4,
+                    "order {order} k {k}"
+                );
             }
         }
     }
@@ -266,11 +280,11 @@ mod tests {
     #[test]
     fn radius_and_symmetry() {
         let kernel = Kernel::gaussian(1.5, 1).unwrap();
-        assert_eq!(kernel.radius(), 6);
-        assert_eq!(kernel.weights().len(), 13);
+        assert_eq!(kernel.radius(), 8);
+        assert_eq!(kernel.weights().len(), 17);
         assert_eq!(kernel.weight(-2), -kernel.weight(2));
         assert_eq!(kernel.weight(7), 0.0);
         assert!(kernel.weight(1) > 0.0);
-        assert_eq!(Kernel::gaussian(0.2, 0).unwrap().radius(), 2);
+        assert_eq!(Kernel::gaussian(0.3, 0).unwrap().radius(), 2);
     }
 }

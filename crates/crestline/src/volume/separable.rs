@@ -189,7 +189,8 @@ fn distinct(values: impl Iterator<Item = usize>) -> Vec<usize> {
 /// For every z slice `k`, the `k`-th slice of each volume.
 fn slices_by_k(volumes: &mut [Vec<f32>], slice_len: usize) -> Vec<Vec<&mut [f32]>> {
     let nz = volumes.first().map_or(0, |v| v.len() / slice_len);
-    let mut by_k: Vec<Vec<&mut [f32]>> = (0..nz).map(|_| Vec::with_capacity(volumes.len())).collect();
+    let mut by_k: Vec<Vec<&mut [f32]>> =
+        (0..nz).map(|_| Vec::with_capacity(volumes.len())).collect();
     for volume in volumes.iter_mut() {
         for (slices, chunk) in by_k.iter_mut().zip(volume.chunks_mut(slice_len)) {
             slices.push(chunk);
