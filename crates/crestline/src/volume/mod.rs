@@ -10,6 +10,12 @@
 //! three index axes. The readers in [`crate::io`] fill volumes from image files;
 //! which world convention a volume uses (e.g. RAS+ for NIfTI) is stated by each
 //! reader.
+//!
+//! [`isosurface()`] extracts the surface `f = I` as a closed, oriented [`crate::mesh::Mesh`].
+
+pub mod isosurface;
+
+pub use isosurface::{isosurface, Isosurface, VertexSource};
 
 use crate::{Error, Point, Result, Vector};
 use nalgebra::Matrix3;
