@@ -1,0 +1,162 @@
+//! Isosurfaces `f = I` of a volume as closed, oriented triangle meshes, after
+//! Thirion & Gourdon 1993 ("The 3D marching lines algorithm"), second part §2–3,
+//! with the conventions of DESIGN.md ("Isosurfaces and implicit curvature").
+//!
+//! - **Inside** is `f ≥ I` (the object/background convention: a sample equal to the
+//!   level is inside). A grid edge whose two samples differ in this respect carries
+//!   one vertex, at the linear interpolation of `f`, kept a fraction 10⁻⁴ of the edge
+//!   away from its ends so that the crossings of edges meeting at a sample equal to
+//!   `I` stay distinct (the paper's ε shift). The vertex belongs to the edge, so all
+//!   cells around the edge share it.
+//! - On each face of a cell, segments join the crossings (BUILDSEGMENTS). On an
+//!   ambiguous face (inside corners on one diagonal) the asymptotic decider chooses:
+//!   `v̂ = (s00 s11 − s10 s01) / (s00 + s11 − s10 − s01)`, and `v̂ ≥ I` joins the
+//!   two inside corners. The four values are read in an order fixed by the face's
+//!   place in the grid, so the two cells of a face make the same choice.
+//! - The segments of a cell's six faces chain into closed polygons (BUILDCYCLES),
+//!   counter-clockwise seen from outside (`f < I`): face normals point toward
+//!   decreasing `f`, along `n = −∇f/|∇f|`. A polygon of three corners is one
+//!   triangle; a larger one is fanned around its barycentre, a vertex of its own.
+//! - Inside a cell, nothing more is decided: as in the paper, each cycle is its own
+//!   polygon, so where the trilinear interpolant would join two cycles by a tunnel
+//!   through the cell, the surface keeps them apart. Every face segment belongs to
+//!   exactly one polygon on each side of its face, run in opposite directions, so
+//!   the surface is a closed, consistently oriented manifold whatever the cell
+//!   interiors look like; at the border of the volume it is open.
+//!
+//! Positions are in world coordinates (origin, spacing, direction of the
+//! [`Volume`]). A mirrored grid (direction of negative determinant) has its
+//! triangles wound the other way, so normals still point toward decreasing `f`.
+//! The cells are processed in parallel over slabs of z; the output does not depend
+//! on the number of threads.
+
+mod cell;
+mod slab;
+
+use rayon::prelude::*;
+
+use crate::mesh::{Mesh, TriangleSoup};
+use crate::volume::Volume;
+use crate::{Error, Result};
+
+/// Where a vertex of an [`Isosurface`] comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VertexSource {
+    /// The crossing on the grid edge from sample `point` (a linear index into
+    /// [`Volume::samples`]) one step along index axis `axis` (0, 1, 2 for x, y, z),
+    /// a fraction `t` of the way (in `(0, 1)`). The grid edge's key is
+    /// `3 · point + axis`.
+    Edge {
+        /// Linear index of the edge's first sample.
+        point: u64,
+        /// Index axis of the edge.
+        axis: u8,
+        /// Position along the edge, as a fraction of its length from `point`.
+        t: f64,
+    },
+    /// The barycentre of a polygon of more than three corners in the cell whose
+    /// lowest corner is sample `cell` (a linear index into [`Volume::samples`]).
+    Cell {
+        /// Linear index of the cell's lowest corner.
+        cell: u64,
+    },
+}
+
+/// An isosurface of a volume and where its vertices and faces come from.
+#[derive(Clone, Debug)]
+pub struct Isosurface {
+    /// The surface: a manifold, counter-clockwise seen from `f < I`, closed except at
+    /// the border of the volume. A closed component may enclose a cavity (negative
+    /// volume); it is not turned inside out.
+    pub mesh: Mesh,
+    /// The source of each vertex of `mesh`, indexed by vertex id.
+    pub sources: Vec<VertexSource>,
+    /// The cell of each face of `mesh` (linear index of the cell's lowest corner),
+    /// indexed by face id.
+    pub face_cells: Vec<u64>,
+}
+
+/// The isosurface `f = level` of `volume` (Thirion & Gourdon 1993, §2–3; see the
+/// [module documentation](self) for the conventions): inside is `f ≥ level`, faces
+/// are split by the asymptotic decider, and each cell's polygons (BUILDCYCLES) are
+/// triangulated, so the mesh is closed, manifold and consistently oriented except
+/// at the volume border, with normals toward decreasing `f`.
+///
+/// Errors ([`Error::Argument`]): `level` is not finite, a dimension of the volume is
+/// below 2 (there are no cells), a sample is not finite (naming the voxel), or no
+/// grid edge crosses the level (no surface; the message gives the range of the
+/// samples).
+pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
+    check_input(volume, level)?;
+    let extraction = slab::extract(volume, level)?;
+    if extraction.triangles.is_empty() {
+        return Err(no_surface(volume, level));
+    }
+    let soup = TriangleSoup {
+        positions: extraction.positions,
+        triangles: extraction.triangles,
+        vertex_scalars: Vec::new(),
+    };
+    let (mesh, report) = Mesh::from_oriented_soup(soup)?;
+    // Vertices and faces keep their numbers only if nothing was repaired; by
+    // construction nothing needs to be.
+    if !report.is_clean() {
+        return Err(Error::Stage {
+            stage: "isosurface".into(),
+            message: format!("the extracted surface needed repairs: {report}"),
+        });
+    }
+    Ok(Isosurface {
+        mesh,
+        sources: extraction.sources,
+        face_cells: extraction.face_cells,
+    })
+}
+
+/// Refuse a non-finite level, a volume without cells and non-finite samples.
+fn check_input(volume: &Volume, level: f64) -> Result<()> {
+    if !level.is_finite() {
+        return Err(Error::Argument(format!(
+            "the isosurface level {level} is not finite"
+        )));
+    }
+    let dims = volume.dims();
+    if dims.iter().any(|&n| n < 2) {
+        return Err(Error::Argument(format!(
+            "an isosurface needs at least 2 samples along each axis, the volume has {}×{}×{}",
+            dims[0], dims[1], dims[2]
+        )));
+    }
+    match volume
+        .samples()
+        .par_iter()
+        .position_first(|v| !v.is_finite())
+    {
+        None => Ok(()),
+        Some(at) => {
+            let (i, j, k) = (
+                at % dims[0],
+                (at / dims[0]) % dims[1],
+                at / (dims[0] * dims[1]),
+            );
+            Err(Error::Argument(format!(
+                "the sample at voxel ({i}, {j}, {k}) is {}: an isosurface needs finite samples",
+                volume.samples()[at]
+            )))
+        }
+    }
+}
+
+/// The error for a level that no grid edge crosses.
+fn no_surface(volume: &Volume, level: f64) -> Error {
+    let (low, high) = volume
+        .samples()
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    Error::Argument(format!(
+        "no isosurface at level {level}: no grid edge crosses it (the samples range over \
+         [{low}, {high}])"
+    ))
+}
