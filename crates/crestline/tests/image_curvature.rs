@@ -187,3 +187,187 @@ fn vanishing_or_non_finite_gradient_gives_none() {
     let nan = Vector::new(f64::NAN, 1.0, 0.0);
     assert!(isosurface_curvature(&nan, &Matrix3::identity(), &zero).is_none());
 }
+
+// ---------------------------------------------------------------------------
+// Isosurface meshes with image-based curvature (`curvature::image_isosurface`).
+
+mod sampled {
+    use crestline::curvature::{estimate_curvature, image_isosurface, CurvatureField};
+    use crestline::mesh::Mesh;
+    use crestline::volume::Volume;
+    use crestline::{Point, Vector};
+    use nalgebra::Matrix3;
+
+    /// `f` sampled on an `n³` grid with `spacing`, centred on the world origin, axes
+    /// along `direction`.
+    pub fn field(
+        n: usize,
+        spacing: [f64; 3],
+        direction: Matrix3<f64>,
+        f: impl Fn(&Point) -> f64,
+    ) -> Volume {
+        let centre = (n - 1) as f64 / 2.0;
+        let offset = -(direction * Vector::from_fn(|i, _| centre * spacing[i]));
+        let origin = [offset.x, offset.y, offset.z];
+        let mut samples = Vec::with_capacity(n * n * n);
+        let probe = Volume::new([1, 1, 1], spacing, origin, direction, vec![0.0]).unwrap();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    let p = probe.index_to_world([i as f64, j as f64, k as f64]);
+                    samples.push(f(&p) as f32);
+                }
+            }
+        }
+        Volume::new([n; 3], spacing, origin, direction, samples).unwrap()
+    }
+
+    /// The isosurface and its image-based curvature field.
+    pub fn surface(volume: &Volume, level: f64, sigma: f64) -> (Mesh, CurvatureField) {
+        let (iso, curvature) = image_isosurface(volume, level, sigma).unwrap();
+        let field = estimate_curvature(&iso.mesh, &curvature).unwrap();
+        assert!(
+            field.unreliable.iter().all(|u| !u),
+            "every vertex has a gradient"
+        );
+        (iso.mesh, field)
+    }
+
+    /// Mean and largest of |measured − expected| / scale over the vertices.
+    pub fn errors(values: impl Iterator<Item = (f64, f64)>, scale: f64) -> (f64, f64) {
+        let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0);
+        for (measured, expected) in values {
+            let e = (measured - expected).abs() / scale;
+            sum += e;
+            max = max.max(e);
+            n += 1;
+        }
+        (sum / n as f64, max)
+    }
+}
+
+#[test]
+fn sphere_field_curvature_is_one_over_the_radius_at_every_vertex() {
+    let radius = 20.0;
+    let flips = Matrix3::new(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0);
+    for (spacing, direction, sigma) in [
+        ([1.0; 3], Matrix3::identity(), 1.5),
+        ([1.0; 3], Matrix3::identity(), 0.0),
+        ([0.8, 1.0, 1.3], flips, 1.5),
+    ] {
+        // Room for the Gaussian's 5σ (and the spline's support) beyond the sphere
+        // along every axis.
+        let finest = spacing.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let n = 2 + (2.0 * (radius + 5.0 * sigma + 3.0) / finest) as usize;
+        let volume = sampled::field(n, spacing, direction, |p| radius - p.coords.norm());
+        let (mesh, field) = sampled::surface(&volume, 0.0, sigma);
+        assert_eq!(mesh.euler_characteristic(), 2);
+        // The curvature of the sphere through each vertex, 1/|p|.
+        let expected = |v: usize| 1.0 / mesh.positions()[v].coords.norm();
+        let k = 1.0 / radius;
+        let (mean, max) = sampled::errors(
+            (0..mesh.vertex_count())
+                .flat_map(|v| [(field.k_max[v], expected(v)), (field.k_min[v], expected(v))]),
+            k,
+        );
+        eprintln!(
+            "sphere, spacing {spacing:?}, σ {sigma}: relative error mean {mean:.2e}, max {max:.2e}"
+        );
+        assert!(mean < 0.005 && max < 0.03, "mean {mean}, max {max}");
+        for (v, n) in field.normal.iter().enumerate() {
+            let radial = mesh.positions()[v].coords.normalize();
+            assert!(n.dot(&radial) > 0.999, "normal {n:?} at {v}");
+        }
+    }
+}
+
+#[test]
+fn torus_field_curvatures_match_the_closed_form() {
+    let (big, small) = (18.0, 7.0);
+    let tube_distance = |p: &Point| {
+        let ring = (p.x * p.x + p.y * p.y).sqrt() - big;
+        (ring * ring + p.z * p.z).sqrt()
+    };
+    let volume = sampled::field(64, [1.0; 3], Matrix3::identity(), |p| {
+        small - tube_distance(p)
+    });
+    let (mesh, field) = sampled::surface(&volume, 0.0, 1.0);
+    assert_eq!(mesh.euler_characteristic(), 0);
+    // Around the tube 1/r; around the axis cos φ / (R + r cos φ), with r and φ of
+    // the torus through the vertex.
+    let (mean, max) = sampled::errors(
+        mesh.positions().iter().enumerate().flat_map(|(v, p)| {
+            let rho = (p.x * p.x + p.y * p.y).sqrt();
+            let r = tube_distance(p);
+            let cos = (rho - big) / r;
+            let around_axis = cos / (big + r * cos);
+            let tube = 1.0 / r;
+            [
+                (field.k_max[v], tube.max(around_axis)),
+                (field.k_min[v], tube.min(around_axis)),
+            ]
+        }),
+        1.0 / small,
+    );
+    eprintln!("torus: error mean {mean:.2e}, max {max:.2e} of 1/r");
+    assert!(mean < 0.01 && max < 0.05, "mean {mean}, max {max}");
+}
+
+/// The principal directions of the ellipsoid x²/a² + y²/b² + z²/c² = 1 at its point
+/// p: the normals of the two other confocal quadrics through p (parameters λ ≠ 0
+/// solving Σ pᵢ² / (aᵢ² + λ) = 1).
+fn confocal_directions(axes: [f64; 3], p: &Point) -> [Vector; 2] {
+    let [a2, b2, c2] = axes.map(|a| a * a);
+    let [x2, y2, z2] = [p.x * p.x, p.y * p.y, p.z * p.z];
+    // Σ pᵢ² Π_{j≠i}(aⱼ² + λ) = Π(aᵢ² + λ), a cubic in λ with root 0; divide it out.
+    // Π(aᵢ² + λ) = λ³ + s1 λ² + s2 λ + s3.
+    let s1 = a2 + b2 + c2;
+    let s2 = a2 * b2 + b2 * c2 + c2 * a2;
+    let t1 = x2 + y2 + z2;
+    let t2 = x2 * (b2 + c2) + y2 * (a2 + c2) + z2 * (a2 + b2);
+    // λ² + (s1 − t1) λ + (s2 − t2) = 0.
+    let (bq, cq) = (s1 - t1, s2 - t2);
+    let root = (bq * bq - 4.0 * cq).max(0.0).sqrt();
+    [(-bq + root) / 2.0, (-bq - root) / 2.0].map(|l| {
+        let squares = [a2, b2, c2];
+        // On a symmetry plane pᵢ = 0 a root is −aᵢ²: that quadric degenerates to
+        // the plane, whose normal is the axis.
+        match (0..3).find(|&i| (squares[i] + l).abs() < 1e-9 * squares[i]) {
+            Some(i) => Vector::ith(i, 1.0),
+            None => Vector::new(p.x / (a2 + l), p.y / (b2 + l), p.z / (c2 + l)).normalize(),
+        }
+    })
+}
+
+#[test]
+fn ellipsoid_field_principal_directions_follow_its_curvature_lines() {
+    let axes = [24.0, 17.0, 11.0];
+    let q = |p: &Point| (p.x / axes[0]).powi(2) + (p.y / axes[1]).powi(2) + (p.z / axes[2]).powi(2);
+    let volume = sampled::field(60, [1.0; 3], Matrix3::identity(), |p| -q(p));
+    let (mesh, field) = sampled::surface(&volume, -1.0, 1.0);
+    let mut worst = 0.0f64;
+    let mut checked = 0;
+    for (v, p) in mesh.positions().iter().enumerate() {
+        // The quadric through the vertex is homothetic to the one sampled.
+        let scale = q(p).sqrt();
+        let [u, w] = confocal_directions(axes.map(|a| a * scale), p);
+        // Skip near-umbilics, where directions are undetermined.
+        if field.k_max[v] - field.k_min[v] < 0.1 * field.k_max[v].abs() {
+            continue;
+        }
+        let d = field.d_max[v];
+        let misfit = 1.0 - d.dot(&u).abs().max(d.dot(&w).abs());
+        worst = worst.max(misfit);
+        checked += 1;
+    }
+    eprintln!("ellipsoid: {checked} vertices, worst 1 − |cos| {worst:.2e}");
+    assert!(
+        checked > mesh.vertex_count() / 2,
+        "{checked} of {}",
+        mesh.vertex_count()
+    );
+    assert!(
+        worst < 1e-6,
+        "principal direction off a curvature line by 1 − |cos| = {worst}"
+    );
+}

@@ -16,6 +16,7 @@
 mod accuracy;
 mod choice;
 mod field;
+mod image;
 mod jet;
 mod output;
 mod robust;
@@ -24,6 +25,7 @@ mod shape_operator;
 pub use accuracy::relative_rms_error;
 pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField};
+pub use image::{image_isosurface, ImageCurvature};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply};
 pub use robust::{repair_outliers, OUTLIER_SCALES};

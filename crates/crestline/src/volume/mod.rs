@@ -159,6 +159,26 @@ impl Volume {
         let grid = self.world_to_grid * (point - Point::from(self.origin));
         [grid.x, grid.y, grid.z]
     }
+
+    /// `∂index/∂world = (direction · diag(spacing))⁻¹`: the matrix that
+    /// [`Volume::world_to_index`] applies to `point − origin`, and the Jacobian that
+    /// turns derivatives along the index axes into world derivatives (∇ₓf =
+    /// Jᵀ ∇ᵢf).
+    pub fn world_to_grid(&self) -> &Matrix3<f64> {
+        &self.world_to_grid
+    }
+
+    /// A volume with this one's grid and placement and other `samples` (e.g. a
+    /// filtered copy). Errors if their number differs.
+    pub fn with_samples(&self, samples: Vec<f32>) -> Result<Volume> {
+        Volume::new(
+            self.dims,
+            self.spacing,
+            self.origin,
+            self.direction,
+            samples,
+        )
+    }
 }
 
 /// Most voxels a volume may have (2^34, 64 GiB of `f32`): far more than any image
