@@ -310,7 +310,7 @@ fn torus_field_curvatures_match_the_closed_form() {
         1.0 / small,
     );
     eprintln!("torus: error mean {mean:.2e}, max {max:.2e} of 1/r");
-    assert!(mean < 0.01 && max < 0.05, "mean {mean}, max {max}");
+    assert!(mean < 0.005 && max < 0.03, "mean {mean}, max {max}");
 }
 
 /// The principal directions of the ellipsoid x²/a² + y²/b² + z²/c² = 1 at its point
