@@ -12,13 +12,13 @@ use crestline::draw::{
     DepthBuffer, DrawOptions, Projection, Style, SuggestiveOptions, View,
 };
 use crestline::lines::{FeatureLines, LineKind};
-use crestline::mesh::Mesh;
 use crestline::{Error, Point, Result, Vector};
 
 use super::load::report_with_progress;
 use super::morse::{extract as extract_morse, MorseArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
+use super::surface::Surface;
 use super::ReportArg;
 
 /// Which feature lines to draw.
@@ -166,7 +166,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     };
     options.check()?;
     let mut report = report_with_progress("draw", &args.mesh);
-    let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let surface = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let mesh = &surface.mesh;
     let [width, height] = args.size;
     let camera = Camera::framing(
         mesh.positions(),
@@ -178,7 +179,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 
     let mut extraction = Report::new("draw", &args.mesh);
     extraction.observer = report.observer.clone();
-    let mut lines = report.stage("extraction", || extract(&mesh, args, &mut extraction))?;
+    let mut lines = report.stage("extraction", || extract(&surface, args, &mut extraction))?;
     report.counts.append(&mut extraction.counts);
     report.section("extraction_stages", &extraction.stages);
 
@@ -199,7 +200,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     }
     if let Some(suggestive) = &options.suggestive {
         add_stage(&mut report, &mut lines, LineKind::Suggestive, || {
-            let field = estimate_curvature(&mesh, &*args.tracer.estimator.build())?;
+            let field = estimate_curvature(mesh, &*surface.estimator)?;
             suggestive_contours(&mesh, &field, &camera, suggestive)
         })?;
     }
@@ -277,17 +278,13 @@ fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: 
     super::warn(&args.mesh, why);
 }
 
-/// The feature lines of the mesh, by the chosen method.
-fn extract(mesh: &Mesh, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
+/// The feature lines of the surface, by the chosen method.
+fn extract(surface: &Surface, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
     match args.lines {
-        LinesChoice::Ridges => trace_loaded(mesh, &args.mesh, &args.tracer, report),
-        LinesChoice::Morse => extract_morse(
-            mesh,
-            &args.mesh,
-            (&args.morse, args.tracer.estimator),
-            report,
-        )
-        .map(|(lines, _)| lines),
+        LinesChoice::Ridges => trace_loaded(surface, &args.mesh, &args.tracer, report),
+        LinesChoice::Morse => {
+            extract_morse(surface, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
+        }
         LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
     }
 }

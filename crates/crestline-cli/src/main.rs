@@ -12,6 +12,7 @@ mod outputs;
 mod plot;
 mod report;
 mod ridges;
+mod surface;
 mod volume_info;
 
 use std::path::PathBuf;

@@ -1,19 +1,22 @@
 //! `crestline morse`: feature lines from the Morse-Smale complex of a curvature
 //! indicator (Sahner et al. 2008).
 
+use std::sync::Arc;
+
+use crestline::curvature::CurvatureEstimator;
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
-use crestline::mesh::Mesh;
 use crestline::morse::{
     Cancellation, Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simplification,
 };
 use crestline::Result;
 
 use super::failure::explain;
-use super::load::{load_mesh, report_with_progress, warn_repairs, StrictArg};
+use super::load::{report_with_progress, StrictArg};
+use super::surface::{load_surface, Surface, VolumeArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
 use super::ReportArg;
@@ -50,9 +53,9 @@ pub struct MorseArgs {
 
 impl MorseArgs {
     /// The extractor these options describe, estimating curvature with `estimator`.
-    pub fn extractor(&self, estimator: Estimator) -> MorseSmale {
+    pub fn extractor(&self, estimator: Arc<dyn CurvatureEstimator + Send + Sync>) -> MorseSmale {
         MorseSmale {
-            estimator: estimator.build(),
+            estimator,
             indicator: self.indicator.clone(),
             criterion: self.criterion,
             simplification: match self.cancel {
@@ -69,7 +72,9 @@ impl MorseArgs {
 /// Arguments of `crestline morse`.
 #[derive(clap::Args, Debug)]
 pub struct MorseCommand {
-    /// The mesh file (.obj, .ply, .off, .stl).
+    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
+    /// .mha, .mhd; with --level).
+    #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply or .vtk.
     #[arg(short, long, value_name = "FILE")]
@@ -93,19 +98,22 @@ pub struct MorseCommand {
     #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
+    pub volume: VolumeArgs,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
-/// Extract the Morse-Smale lines of `mesh` (read from `mesh_path`), recording in `report`.
+/// Extract the Morse-Smale lines of `surface` (read from `mesh_path`), recording in
+/// `report`.
 pub fn extract(
-    mesh: &Mesh,
+    surface: &Surface,
     mesh_path: &Path,
-    (args, estimator): (&MorseArgs, Estimator),
+    args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, MorseSummary)> {
     let (mut lines, summary) = args
-        .extractor(estimator)
-        .run(mesh, report)
+        .extractor(surface.estimator.clone())
+        .run(&surface.mesh, report)
         .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
     if lines.is_empty() {
@@ -160,14 +168,13 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     .collect();
     check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("morse", &args.mesh);
-    let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
-    warn_repairs(&args.mesh, &repairs);
-    let (lines, summary) = extract(
-        &mesh,
+    let surface = load_surface(
         &args.mesh,
-        (&args.morse, args.estimator),
+        (args.strict, &args.volume, args.estimator),
+        &[],
         &mut report,
     )?;
+    let (lines, summary) = extract(&surface, &args.mesh, &args.morse, &mut report)?;
     let mut files = OutputSet::default();
     report.stage("write", || {
         files.write(&args.output, |p| write_lines(p, &lines))

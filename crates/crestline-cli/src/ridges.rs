@@ -6,12 +6,12 @@ use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::linalg::Solver;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
-use crestline::mesh::Mesh;
 use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crestline::{Error, Result};
 
 use super::failure::explain;
-use super::load::{load_mesh_with_scalars, report_with_progress, warn_repairs, StrictArg};
+use super::load::{report_with_progress, StrictArg};
+use super::surface::{load_surface, Surface, VolumeArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::ReportArg;
 
@@ -55,6 +55,8 @@ pub struct TracerArgs {
     pub smoothing_weights: Option<String>,
     #[command(flatten)]
     pub strict: StrictArg,
+    #[command(flatten)]
+    pub volume: VolumeArgs,
 }
 
 impl TracerArgs {
@@ -69,7 +71,9 @@ impl TracerArgs {
 /// Arguments of `crestline ridges`.
 #[derive(clap::Args, Debug)]
 pub struct RidgesArgs {
-    /// The mesh file (.obj, .ply, .off, .stl).
+    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
+    /// .mha, .mhd; with --level).
+    #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply or .vtk.
     #[arg(short, long, value_name = "FILE")]
@@ -83,17 +87,16 @@ pub struct RidgesArgs {
 /// The name under which smoothing weights read from a text file are attached.
 const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
 
-/// Load `mesh_path` for tracing: smoothing weights given as a text file are
-/// attached before the repairs, and the repairs are reported as warnings.
-pub fn load_for_tracing(mesh_path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Mesh> {
+/// Load the surface in `path` (a mesh or a 3D image) for tracing: smoothing
+/// weights given as a text file are attached before the repairs, and the repairs
+/// are reported as warnings.
+pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Surface> {
     let weights_file = weights_file(args);
     let extra: Vec<(&str, &Path)> = weights_file
         .map(|f| (WEIGHTS_FROM_FILE, f))
         .into_iter()
         .collect();
-    let (mesh, repairs) = load_mesh_with_scalars(mesh_path, args.strict, report, &extra)?;
-    warn_repairs(mesh_path, &repairs);
-    Ok(mesh)
+    load_surface(path, (args.strict, &args.volume, args.estimator), &extra, report)
 }
 
 /// `--smoothing-weights` when it names an existing file.
@@ -104,13 +107,14 @@ fn weights_file(args: &TracerArgs) -> Option<&Path> {
         .filter(|p| p.is_file())
 }
 
-/// Trace the lines of `mesh` (loaded by [`load_for_tracing`] from `mesh_path`).
+/// Trace the lines of `surface` (loaded by [`load_for_tracing`] from `mesh_path`).
 pub fn trace_loaded(
-    mesh: &Mesh,
+    surface: &Surface,
     mesh_path: &Path,
     args: &TracerArgs,
     report: &mut Report,
 ) -> Result<FeatureLines> {
+    let mesh = &surface.mesh;
     let smoothing_weights = match (&args.smoothing_weights, weights_file(args)) {
         (None, _) => None,
         (Some(_), Some(_)) => mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec),
@@ -124,7 +128,7 @@ pub fn trace_loaded(
         ),
     };
     let tracer = ExtremalityTracer {
-        estimator: args.estimator.build(),
+        estimator: surface.estimator.clone(),
         kinds: args.kind,
         smooth_steps: args.smooth_steps,
         smooth_time: args.smooth_time,
@@ -180,8 +184,8 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
         .collect();
     check_paths(&args.tracer.inputs(&args.mesh), &outputs)?;
     let mut report = report_with_progress("ridges", &args.mesh);
-    let mesh = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    let lines = trace_loaded(&mesh, &args.mesh, &args.tracer, &mut report)?;
+    let surface = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let lines = trace_loaded(&surface, &args.mesh, &args.tracer, &mut report)?;
     let mut files = OutputSet::default();
     report.stage("write", || {
         files.write(&args.output, |p| write_lines(p, &lines))

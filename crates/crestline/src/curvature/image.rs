@@ -10,12 +10,14 @@
 //! Gaussian (derivatives at the grid points, [`Derivatives`], interpolated
 //! trilinearly) or by the cubic B-spline through the samples ([`BSpline`]).
 
+use std::borrow::Cow;
+
 use nalgebra::Matrix3;
 
 use super::{implicit_curvature, CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 use crate::mesh::Mesh;
 use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Partial, Volume};
-use crate::{Point, Result, Vector};
+use crate::{Error, Point, Result, Vector};
 
 /// The first and second partials along the index axes (fx fy fz; fxx fxy fxz fyy
 /// fyz fzz), in the order of [`Partial::ALL`] from position 1.
@@ -45,6 +47,33 @@ enum Reconstruction {
 }
 
 impl ImageCurvature {
+    /// [`ImageCurvature::gaussian`] for `sigma > 0`, [`ImageCurvature::spline`] for
+    /// `sigma = 0`.
+    ///
+    /// Errors ([`Error::Argument`]) for a negative or non-finite σ, and as
+    /// [`ImageCurvature::gaussian`].
+    pub fn new(volume: &Volume, sigma: f64) -> Result<ImageCurvature> {
+        if sigma == 0.0 {
+            Ok(ImageCurvature::spline(volume))
+        } else if sigma > 0.0 && sigma.is_finite() {
+            ImageCurvature::gaussian(volume, sigma)
+        } else {
+            Err(Error::Argument(format!(
+                "the smoothing σ must be finite and ≥ 0 (0: no smoothing), not {sigma}"
+            )))
+        }
+    }
+
+    /// The image whose isosurfaces this curvature belongs to: `volume` smoothed
+    /// (for the Gaussian), or `volume` itself (for the spline). `volume` must be the
+    /// one this curvature was made from.
+    pub fn surface_volume<'v>(&self, volume: &'v Volume) -> Result<Cow<'v, Volume>> {
+        Ok(match self.smoothed() {
+            Some(smoothed) => Cow::Owned(volume.with_samples(smoothed.to_vec())?),
+            None => Cow::Borrowed(volume),
+        })
+    }
+
     /// Curvature of the image smoothed by a Gaussian of standard deviation `sigma`
     /// (world units): its first and second derivatives are computed on the grid
     /// (with the smoothed values, [`ImageCurvature::smoothed`]).
@@ -142,21 +171,18 @@ impl CurvatureEstimator for ImageCurvature {
 /// The isosurface `f = level` of `volume` smoothed by a Gaussian of standard
 /// deviation `sigma` (world units), with the image-based curvature of that
 /// smoothed image; with `sigma = 0` the isosurface of the samples as they are and
-/// the curvature of their cubic B-spline.
+/// the curvature of their cubic B-spline ([`ImageCurvature::new`]).
 ///
-/// Errors as [`ImageCurvature::gaussian`] and [`isosurface()`] (no surface at that
-/// level, non-finite samples, a σ that is negative or not finite).
+/// Errors as [`ImageCurvature::new`] and [`isosurface()`] (no surface at that
+/// level, non-finite samples).
 pub fn image_isosurface(
     volume: &Volume,
     level: f64,
     sigma: f64,
 ) -> Result<(Isosurface, ImageCurvature)> {
-    if sigma == 0.0 {
-        return Ok((isosurface(volume, level)?, ImageCurvature::spline(volume)));
-    }
-    let curvature = ImageCurvature::gaussian(volume, sigma)?;
-    let smoothed = volume.with_samples(curvature.smoothed().expect("order 0 computed").to_vec())?;
-    Ok((isosurface(&smoothed, level)?, curvature))
+    let curvature = ImageCurvature::new(volume, sigma)?;
+    let surface = isosurface(&*curvature.surface_volume(volume)?, level)?;
+    Ok((surface, curvature))
 }
 
 /// The nine first and second partials at the fractional index `index`,

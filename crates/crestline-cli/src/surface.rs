@@ -1,0 +1,142 @@
+//! The surface a command works on: a mesh file, or the isosurface of a 3D image with
+//! the image's own curvature.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use crate::report::Report;
+use crestline::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
+use crestline::io::{is_volume_path, read_volume};
+use crestline::mesh::Mesh;
+use crestline::volume::{isosurface, Volume};
+use crestline::{Error, Result};
+
+use super::load::{load_mesh_with_scalars, warn_repairs, StrictArg};
+
+/// Where the curvature of an image's isosurface comes from.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurvatureSource {
+    /// From the image's derivatives at each vertex (Thirion & Gourdon): the
+    /// curvature of the smooth surface the triangles approximate.
+    #[default]
+    Image,
+    /// From the triangles, by --estimator, as for any mesh.
+    Mesh,
+}
+
+/// How a 3D image becomes a surface: options of every command that reads a mesh
+/// or an image.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct VolumeArgs {
+    /// For a 3D image: the isosurface level I; inside is value ≥ I. `crestline info
+    /// IMAGE` suggests one.
+    #[arg(long, value_name = "I", allow_hyphen_values = true)]
+    pub level: Option<f64>,
+    /// For a 3D image: standard deviation of the Gaussian smoothing, in world units
+    /// (mm), for the isosurface and its curvature. Default: one voxel (the largest
+    /// spacing). 0: no smoothing (the cubic B-spline through the samples).
+    #[arg(long, value_name = "S")]
+    pub sigma: Option<f64>,
+    /// For a 3D image: the curvature of the isosurface from the image or from the
+    /// mesh.
+    #[arg(long, value_enum, default_value_t)]
+    pub curvature: CurvatureSource,
+}
+
+/// A surface to extract lines from, with the curvature estimator that fits it.
+pub struct Surface {
+    /// The mesh (repaired, or an isosurface).
+    pub mesh: Mesh,
+    /// The mesh estimator chosen on the command line, or the image's curvature.
+    pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
+}
+
+/// The surface in `path`: a mesh file (with per-vertex `scalars` read from text
+/// files, repairs warned about), or the isosurface of a 3D image as `volume` says.
+/// `estimator` serves meshes (and images with `--curvature mesh`).
+pub fn load_surface(
+    path: &Path,
+    (strict, volume, estimator): (StrictArg, &VolumeArgs, Estimator),
+    scalars: &[(&str, &Path)],
+    report: &mut Report,
+) -> Result<Surface> {
+    if is_volume_path(path) {
+        if !scalars.is_empty() {
+            return Err(argument(
+                path,
+                "per-vertex values from a file apply to meshes, not to 3D images",
+            ));
+        }
+        return image_surface(path, volume, estimator, report);
+    }
+    if volume.level.is_some() || volume.sigma.is_some() {
+        return Err(argument(
+            path,
+            "--level and --sigma apply to 3D images (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd), not to meshes",
+        ));
+    }
+    let (mesh, repairs) = load_mesh_with_scalars(path, strict, report, scalars)?;
+    warn_repairs(path, &repairs);
+    Ok(Surface {
+        mesh,
+        estimator: estimator.build(),
+    })
+}
+
+/// The isosurface of the image at `path` and its curvature, with the stages
+/// `read`, `smoothing` and `isosurface` in `report`.
+fn image_surface(
+    path: &Path,
+    args: &VolumeArgs,
+    estimator: Estimator,
+    report: &mut Report,
+) -> Result<Surface> {
+    let level = args.level.ok_or_else(|| {
+        argument(
+            path,
+            "a 3D image needs --level I for its isosurface (`crestline info` on the image suggests one)",
+        )
+    })?;
+    let volume = report.stage("read", || read_volume(path))?;
+    let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
+    report.section("sigma", sigma);
+    report.section("level", level);
+    let curvature = report
+        .stage("smoothing", || ImageCurvature::new(&volume, sigma))
+        .map_err(|e| naming(e, path))?;
+    let surface_volume = curvature.surface_volume(&volume)?;
+    let iso = report
+        .stage("isosurface", || isosurface(&surface_volume, level))
+        .map_err(|e| naming(e, path))?;
+    report.count("vertices", iso.mesh.vertex_count());
+    report.count("faces", iso.mesh.face_count());
+    let estimator: Arc<dyn CurvatureEstimator + Send + Sync> = match args.curvature {
+        CurvatureSource::Image => Arc::new(curvature),
+        CurvatureSource::Mesh => estimator.build(),
+    };
+    Ok(Surface {
+        mesh: iso.mesh,
+        estimator,
+    })
+}
+
+/// One voxel: the largest spacing.
+pub fn default_sigma(volume: &Volume) -> f64 {
+    volume.spacing().into_iter().fold(0.0, f64::max)
+}
+
+/// `err` naming the image it is about.
+fn naming(err: Error, path: &Path) -> Error {
+    match err {
+        Error::Argument(message) => argument(path, &message),
+        other => other.in_file(path),
+    }
+}
+
+/// An argument error about the input `path`.
+fn argument(path: &Path, message: &str) -> Error {
+    Error::File {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    }
+}
