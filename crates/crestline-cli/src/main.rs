@@ -6,6 +6,7 @@ mod curvature;
 mod draw;
 mod failure;
 mod info;
+mod iso;
 mod load;
 mod morse;
 mod outputs;
@@ -40,6 +41,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Estimate principal curvatures and directions per vertex; write them as PLY properties.
     Curvature(curvature::CurvatureArgs),
+    /// Extract the isosurface of a 3D image as a closed mesh, with the image's curvature.
+    Iso(iso::IsoArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
     /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
@@ -90,6 +93,7 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
+        Command::Iso(args) => iso::run(&args),
         Command::Ridges(args) => ridges::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),

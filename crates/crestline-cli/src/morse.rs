@@ -16,9 +16,9 @@ use crestline::Result;
 
 use super::failure::explain;
 use super::load::{report_with_progress, StrictArg};
-use super::surface::{load_surface, Surface, VolumeArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
+use super::surface::{load_surface, Surface, VolumeArgs};
 use super::ReportArg;
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.

@@ -11,8 +11,8 @@ use crestline::{Error, Result};
 
 use super::failure::explain;
 use super::load::{report_with_progress, StrictArg};
-use super::surface::{load_surface, Surface, VolumeArgs};
 use super::outputs::{check_paths, OutputSet, Role};
+use super::surface::{load_surface, Surface, VolumeArgs};
 use super::ReportArg;
 
 /// Options of extremality tracing, shared by every command that traces ridges.
@@ -96,7 +96,12 @@ pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> 
         .map(|f| (WEIGHTS_FROM_FILE, f))
         .into_iter()
         .collect();
-    load_surface(path, (args.strict, &args.volume, args.estimator), &extra, report)
+    load_surface(
+        path,
+        (args.strict, &args.volume, args.estimator),
+        &extra,
+        report,
+    )
 }
 
 /// `--smoothing-weights` when it names an existing file.

@@ -752,3 +752,71 @@ fn one_thread_gives_the_same_lines_as_many() {
     assert!(outputs[0].len() > 100);
     assert_eq!(outputs[0], outputs[1]);
 }
+
+const MNI: &str = "volumes/mni152_t1_1mm.nii.gz";
+
+#[test]
+fn iso_writes_a_closed_brain_surface_with_image_curvature() {
+    let dir = tempfile::tempdir().unwrap();
+    let surface = dir.path().join("brain.ply");
+    let report = dir.path().join("r.json");
+    let out = crestline(&[
+        "iso",
+        MNI,
+        "--level",
+        "60",
+        "-o",
+        surface.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let counts = &json["counts"];
+    // The brain's outer surface is one sphere-like sheet, open only where the
+    // brain stem leaves the grid through its lowest slice: χ = 2 − 1 hole.
+    assert_eq!(counts["boundary_loops"], 1, "{counts}");
+    assert_eq!(counts["euler_characteristic"], 1, "{counts}");
+    assert!(counts["vertices"].as_u64().unwrap() > 100_000, "{counts}");
+    assert_eq!(json["sigma"], 1.0);
+    let header = std::fs::read(&surface).unwrap();
+    let header = String::from_utf8_lossy(&header[..600]);
+    for property in ["k_max", "k_min", "n_x", "unreliable"] {
+        assert!(
+            header.contains(&format!("property float {property}")),
+            "{header}"
+        );
+    }
+}
+
+#[test]
+fn a_volume_without_level_or_a_mesh_with_one_is_refused_in_one_line() {
+    let out = crestline(&["ridges", MNI, "-o", "never.json"]);
+    assert_one_line_error(&out, MNI, "--level");
+    let out = crestline(&[
+        "morse",
+        "meshes/bunny.obj",
+        "--level",
+        "3",
+        "-o",
+        "never.json",
+    ]);
+    assert_one_line_error(&out, "meshes/bunny.obj", "apply to 3D images");
+    assert!(!std::path::Path::new("never.json").exists());
+}
+
+#[test]
+fn iso_at_a_level_outside_the_values_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let surface = dir.path().join("none.ply");
+    let out = crestline(&[
+        "iso",
+        MNI,
+        "--level",
+        "1000",
+        "-o",
+        surface.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&out, MNI, "1000");
+    assert!(!surface.exists());
+}

@@ -1,0 +1,96 @@
+//! `crestline iso`: the isosurface of a 3D image as a mesh, with the image's
+//! curvature per vertex.
+
+use std::path::PathBuf;
+
+use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
+use crestline::io::{is_volume_path, write_soup};
+use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::{Error, Result};
+
+use super::load::{report_with_progress, StrictArg};
+use super::outputs::{check_paths, OutputSet};
+use super::surface::{load_surface, VolumeArgs};
+use super::ReportArg;
+
+/// Arguments of `crestline iso`.
+#[derive(clap::Args, Debug)]
+pub struct IsoArgs {
+    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
+    pub volume: PathBuf,
+    /// Output surface: .ply (with the float vertex properties k_max, k_min, mean,
+    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable), .obj or .vtk (the
+    /// surface alone).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    #[command(flatten)]
+    pub surface: VolumeArgs,
+    /// Mesh curvature estimator, for --curvature mesh.
+    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    pub estimator: Estimator,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// Extract the isosurface and write it (with curvature to PLY).
+pub fn run(args: &IsoArgs) -> Result<()> {
+    if !is_volume_path(&args.volume) {
+        return Err(Error::File {
+            path: args.volume.clone(),
+            message: "iso needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)".into(),
+        });
+    }
+    let with_curvature = has_extension(&args.output, "ply");
+    if !with_curvature && !has_extension(&args.output, "obj") && !has_extension(&args.output, "vtk")
+    {
+        return Err(Error::File {
+            path: args.output.clone(),
+            message: "the surface is written as .ply, .obj or .vtk".into(),
+        });
+    }
+    let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
+        .chain(args.report.output())
+        .collect();
+    check_paths(&[("the input image", &args.volume)], &outputs)?;
+    let mut report = report_with_progress("iso", &args.volume);
+    let surface = load_surface(
+        &args.volume,
+        (StrictArg::default(), &args.surface, args.estimator),
+        &[],
+        &mut report,
+    )?;
+    let mesh = &surface.mesh;
+    report.count("euler_characteristic", mesh.euler_characteristic());
+    report.count("boundary_loops", mesh.boundary_loops().len());
+    let mut files = OutputSet::default();
+    if with_curvature {
+        let field = report.stage("curvature", || {
+            estimate_curvature(mesh, &*surface.estimator)
+        })?;
+        report.stage("write", || {
+            files.write(&args.output, |p| write_curvature_ply(p, mesh, &field))
+        })?;
+    } else {
+        report.stage("write", || {
+            files.write(&args.output, |p| write_soup(p, &soup(mesh)))
+        })?;
+    }
+    if let Some(path) = &args.report.report {
+        files.write(path, |p| report.write(p))?;
+    }
+    files.commit()
+}
+
+/// The mesh's positions and triangles.
+fn soup(mesh: &Mesh) -> TriangleSoup {
+    TriangleSoup {
+        positions: mesh.positions().to_vec(),
+        triangles: mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    }
+}
+
+fn has_extension(path: &std::path::Path, extension: &str) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case(extension))
+}
