@@ -185,23 +185,23 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 
     if options.silhouettes {
         add_stage(&mut report, &mut lines, LineKind::Silhouette, || {
-            Ok(silhouettes(&mesh, &camera, options.silhouette_min_length))
+            Ok(silhouettes(mesh, &camera, options.silhouette_min_length))
         })?;
     }
     if options.borders {
         add_stage(&mut report, &mut lines, LineKind::Border, || {
-            Ok(borders(&mesh))
+            Ok(borders(mesh))
         })?;
     }
     if let Some(angle) = options.crease_angle {
         add_stage(&mut report, &mut lines, LineKind::Crease, || {
-            creases(&mesh, angle)
+            creases(mesh, angle)
         })?;
     }
     if let Some(suggestive) = &options.suggestive {
         add_stage(&mut report, &mut lines, LineKind::Suggestive, || {
             let field = estimate_curvature(mesh, &*surface.estimator)?;
-            suggestive_contours(&mesh, &field, &camera, suggestive)
+            suggestive_contours(mesh, &field, &camera, suggestive)
         })?;
     }
     let drawing = report.stage("visibility", || {
@@ -210,9 +210,9 @@ pub fn run(args: &DrawArgs) -> Result<()> {
             .into_iter()
             .any(|kind| style.kind(kind).fade_by_view)
         {
-            with_facing(&mesh, &camera, &mut lines);
+            with_facing(mesh, &camera, &mut lines);
         }
-        let buffer = DepthBuffer::render(&mesh, &camera, options.supersampling);
+        let buffer = DepthBuffer::render(mesh, &camera, options.supersampling);
         visible_drawing(&lines, &camera, &buffer, &options)
     })?;
     let paths: serde_json::Map<String, serde_json::Value> = drawing
