@@ -97,7 +97,8 @@ fn image_surface(
             "a 3D image needs --level I for its isosurface (`crestline info` on the image suggests one)",
         )
     })?;
-    let volume = report.stage("read", || read_volume(path))?;
+    let mut volume = report.stage("read", || read_volume(path))?;
+    replace_non_finite(path, &mut volume)?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
     report.section("sigma", sigma);
     report.section("level", level);
@@ -118,6 +119,27 @@ fn image_surface(
         mesh: iso.mesh,
         estimator,
     })
+}
+
+/// Set non-finite samples (NaN outside the mask of a resampled scan, say) to the
+/// smallest finite value, the background, with a warning; an image without a
+/// finite sample is an error.
+fn replace_non_finite(path: &Path, volume: &mut Volume) -> Result<()> {
+    let lowest = volume
+        .samples()
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite())
+        .reduce(f32::min)
+        .ok_or_else(|| argument(path, "the image has no finite sample"))?;
+    let count = volume.replace_non_finite(lowest);
+    if count > 0 {
+        super::warn(
+            path,
+            &format!("{count} samples are not finite (NaN or infinite); they were set to the smallest value, {lowest}"),
+        );
+    }
+    Ok(())
 }
 
 /// One voxel: the largest spacing.

@@ -168,6 +168,17 @@ impl Volume {
         &self.world_to_grid
     }
 
+    /// Sets every sample that is not finite (NaN, ±∞: e.g. outside the mask of a
+    /// resampled scan) to `value`, and returns how many there were.
+    pub fn replace_non_finite(&mut self, value: f32) -> usize {
+        let mut count = 0;
+        for sample in self.samples.iter_mut().filter(|s| !s.is_finite()) {
+            *sample = value;
+            count += 1;
+        }
+        count
+    }
+
     /// A volume with this one's grid and placement and other `samples` (e.g. a
     /// filtered copy). Errors if their number differs.
     pub fn with_samples(&self, samples: Vec<f32>) -> Result<Volume> {
