@@ -283,7 +283,7 @@ mod tests {
         assert_eq!(kernel.radius(), 8);
         assert_eq!(kernel.weights().len(), 17);
         assert_eq!(kernel.weight(-2), -kernel.weight(2));
-        assert_eq!(kernel.weight(7), 0.0);
+        assert_eq!(kernel.weight(9), 0.0);
         assert!(kernel.weight(1) > 0.0);
         assert_eq!(Kernel::gaussian(0.3, 0).unwrap().radius(), 2);
     }
