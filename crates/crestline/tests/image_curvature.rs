@@ -2,7 +2,7 @@
 //! (`differential::isosurface_curvature`), against closed forms and finite
 //! differences on cubic polynomial fields, whose derivatives are exact.
 
-use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdDerivatives};
+use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdOrder};
 use crestline::{Point, Vector};
 use nalgebra::Matrix3;
 
@@ -10,7 +10,7 @@ use nalgebra::Matrix3;
 struct Cubic {
     b: Vector,
     a: Matrix3<f64>,
-    t: ThirdDerivatives,
+    t: ThirdOrder,
 }
 
 impl Cubic {
@@ -18,7 +18,7 @@ impl Cubic {
         let x = p.coords;
         let mut g = self.b + self.a * x;
         for (i, gi) in g.iter_mut().enumerate() {
-            *gi += 0.5 * quadratic(&self.t[i], &x);
+            *gi += 0.5 * quadratic(&self.t.0[i], &x);
         }
         g
     }
@@ -26,7 +26,7 @@ impl Cubic {
     fn hessian(&self, p: &Point) -> Matrix3<f64> {
         let x = p.coords;
         Matrix3::from_fn(|i, j| {
-            self.a[(i, j)] + (0..3).map(|k| self.t[i][j][k] * x[k]).sum::<f64>()
+            self.a[(i, j)] + (0..3).map(|k| self.t.0[i][j][k] * x[k]).sum::<f64>()
         })
     }
 
@@ -43,36 +43,12 @@ fn quadratic(m: &[[f64; 3]; 3], x: &Vector) -> f64 {
         .sum()
 }
 
-/// A symmetric third-order tensor from its ten distinct entries.
-fn symmetric_tensor(entries: [f64; 10]) -> ThirdDerivatives {
-    let index = |i: usize, j: usize, k: usize| {
-        let mut s = [i, j, k];
-        s.sort_unstable();
-        // (0,0,0) (0,0,1) (0,0,2) (0,1,1) (0,1,2) (0,2,2) (1,1,1) (1,1,2) (1,2,2) (2,2,2)
-        match s {
-            [0, 0, 0] => 0,
-            [0, 0, 1] => 1,
-            [0, 0, 2] => 2,
-            [0, 1, 1] => 3,
-            [0, 1, 2] => 4,
-            [0, 2, 2] => 5,
-            [1, 1, 1] => 6,
-            [1, 1, 2] => 7,
-            [1, 2, 2] => 8,
-            _ => 9,
-        }
-    };
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| std::array::from_fn(|k| entries[index(i, j, k)]))
-    })
-}
-
 /// A bright ellipsoid: f = −(x²/a² + y²/b² + z²/c²), inside f ≥ I.
 fn ellipsoid(a: f64, b: f64, c: f64) -> Cubic {
     Cubic {
         b: Vector::zeros(),
         a: Matrix3::from_diagonal(&Vector::new(-2.0 / (a * a), -2.0 / (b * b), -2.0 / (c * c))),
-        t: [[[0.0; 3]; 3]; 3],
+        t: ThirdOrder([[[0.0; 3]; 3]; 3]),
     }
 }
 
@@ -131,7 +107,7 @@ fn extremalities_match_finite_differences_of_curvature_on_cubic_fields() {
     let mut fields = vec![ellipsoid(3.0, 2.0, 1.0)];
     let mut cubic = ellipsoid(2.5, 1.5, 1.0);
     cubic.b = Vector::new(0.1, -0.2, 0.05);
-    cubic.t = symmetric_tensor([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
+    cubic.t = ThirdOrder::from_components([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
     fields.push(cubic);
     let points = [
         Point::new(1.1, 0.7, 0.4),
@@ -166,14 +142,14 @@ fn extremalities_match_finite_differences_of_curvature_on_cubic_fields() {
 #[test]
 fn extremality_sign_follows_the_direction_sign_and_scale_is_consistent() {
     let mut field = ellipsoid(2.5, 1.5, 1.0);
-    field.t = symmetric_tensor([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
+    field.t = ThirdOrder::from_components([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
     let p = Point::new(1.1, 0.7, 0.4);
     let c = field.curvature(&p);
     // Brightness scale and offset do not change the geometry.
     let scaled = Cubic {
         b: field.b * 7.0,
         a: field.a * 7.0,
-        t: field.t.map(|m| m.map(|r| r.map(|v| v * 7.0))),
+        t: ThirdOrder(field.t.0.map(|m| m.map(|r| r.map(|v| v * 7.0)))),
     };
     let s = scaled.curvature(&p);
     assert!((s.principal.k_max - c.principal.k_max).abs() < 1e-12);
@@ -182,7 +158,7 @@ fn extremality_sign_follows_the_direction_sign_and_scale_is_consistent() {
 
 #[test]
 fn vanishing_or_non_finite_gradient_gives_none() {
-    let zero = [[[0.0; 3]; 3]; 3];
+    let zero = ThirdOrder([[[0.0; 3]; 3]; 3]);
     assert!(isosurface_curvature(&Vector::zeros(), &Matrix3::identity(), &zero).is_none());
     let nan = Vector::new(f64::NAN, 1.0, 0.0);
     assert!(isosurface_curvature(&nan, &Matrix3::identity(), &zero).is_none());

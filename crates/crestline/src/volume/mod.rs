@@ -10,6 +10,21 @@
 //! three index axes. The readers in [`crate::io`] fill volumes from image files;
 //! which world convention a volume uses (e.g. RAS+ for NIfTI) is stated by each
 //! reader.
+//!
+//! [`Derivatives`] computes Gaussian derivatives of orders 0 to 3 on the grid
+//! (separable, moment-corrected kernels, σ in world units) and [`BSpline`] the C²
+//! cubic B-spline that interpolates the samples, both with world-space gradients,
+//! Hessians and third derivatives.
+
+pub mod bspline;
+pub mod derivatives;
+pub mod jet;
+pub mod kernels;
+mod separable;
+
+pub use bspline::BSpline;
+pub use derivatives::{Derivatives, Partial};
+pub use jet::{Jet, ThirdOrder};
 
 mod statistics;
 

@@ -1,0 +1,260 @@
+//! Gaussian derivatives of a volume: the partial derivatives of orders 0 to 3 of the
+//! image smoothed by a Gaussian of standard deviation σ (world units), on the grid.
+//!
+//! This is the differentiation step of Thirion & Gourdon (1993): the image is taken
+//! as `f = G_σ * i`, and the derivatives of `f` are separable filters of the
+//! samples with the moment-corrected kernels of [`super::kernels`] (see DESIGN.md,
+//! "Isosurfaces and implicit curvature"). σ is isotropic in the world: along index
+//! axis `a` it is `σ / spacing[a]` voxels, and derivatives are taken with respect to
+//! world length along the axes, then turned into world coordinates by the
+//! direction matrix (which must therefore be orthonormal).
+//!
+//! Borders are clamped to the edge: samples outside the grid repeat the nearest
+//! sample. Derivatives within `max(⌈5σ⌉, 2)` voxels of the border feel that
+//! extension; further in, cubic polynomials are differentiated exactly.
+
+use super::jet::{hessian_from_components, Jet, ThirdOrder};
+use super::kernels::{check_sigma, Kernel, MAX_ORDER};
+use super::separable::{self, AxisKernels, HalfKernel};
+use super::Volume;
+use crate::{Error, Result, Vector};
+use nalgebra::Matrix3;
+
+/// One partial derivative along the index axes, `∂^(a+b+c) f / ∂xᵃ ∂yᵇ ∂zᶜ` with
+/// total order `a + b + c ≤ 3`, lengths along the axes in world units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Partial {
+    orders: [usize; 3],
+}
+
+/// [`Partial`] of orders `(a, b, c)`, for the constant table.
+const fn partial(a: usize, b: usize, c: usize) -> Partial {
+    Partial { orders: [a, b, c] }
+}
+
+impl Partial {
+    /// The 20 partials of order ≤ 3: `f; fx fy fz; fxx fxy fxz fyy fyz fzz; fxxx fxxy
+    /// fxxz fxyy fxyz fxzz fyyy fyyz fyzz fzzz`.
+    pub const ALL: [Partial; 20] = [
+        partial(0, 0, 0),
+        partial(1, 0, 0),
+        partial(0, 1, 0),
+        partial(0, 0, 1),
+        partial(2, 0, 0),
+        partial(1, 1, 0),
+        partial(1, 0, 1),
+        partial(0, 2, 0),
+        partial(0, 1, 1),
+        partial(0, 0, 2),
+        partial(3, 0, 0),
+        partial(2, 1, 0),
+        partial(2, 0, 1),
+        partial(1, 2, 0),
+        partial(1, 1, 1),
+        partial(1, 0, 2),
+        partial(0, 3, 0),
+        partial(0, 2, 1),
+        partial(0, 1, 2),
+        partial(0, 0, 3),
+    ];
+
+    /// The partial derivative of orders `[a, b, c]` along x, y and z.
+    ///
+    /// Errors ([`Error::Argument`]) if the total order exceeds 3.
+    pub fn new(orders: [usize; 3]) -> Result<Partial> {
+        if orders.iter().sum::<usize>() > MAX_ORDER {
+            return Err(Error::Argument(format!(
+                "the partial derivative of orders {orders:?} has a total order above {MAX_ORDER}"
+            )));
+        }
+        Ok(Partial { orders })
+    }
+
+    /// The partials of total order at most `max_order`, in the order of
+    /// [`Partial::ALL`].
+    pub fn up_to(max_order: usize) -> impl Iterator<Item = Partial> {
+        Partial::ALL
+            .into_iter()
+            .filter(move |p| p.order() <= max_order)
+    }
+
+    /// The orders along x, y and z.
+    pub fn orders(self) -> [usize; 3] {
+        self.orders
+    }
+
+    /// The total order.
+    pub fn order(self) -> usize {
+        self.orders.iter().sum()
+    }
+
+    /// The position of this partial in [`Derivatives`]' table.
+    fn slot(self) -> usize {
+        let [a, b, c] = self.orders;
+        a + 4 * (b + 4 * c)
+    }
+}
+
+/// Partial derivatives of a Gaussian-smoothed volume, each an `f32` grid of the
+/// volume's size (x fastest), with accessors for world-space gradients, Hessians
+/// and third-derivative tensors at grid points.
+#[derive(Clone, Debug)]
+pub struct Derivatives {
+    dims: [usize; 3],
+    sigma: f64,
+    direction: Matrix3<f64>,
+    /// The grid of each computed partial, at [`Partial::slot`].
+    grids: Vec<Option<Vec<f32>>>,
+}
+
+impl Derivatives {
+    /// All partial derivatives of total order at most `max_order` (0 to 3: 1, 4, 10
+    /// or 20 grids) of `volume` smoothed by a Gaussian of standard deviation `sigma`
+    /// in world units.
+    ///
+    /// Errors as [`Derivatives::with_partials`], and if `max_order > 3`.
+    pub fn new(volume: &Volume, sigma: f64, max_order: usize) -> Result<Derivatives> {
+        if max_order > MAX_ORDER {
+            return Err(Error::Argument(format!(
+                "derivatives go up to order {MAX_ORDER}, not {max_order}"
+            )));
+        }
+        let partials: Vec<Partial> = Partial::up_to(max_order).collect();
+        Derivatives::with_partials(volume, sigma, &partials)
+    }
+
+    /// The partial derivatives `partials` (repetitions are computed once) of
+    /// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units.
+    /// The 1-D passes are shared between partials and run in parallel over z slices.
+    ///
+    /// Errors ([`Error::Argument`]) if `partials` is empty, the volume's direction
+    /// matrix is not orthonormal (a Gaussian isotropic in the world needs it), or σ
+    /// is not finite and positive, is under a tenth of a voxel along an axis, or is
+    /// more voxels than the samples along an axis (at least 4 voxels are allowed).
+    pub fn with_partials(volume: &Volume, sigma: f64, partials: &[Partial]) -> Result<Derivatives> {
+        if partials.is_empty() {
+            return Err(Error::Argument(
+                "no partial derivative was requested".to_string(),
+            ));
+        }
+        let direction = orthonormal_direction(volume)?;
+        let kernels = world_kernels(volume, sigma)?;
+        let mut wanted = partials.to_vec();
+        wanted.sort_unstable();
+        wanted.dedup();
+        let orders: Vec<[usize; 3]> = wanted.iter().map(|p| p.orders).collect();
+        let filtered = separable::filter(volume.samples(), volume.dims(), &kernels, &orders);
+        let mut grids = vec![None; 64];
+        for (p, grid) in wanted.iter().zip(filtered) {
+            grids[p.slot()] = Some(grid);
+        }
+        Ok(Derivatives {
+            dims: volume.dims(),
+            sigma,
+            direction,
+            grids,
+        })
+    }
+
+    /// The number of samples along x, y and z (those of the volume).
+    pub fn dims(&self) -> [usize; 3] {
+        self.dims
+    }
+
+    /// The Gaussian's standard deviation, in world units.
+    pub fn sigma(&self) -> f64 {
+        self.sigma
+    }
+
+    /// The grid of `partial` (x fastest, derivatives with respect to world length
+    /// along the index axes), or `None` if it was not computed.
+    pub fn grid(&self, partial: Partial) -> Option<&[f32]> {
+        self.grids[partial.slot()].as_deref()
+    }
+
+    /// The smoothed value at voxel `index`, or `None` outside the grid or if it was
+    /// not computed.
+    pub fn value(&self, index: [usize; 3]) -> Option<f64> {
+        self.components::<1>(0, index).map(|[f]| f)
+    }
+
+    /// The world-space gradient at voxel `index` (`R g` for the direction `R` and the
+    /// gradient `g` along the axes), or `None` outside the grid or if a first
+    /// derivative was not computed.
+    pub fn gradient(&self, index: [usize; 3]) -> Option<Vector> {
+        let local = Vector::from(self.components::<3>(1, index)?);
+        Some(self.direction * local)
+    }
+
+    /// The world-space Hessian at voxel `index` (`R H Rᵀ`), or `None` outside the
+    /// grid or if a second derivative was not computed.
+    pub fn hessian(&self, index: [usize; 3]) -> Option<Matrix3<f64>> {
+        let local = hessian_from_components(self.components::<6>(4, index)?);
+        Some(self.direction * local * self.direction.transpose())
+    }
+
+    /// The world-space third derivatives at voxel `index`, or `None` outside the grid
+    /// or if a third derivative was not computed.
+    pub fn third(&self, index: [usize; 3]) -> Option<ThirdOrder> {
+        let local = ThirdOrder::from_components(self.components::<10>(10, index)?);
+        Some(local.pulled_back(&self.direction.transpose()))
+    }
+
+    /// Value and world-space derivatives up to order 3 at voxel `index`, or `None`
+    /// outside the grid or unless all 20 partials were computed.
+    pub fn jet(&self, index: [usize; 3]) -> Option<Jet> {
+        let local = Jet::from_partials(&self.components::<20>(0, index)?);
+        Some(local.pulled_back(&self.direction.transpose()))
+    }
+
+    /// The values at voxel `index` of the `N` partials of [`Partial::ALL`] from
+    /// position `first` on.
+    fn components<const N: usize>(&self, first: usize, index: [usize; 3]) -> Option<[f64; N]> {
+        let [nx, ny, nz] = self.dims;
+        let [i, j, k] = index;
+        if i >= nx || j >= ny || k >= nz {
+            return None;
+        }
+        let at = i + nx * (j + ny * k);
+        let mut values = [0.0; N];
+        for (value, partial) in values.iter_mut().zip(&Partial::ALL[first..]) {
+            *value = f64::from(self.grid(*partial)?[at]);
+        }
+        Some(values)
+    }
+}
+
+/// The volume's direction matrix, or an error unless it is orthonormal.
+fn orthonormal_direction(volume: &Volume) -> Result<Matrix3<f64>> {
+    let direction = *volume.direction();
+    let defect = (direction.transpose() * direction - Matrix3::identity())
+        .abs()
+        .max();
+    if defect > 1e-6 {
+        return Err(Error::Argument(format!(
+            "Gaussian derivatives need an orthonormal direction matrix (a Gaussian \
+             isotropic in the world), but RᵀR differs from the identity by {defect:.3e}"
+        )));
+    }
+    Ok(direction)
+}
+
+/// For each axis, the kernels of orders 0 to 3 for σ (world units), scaled to
+/// derivatives with respect to world length (`1 / spacingᵐ`).
+fn world_kernels(volume: &Volume, sigma: f64) -> Result<[AxisKernels; 3]> {
+    let dims = volume.dims();
+    let spacing = volume.spacing();
+    let axis = |a: usize| -> Result<AxisKernels> {
+        let voxels = check_sigma(sigma, spacing[a], dims[a], a)?;
+        (0..=MAX_ORDER)
+            .map(|order| {
+                let kernel = Kernel::gaussian(voxels, order)?;
+                Ok(HalfKernel {
+                    taps: kernel.half_scaled(spacing[a].powi(-(order as i32))),
+                    odd: kernel.is_odd(),
+                })
+            })
+            .collect()
+    };
+    Ok([axis(0)?, axis(1)?, axis(2)?])
+}
