@@ -163,3 +163,46 @@ fn vanishing_or_non_finite_gradient_gives_none() {
     let nan = Vector::new(f64::NAN, 1.0, 0.0);
     assert!(isosurface_curvature(&nan, &Matrix3::identity(), &zero).is_none());
 }
+
+#[test]
+fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
+    use crestline::volume::{BSpline, Volume};
+    // f = −(x²/a² + y²/b² + z²/c²) sampled on a grid: the cubic B-spline
+    // reproduces the quadratic, so curvature and extremalities between samples
+    // are those of the field.
+    let field = ellipsoid(9.0, 6.0, 4.0);
+    let n = 25;
+    let origin = -12.0;
+    let samples = (0..n * n * n)
+        .map(|i| {
+            let p = Point::new(
+                origin + (i % n) as f64,
+                origin + ((i / n) % n) as f64,
+                origin + (i / (n * n)) as f64,
+            );
+            (0.5 * p.coords.dot(&(field.a * p.coords))) as f32
+        })
+        .collect();
+    let volume = Volume::new([n; 3], [1.0; 3], [origin; 3], Matrix3::identity(), samples).unwrap();
+    let spline = BSpline::new(&volume);
+    for p in [Point::new(3.3, 2.1, 1.7), Point::new(-5.2, 1.4, -0.6)] {
+        let exact = field.curvature(&p);
+        let sampled = spline
+            .jet_at_world(&p)
+            .unwrap()
+            .isosurface_curvature()
+            .unwrap();
+        let k = exact.principal.k_max;
+        assert!(
+            (sampled.principal.k_max - k).abs() < 1e-3 * k,
+            "{sampled:?} vs {exact:?}"
+        );
+        let sign = sampled.principal.d_max.dot(&exact.principal.d_max).signum();
+        assert!(
+            (sign * sampled.e_max - exact.e_max).abs() < 1e-2 * exact.e_max.abs().max(1e-3),
+            "e_max {} vs {}",
+            sampled.e_max,
+            exact.e_max
+        );
+    }
+}

@@ -8,6 +8,7 @@
 //! `g = R g_axes`, `H = R H_axes Rᵀ`.
 
 pub use crate::differential::ThirdOrder;
+use crate::differential::{isosurface_curvature, IsoCurvature};
 use crate::Vector;
 use nalgebra::Matrix3;
 
@@ -25,6 +26,13 @@ pub struct Jet {
 }
 
 impl Jet {
+    /// Principal curvatures, directions, normal and extremalities of the
+    /// iso-surface through this point ([`isosurface_curvature`]); `None` where the
+    /// gradient vanishes.
+    pub fn isosurface_curvature(&self) -> Option<IsoCurvature> {
+        isosurface_curvature(&self.gradient, &self.hessian, &self.third)
+    }
+
     /// The jet from its 20 partial derivatives, in the order of
     /// [`crate::volume::Partial::ALL`]: `f; fx fy fz; fxx fxy fxz fyy fyz fzz;
     /// fxxx fxxy fxxz fxyy fxyz fxzz fyyy fyyz fyzz fzzz`.
