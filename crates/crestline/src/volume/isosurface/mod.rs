@@ -62,25 +62,45 @@ pub enum VertexSource {
     },
 }
 
-/// An isosurface of a volume and where its vertices and faces come from.
+/// An isosurface of a volume: shared vertices and triangles, and where each vertex
+/// comes from. [`Isosurface::to_mesh`] connects it into a half-edge [`Mesh`] with
+/// the same vertex and face numbers.
 #[derive(Clone, Debug)]
 pub struct Isosurface {
-    /// The surface: a manifold, counter-clockwise seen from `f < I`, closed except at
-    /// the border of the volume. A closed component may enclose a cavity (negative
-    /// volume); it is not turned inside out.
-    pub mesh: Mesh,
-    /// The source of each vertex of `mesh`, indexed by vertex id.
+    /// Vertex positions (world coordinates) and triangles, counter-clockwise seen
+    /// from `f < I`; every edge has two triangles running along it in opposite
+    /// directions, except at the border of the volume.
+    pub soup: TriangleSoup,
+    /// The source of each vertex, indexed like `soup.positions`.
     pub sources: Vec<VertexSource>,
-    /// The cell of each face of `mesh` (linear index of the cell's lowest corner),
-    /// indexed by face id.
-    pub face_cells: Vec<u64>,
+}
+
+impl Isosurface {
+    /// The surface as a half-edge [`Mesh`], vertex `v` and face `f` being
+    /// `soup.positions[v]` and `soup.triangles[f]`: a manifold, oriented as the
+    /// triangles are (a closed component around a cavity keeps its negative volume),
+    /// closed except at the border of the volume.
+    ///
+    /// Errors ([`Error::Stage`]) if building the mesh would need a repair, which the
+    /// construction rules out.
+    pub fn to_mesh(&self) -> Result<Mesh> {
+        let (mesh, report) = Mesh::from_oriented_soup(self.soup.clone())?;
+        if report.is_clean() {
+            Ok(mesh)
+        } else {
+            Err(Error::Stage {
+                stage: "isosurface".into(),
+                message: format!("the extracted surface needed repairs: {report}"),
+            })
+        }
+    }
 }
 
 /// The isosurface `f = level` of `volume` (Thirion & Gourdon 1993, §2–3; see the
 /// [module documentation](self) for the conventions): inside is `f ≥ level`, faces
 /// are split by the asymptotic decider, and each cell's polygons (BUILDCYCLES) are
-/// triangulated, so the mesh is closed, manifold and consistently oriented except
-/// at the volume border, with normals toward decreasing `f`.
+/// triangulated, so the surface is closed, manifold and consistently oriented
+/// except at the volume border, with normals toward decreasing `f`.
 ///
 /// Errors ([`Error::Argument`]): `level` is not finite, a dimension of the volume is
 /// below 2 (there are no cells), a sample is not finite (naming the voxel), or no
@@ -92,24 +112,13 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
     if extraction.triangles.is_empty() {
         return Err(no_surface(volume, level));
     }
-    let soup = TriangleSoup {
-        positions: extraction.positions,
-        triangles: extraction.triangles,
-        vertex_scalars: Vec::new(),
-    };
-    let (mesh, report) = Mesh::from_oriented_soup(soup)?;
-    // Vertices and faces keep their numbers only if nothing was repaired; by
-    // construction nothing needs to be.
-    if !report.is_clean() {
-        return Err(Error::Stage {
-            stage: "isosurface".into(),
-            message: format!("the extracted surface needed repairs: {report}"),
-        });
-    }
     Ok(Isosurface {
-        mesh,
+        soup: TriangleSoup {
+            positions: extraction.positions,
+            triangles: extraction.triangles,
+            vertex_scalars: Vec::new(),
+        },
         sources: extraction.sources,
-        face_cells: extraction.face_cells,
     })
 }
 
@@ -127,11 +136,14 @@ fn check_input(volume: &Volume, level: f64) -> Result<()> {
             dims[0], dims[1], dims[2]
         )));
     }
-    match volume
-        .samples()
-        .par_iter()
-        .position_first(|v| !v.is_finite())
-    {
+    // A branch-free pass over blocks first (a search that stops early is much
+    // slower): the position is looked for only if there is a bad sample.
+    let samples = volume.samples();
+    let all_finite = |block: &[f32]| block.iter().fold(true, |ok, v| ok & v.is_finite());
+    if samples.par_chunks(1 << 16).all(all_finite) {
+        return Ok(());
+    }
+    match samples.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(at) => {
             let (i, j, k) = (
