@@ -94,12 +94,19 @@ fn main() -> Result<()> {
 /// Run `step` `repetitions` times: the sorted seconds and the last result.
 fn timed<T>(repetitions: u32, mut step: impl FnMut() -> Result<T>) -> Result<(Vec<f64>, T)> {
     let mut seconds = Vec::new();
-    let mut result = None;
-    for _ in 0..repetitions {
-        let start = Instant::now();
-        result = Some(step()?);
-        seconds.push(start.elapsed().as_secs_f64());
+    for _ in 1..repetitions {
+        // Each result is freed before the next step starts.
+        seconds.push(time(&mut step)?.0);
     }
+    let (last, result) = time(&mut step)?;
+    seconds.push(last);
     seconds.sort_by(f64::total_cmp);
-    Ok((seconds, result.expect("at least one repetition")))
+    Ok((seconds, result))
+}
+
+/// The seconds `step` takes, and its result.
+fn time<T>(step: &mut impl FnMut() -> Result<T>) -> Result<(f64, T)> {
+    let start = Instant::now();
+    let result = step()?;
+    Ok((start.elapsed().as_secs_f64(), result))
 }

@@ -73,8 +73,8 @@ fn surface(volume: &Volume, level: f64) -> (Isosurface, Mesh) {
     let iso = isosurface(volume, level).unwrap();
     let mesh = iso.to_mesh().unwrap();
     mesh.check_connectivity().unwrap();
-    assert_eq!(mesh.triangles(), iso.soup.triangles);
-    assert_eq!(mesh.positions(), iso.soup.positions);
+    assert_eq!(mesh.triangles(), iso.soup().triangles);
+    assert_eq!(mesh.positions(), iso.soup().positions);
     (iso, mesh)
 }
 
@@ -84,7 +84,7 @@ fn surface(volume: &Volume, level: f64) -> (Isosurface, Mesh) {
 /// faces running along it in opposite directions.
 fn assert_closed_away_from_border(iso: &Isosurface, volume: &Volume) {
     let mut directed = HashMap::new();
-    for (f, t) in iso.soup.triangles.iter().enumerate() {
+    for (f, t) in iso.soup().triangles.iter().enumerate() {
         for k in 0..3 {
             let edge = (t[k], t[(k + 1) % 3]);
             assert!(
@@ -103,7 +103,7 @@ fn assert_closed_away_from_border(iso: &Isosurface, volume: &Volume) {
 /// Whether vertex `v` is a crossing on an edge that lies in a border plane.
 fn on_border(iso: &Isosurface, volume: &Volume, v: u32) -> bool {
     let dims = volume.dims();
-    match iso.sources[v as usize] {
+    match iso.source(v as usize) {
         VertexSource::Edge { point, axis, .. } => {
             let at = point as usize;
             let index = [
@@ -174,7 +174,7 @@ fn sphere_is_closed_genus_zero_with_accurate_area_and_outward_normals() {
     assert!(volume_error < 0.01, "volume off by {volume_error}");
     // Crossings lie on the sphere up to the interpolation error (h²/8r), polygon
     // centres a little inside it.
-    for (p, source) in mesh.positions().iter().zip(&iso.sources) {
+    for (p, source) in mesh.positions().iter().zip(iso.sources()) {
         let off = ((p - centre).norm() - radius).abs();
         let tolerance = match source {
             VertexSource::Edge { .. } => 0.01,
@@ -190,9 +190,9 @@ fn sphere_is_closed_genus_zero_with_accurate_area_and_outward_normals() {
 fn vertex_sources_give_back_the_positions() {
     let volume = cube(20, ball(Point::new(9.6, 10.2, 9.9), 6.5));
     let (iso, mesh) = surface(&volume, 0.0);
-    assert_eq!(iso.sources.len(), mesh.vertex_count());
+    assert_eq!(iso.sources().len(), mesh.vertex_count());
     let mut centres = 0;
-    for (v, &source) in iso.sources.iter().enumerate() {
+    for (v, source) in iso.sources().enumerate() {
         match source_position(&volume, source) {
             Some(p) => assert!((p - mesh.positions()[v]).norm() < 1e-12),
             None => centres += 1,
@@ -209,7 +209,7 @@ fn vertex_sources_give_back_the_positions() {
     // lie on the edges of its cell.
     let n = volume.dims()[0] as u64;
     for v in mesh.vertices() {
-        let VertexSource::Cell { cell } = iso.sources[v.idx()] else {
+        let VertexSource::Cell { cell } = iso.source(v.idx()) else {
             continue;
         };
         let corners: Vec<_> = mesh.neighbors(v).collect();
@@ -220,7 +220,7 @@ fn vertex_sources_give_back_the_positions() {
             / corners.len() as f64;
         assert!((mean - mesh.position(v).coords).norm() < 1e-9);
         for u in corners {
-            let VertexSource::Edge { point, .. } = iso.sources[u.idx()] else {
+            let VertexSource::Edge { point, .. } = iso.source(u.idx()) else {
                 panic!("a centre next to a centre");
             };
             let d = point.wrapping_sub(cell);
@@ -487,8 +487,8 @@ fn output_does_not_depend_on_the_number_of_threads() {
         pool.install(|| isosurface(&volume, 0.1).unwrap())
     };
     let (one, three) = (run(1), run(3));
-    assert_eq!(one.soup, three.soup);
-    assert_eq!(one.sources, three.sources);
+    assert_eq!(one.soup(), three.soup());
+    assert!(one.sources().eq(three.sources()));
 }
 
 #[test]

@@ -44,8 +44,8 @@ use crate::{Error, Result};
 pub enum VertexSource {
     /// The crossing on the grid edge from sample `point` (a linear index into
     /// [`Volume::samples`]) one step along index axis `axis` (0, 1, 2 for x, y, z),
-    /// a fraction `t` of the way (in `(0, 1)`). The grid edge's key is
-    /// `3 · point + axis`.
+    /// a fraction `t` of the way (in `(0, 1)`). The crossing is keyed by the grid
+    /// edge, `3 · point + axis`, and shared by all cells around it.
     Edge {
         /// Linear index of the edge's first sample.
         point: u64,
@@ -62,22 +62,74 @@ pub enum VertexSource {
     },
 }
 
+/// The key of the grid edge from sample `point` along index axis `axis`:
+/// `3 · point + axis`, shared by every cell around the edge.
+fn edge_key(point: u64, axis: u8) -> u64 {
+    3 * point + u64::from(axis)
+}
+
+/// Marks the key of a cell (its centre vertex) rather than of a grid edge.
+const CELL: u64 = 1 << 63;
+
+/// The key of the cell whose lowest corner is sample `cell`.
+fn cell_key(cell: u64) -> u64 {
+    CELL | cell
+}
+
+impl VertexSource {
+    /// The source with key `key` (see [`edge_key`], [`cell_key`]) and fraction `t`.
+    fn from_key(key: u64, t: f64) -> VertexSource {
+        if key & CELL != 0 {
+            VertexSource::Cell { cell: key & !CELL }
+        } else {
+            VertexSource::Edge {
+                point: key / 3,
+                axis: (key % 3) as u8,
+                t,
+            }
+        }
+    }
+}
+
 /// An isosurface of a volume: shared vertices and triangles, and where each vertex
 /// comes from. [`Isosurface::to_mesh`] connects it into a half-edge [`Mesh`] with
 /// the same vertex and face numbers.
 #[derive(Clone, Debug)]
 pub struct Isosurface {
-    /// Vertex positions (world coordinates) and triangles, counter-clockwise seen
-    /// from `f < I`; every edge has two triangles running along it in opposite
-    /// directions, except at the border of the volume.
-    pub soup: TriangleSoup,
-    /// The source of each vertex, indexed like `soup.positions`.
-    pub sources: Vec<VertexSource>,
+    soup: TriangleSoup,
+    /// Per vertex, the key of its grid edge or cell and its fraction along the edge.
+    keys: Vec<u64>,
+    fractions: Vec<f64>,
 }
 
 impl Isosurface {
+    /// Vertex positions (world coordinates) and triangles, counter-clockwise seen
+    /// from `f < I`; every edge has two triangles running along it in opposite
+    /// directions, except at the border of the volume.
+    pub fn soup(&self) -> &TriangleSoup {
+        &self.soup
+    }
+
+    /// The vertices and triangles, without the sources.
+    pub fn into_soup(self) -> TriangleSoup {
+        self.soup
+    }
+
+    /// Where vertex `v` (an index into `soup().positions`) comes from.
+    ///
+    /// Panics if `v` is not a vertex.
+    pub fn source(&self, v: usize) -> VertexSource {
+        VertexSource::from_key(self.keys[v], self.fractions[v])
+    }
+
+    /// Where each vertex comes from, in vertex order.
+    pub fn sources(&self) -> impl ExactSizeIterator<Item = VertexSource> + '_ {
+        let pairs = self.keys.iter().zip(&self.fractions);
+        pairs.map(|(&key, &t)| VertexSource::from_key(key, t))
+    }
+
     /// The surface as a half-edge [`Mesh`], vertex `v` and face `f` being
-    /// `soup.positions[v]` and `soup.triangles[f]`: a manifold, oriented as the
+    /// `soup().positions[v]` and `soup().triangles[f]`: a manifold, oriented as the
     /// triangles are (a closed component around a cavity keeps its negative volume),
     /// closed except at the border of the volume.
     ///
@@ -118,7 +170,8 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
             triangles: extraction.triangles,
             vertex_scalars: Vec::new(),
         },
-        sources: extraction.sources,
+        keys: extraction.keys,
+        fractions: extraction.fractions,
     })
 }
 

@@ -15,9 +15,9 @@ use rayon::prelude::*;
 use super::cell::{
     corner_offset, decider_corners, inside_corners_connected, CaseTable, Polygons, EDGES,
 };
-use super::VertexSource;
+use super::{cell_key, edge_key};
 use crate::volume::Volume;
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Vector};
 
 /// Cell layers per slab: a fixed number, so the slabs (and the output) do not
 /// depend on the number of threads.
@@ -33,7 +33,10 @@ const MAX_VERTICES: usize = u32::MAX as usize;
 /// Vertices and triangles of the isosurface, with where each vertex came from.
 pub(super) struct Extraction {
     pub(super) positions: Vec<Point>,
-    pub(super) sources: Vec<VertexSource>,
+    /// Per vertex, the key of its grid edge or cell (see [`edge_key`], [`cell_key`])
+    /// and its fraction along the edge (0 for a cell's centre).
+    pub(super) keys: Vec<u64>,
+    pub(super) fractions: Vec<f64>,
     pub(super) triangles: Vec<[u32; 3]>,
 }
 
@@ -81,16 +84,15 @@ impl<'a> Grid<'a> {
         self.samples.get(k * size..(k + 1) * size).unwrap_or(&[])
     }
 
-    /// The object/background convention for the samples of plane `k`: 1 where
-    /// `f ≥ I` (inside), 0 elsewhere.
+    /// The object/background convention: 1 where `f ≥ I` (inside), 0 elsewhere.
+    fn inside(&self, value: f32) -> u8 {
+        u8::from(f64::from(value) >= self.level)
+    }
+
+    /// The inside flags of the samples of plane `k`.
     fn classify(&self, k: usize, inside: &mut Vec<u8>) {
         inside.clear();
-        let level = self.level;
-        inside.extend(
-            self.plane_samples(k)
-                .iter()
-                .map(|&v| u8::from(f64::from(v) >= level)),
-        );
+        inside.extend(self.plane_samples(k).iter().map(|&v| self.inside(v)));
     }
 
     /// Call `visit(i, j, axis)` for every crossing of plane `k` (whose inside flags
@@ -110,7 +112,7 @@ impl<'a> Grid<'a> {
                 }
                 if above
                     .get(i + nx * j)
-                    .is_some_and(|&v| u8::from(f64::from(v) >= self.level) != here)
+                    .is_some_and(|&v| self.inside(v) != here)
                 {
                     visit(i, j, 2);
                 }
@@ -121,7 +123,7 @@ impl<'a> Grid<'a> {
     /// The crossing on the edge from sample `(i, j, k)` along `axis`: its world
     /// position (linear interpolation, kept [`END_GAP`] away from the ends) and
     /// source.
-    fn crossing(&self, [i, j, k]: [usize; 3], axis: usize) -> (Point, VertexSource) {
+    fn crossing(&self, [i, j, k]: [usize; 3], axis: usize) -> (Point, u64, f64) {
         let [nx, ny, _] = self.dims;
         let at = i + nx * (j + ny * k);
         let step = [1, nx, nx * ny][axis];
@@ -132,12 +134,8 @@ impl<'a> Grid<'a> {
         let t = ((self.level - a) / (b - a)).clamp(END_GAP, 1.0 - END_GAP);
         let mut index = [i, j, k].map(|x| x as f64);
         index[axis] += t;
-        let source = VertexSource::Edge {
-            point: at as u64,
-            axis: axis as u8,
-            t,
-        };
-        (self.volume.index_to_world(index), source)
+        let key = edge_key(at as u64, axis as u8);
+        (self.volume.index_to_world(index), key, t)
     }
 }
 
@@ -154,7 +152,8 @@ struct Plane {
     /// the plane (other slots hold stale values and are never read).
     slot: Vec<u32>,
     points: Vec<Point>,
-    sources: Vec<VertexSource>,
+    keys: Vec<u64>,
+    fractions: Vec<f64>,
 }
 
 impl Plane {
@@ -166,7 +165,8 @@ impl Plane {
             squares: vec![0; nx * ny],
             slot: vec![0; 3 * nx * ny],
             points: Vec::new(),
-            sources: Vec::new(),
+            keys: Vec::new(),
+            fractions: Vec::new(),
         }
     }
 
@@ -197,12 +197,14 @@ impl Plane {
         self.classify(grid, k);
         self.base = base;
         self.points.clear();
-        self.sources.clear();
+        self.keys.clear();
+        self.fractions.clear();
         grid.scan_plane(k, &self.inside, |i, j, axis| {
             self.slot[3 * (i + nx * j) + axis] = self.points.len() as u32;
-            let (point, source) = grid.crossing([i, j, k], axis);
+            let (point, key, t) = grid.crossing([i, j, k], axis);
             self.points.push(point);
-            self.sources.push(source);
+            self.keys.push(key);
+            self.fractions.push(t);
         });
     }
 }
@@ -322,11 +324,12 @@ struct Part<'a> {
     /// Number of its first crossing, and its crossings.
     first_crossing: u32,
     points: &'a mut [Point],
-    sources: &'a mut [VertexSource],
+    keys: &'a mut [u64],
+    fractions: &'a mut [f64],
     /// Number of its first centre, and its centres.
     first_centre: u32,
     centres: &'a mut [Point],
-    centre_sources: &'a mut [VertexSource],
+    centre_keys: &'a mut [u64],
     /// Its triangles.
     triangles: &'a mut [[u32; 3]],
     /// How many triangles and centres are written.
@@ -341,7 +344,8 @@ impl Part<'_> {
         let at = (plane.base - self.first_crossing) as usize;
         let end = at + plane.points.len();
         self.points[at..end].copy_from_slice(&plane.points);
-        self.sources[at..end].copy_from_slice(&plane.sources);
+        self.keys[at..end].copy_from_slice(&plane.keys);
+        self.fractions[at..end].copy_from_slice(&plane.fractions);
     }
 
     fn push_triangle(&mut self, [a, b, c]: [u32; 3]) {
@@ -350,18 +354,18 @@ impl Part<'_> {
         self.written += 1;
     }
 
-    /// Triangulate one polygon of `cell`: a triangle as it is, a larger polygon as
-    /// a fan around its barycentre (a new vertex of this cell).
-    fn push_polygon(&mut self, ids: &[u32], points: &[Point], cell: usize) {
+    /// Triangulate one polygon of `cell` with corners `ids`: a triangle as it is, a
+    /// larger polygon as a fan around its barycentre (a new vertex of this cell),
+    /// `sum / n` from the sum of its corners' positions.
+    fn push_polygon(&mut self, ids: &[u32], sum: Vector, cell: usize) {
         if let [a, b, c] = *ids {
             self.push_triangle([a, b, c]);
             return;
         }
         let n = self.written_centres;
         self.written_centres += 1;
-        let sum = points.iter().fold(Point::origin(), |s, p| s + p.coords);
-        self.centres[n] = sum / points.len() as f64;
-        self.centre_sources[n] = VertexSource::Cell { cell: cell as u64 };
+        self.centres[n] = Point::from(sum / ids.len() as f64);
+        self.centre_keys[n] = cell_key(cell as u64);
         let centre = self.first_centre + n as u32;
         for (k, &a) in ids.iter().enumerate() {
             self.push_triangle([centre, a, ids[(k + 1) % ids.len()]]);
@@ -376,7 +380,6 @@ fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
     lower.fill(grid, first, bases[first]);
     part.take(&lower);
     let mut ids = [0u32; 12];
-    let mut points = [Point::origin(); 12];
     for k in first..end {
         upper.fill(grid, k + 1, bases[k + 1]);
         if k + 1 < owned_end(grid, end) {
@@ -386,15 +389,17 @@ fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
         surface_cells(grid, k, &lower, &upper, |cell, polygons| {
             let cell_slot = 3 * (cell % (nx * grid.dims[1]));
             for polygon in polygons.iter() {
+                let mut sum = Vector::zeros();
                 for (n, &edge) in polygon.iter().enumerate() {
                     let (up, offset) = grid.edge_slot[edge as usize];
                     let plane = if up { &upper } else { &lower };
                     let local = plane.slot[cell_slot + offset] as usize;
                     ids[n] = plane.base + local as u32;
-                    points[n] = plane.points[local];
+                    if polygon.len() > 3 {
+                        sum += plane.points[local].coords;
+                    }
                 }
-                let n = polygon.len();
-                part.push_polygon(&ids[..n], &points[..n], cell);
+                part.push_polygon(&ids[..polygon.len()], sum, cell);
             }
         });
         std::mem::swap(&mut lower, &mut upper);
@@ -453,26 +458,27 @@ pub(super) fn extract(volume: &Volume, level: f64) -> Result<Extraction> {
     let centres: usize = counts.iter().map(|c| c.centres).sum();
     let triangle_count: usize = counts.iter().map(|c| c.triangles).sum();
     let mut positions = filled(crossings + centres, Point::origin());
-    let mut sources = filled(crossings + centres, VertexSource::Cell { cell: 0 });
     // Zeroed memory comes from the allocator untouched: the slabs' writes are the
-    // first, in parallel.
+    // first, in parallel (centres keep their fraction 0).
+    let mut keys = vec![0u64; crossings + centres];
+    let mut fractions = vec![0f64; crossings + centres];
     let mut triangles = vec![[0u32; 3]; triangle_count];
-    let (points, centre_points) = positions.split_at_mut(crossings);
-    let (crossing_sources, centre_sources) = sources.split_at_mut(crossings);
-    let (mut points, mut crossing_sources) = (points, crossing_sources);
-    let (mut centre_points, mut centre_sources) = (centre_points, centre_sources);
-    let mut rest = &mut triangles[..];
+    let (mut points, mut centre_points) = positions.split_at_mut(crossings);
+    let (mut crossing_keys, mut centre_keys) = keys.split_at_mut(crossings);
+    let mut fractions_left = &mut fractions[..crossings];
+    let mut triangles_left = &mut triangles[..];
     let mut parts = Vec::with_capacity(counts.len());
     for (count, &first_centre) in counts.iter().zip(&first_centres) {
         let owned = count.crossings.iter().map(|&n| n as usize).sum();
         parts.push(Part {
             first_crossing: bases[count.first],
             points: cut(&mut points, owned),
-            sources: cut(&mut crossing_sources, owned),
+            keys: cut(&mut crossing_keys, owned),
+            fractions: cut(&mut fractions_left, owned),
             first_centre,
             centres: cut(&mut centre_points, count.centres),
-            centre_sources: cut(&mut centre_sources, count.centres),
-            triangles: cut(&mut rest, count.triangles),
+            centre_keys: cut(&mut centre_keys, count.centres),
+            triangles: cut(&mut triangles_left, count.triangles),
             written: 0,
             written_centres: 0,
             mirrored: grid.mirrored,
@@ -484,7 +490,8 @@ pub(super) fn extract(volume: &Volume, level: f64) -> Result<Extraction> {
         .for_each(|(part, count)| fill_slab(&grid, &bases, count, part));
     Ok(Extraction {
         positions,
-        sources,
+        keys,
+        fractions,
         triangles,
     })
 }
