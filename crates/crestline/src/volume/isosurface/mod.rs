@@ -28,7 +28,16 @@
 //! [`Volume`]). A mirrored grid (direction of negative determinant) has its
 //! triangles wound the other way, so normals still point toward decreasing `f`.
 //! The cells are processed in parallel over slabs of z; the output does not depend
-//! on the number of threads.
+//! on the number of threads. Vertices are numbered plane by plane of crossings,
+//! then polygon centres; [`Isosurface::source`] tells which grid edge (and where on
+//! it) or cell each vertex comes from, and [`Isosurface::to_mesh`] builds the
+//! half-edge [`Mesh`] with the same numbers, keeping the orientation (a cavity's
+//! surface faces into the cavity).
+//!
+//! Bad input is an error, never a panic: a non-finite sample (naming its voxel; a
+//! NaN is not read as outside, which would silently turn missing data into
+//! surface), a non-finite level, a volume less than 2 samples thick, or a level
+//! that no grid edge crosses (no surface; the message gives the samples' range).
 
 mod cell;
 mod slab;
