@@ -9,7 +9,8 @@ use crestline::mesh::{HalfedgeId, Mesh, RepairReport, TriangleSoup};
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Error, Result};
 
-/// A way to build a mesh from a soup: [`Mesh::from_soup`] or [`Mesh::from_soup_strict`].
+/// A way to build a mesh from a soup: [`Mesh::from_soup`], [`Mesh::from_soup_strict`]
+/// or [`Mesh::from_oriented_soup`].
 type Build = fn(TriangleSoup) -> Result<(Mesh, RepairReport)>;
 
 /// Write `text` as `name` in a fresh temporary directory and load it as a mesh.
@@ -115,6 +116,25 @@ fn inside_out_closed_mesh_is_turned_outward() {
     assert_eq!(report.inverted_components, 1);
     assert_eq!(report.flipped_faces, 0);
     assert!(signed_volume(&mesh) > 0.0);
+}
+
+#[test]
+fn oriented_soup_keeps_an_inside_out_closed_mesh_as_given() {
+    // A cavity's boundary: consistent, negative volume, and meant that way.
+    let text = format!("{TETRA_POINTS}f 1 2 3\nf 1 4 2\nf 2 4 3\nf 1 3 4\n");
+    let (result, _, _dir) = load_with(Mesh::from_oriented_soup, "cavity.obj", &text);
+    let (mesh, report) = result.unwrap();
+    assert_valid(&mesh);
+    assert!(report.is_clean(), "{report}");
+    assert!(signed_volume(&mesh) < 0.0);
+}
+
+#[test]
+fn oriented_soup_refuses_faces_that_disagree_naming_the_edge() {
+    let text = format!("{TETRA_POINTS}f 1 3 2\nf 1 2 4\nf 2 4 3\nf 1 4 3\n");
+    let message = error_message_with(Mesh::from_oriented_soup, "mixed.obj", &text);
+    assert!(message.contains("disagree in orientation"), "{message}");
+    assert!(message.contains("edge from vertex"), "{message}");
 }
 
 #[test]

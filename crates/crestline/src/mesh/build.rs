@@ -130,7 +130,7 @@ impl Mesh {
     /// Errors: a non-finite coordinate or out-of-range index (naming the vertex or
     /// face), or no faces left.
     pub fn from_soup(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
-        build(soup, Unorientable::Cut)
+        build(soup, Orienting::Repair(Unorientable::Cut))
     }
 
     /// [`Mesh::from_soup`] for callers who would rather be told than have a surface
@@ -138,8 +138,27 @@ impl Mesh {
     /// instead of being cut open. Every other repair is made as by
     /// [`Mesh::from_soup`].
     pub fn from_soup_strict(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
-        build(soup, Unorientable::Refuse)
+        build(soup, Orienting::Repair(Unorientable::Refuse))
     }
+
+    /// [`Mesh::from_soup`] for soups whose orientation carries meaning and must be
+    /// kept, such as isosurfaces, where a closed component of negative volume is a
+    /// cavity rather than an inside-out surface: no face is flipped, and faces that
+    /// disagree across an edge are an error naming the edge. Every other repair is
+    /// made as by [`Mesh::from_soup`].
+    pub fn from_oriented_soup(soup: TriangleSoup) -> Result<(Mesh, RepairReport)> {
+        build(soup, Orienting::Keep)
+    }
+}
+
+/// How [`build`] orients the faces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Orienting {
+    /// Make neighbours agree and turn closed components of negative volume
+    /// outside-out, doing with unorientable components what the value says.
+    Repair(Unorientable),
+    /// Keep every face as given; neighbours that disagree are an error.
+    Keep,
 }
 
 /// What to do with a component that cannot be oriented consistently.
@@ -152,7 +171,7 @@ enum Unorientable {
 }
 
 /// The steps of the module documentation, in order.
-fn build(soup: TriangleSoup, unorientable: Unorientable) -> Result<(Mesh, RepairReport)> {
+fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport)> {
     let TriangleSoup {
         positions,
         triangles,
@@ -179,7 +198,12 @@ fn build(soup: TriangleSoup, unorientable: Unorientable) -> Result<(Mesh, Repair
     }
 
     let mut partner = pair_edges(&tris, positions.len(), &mut report);
-    orient(&unit, &mut tris, &mut partner, unorientable, &mut report)?;
+    match orienting {
+        Orienting::Repair(unorientable) => {
+            orient(&unit, &mut tris, &mut partner, unorientable, &mut report)?
+        }
+        Orienting::Keep => check_agreement(&tris, &partner)?,
+    }
     let mut positions = positions;
     let mut scalars = vertex_scalars;
     split_fans(
@@ -447,11 +471,7 @@ fn orient(
     unorientable: Unorientable,
     report: &mut RepairReport,
 ) -> Result<()> {
-    let already_consistent = (0..partner.len()).into_par_iter().all(|c| {
-        let d = partner[c];
-        d == NONE || corner_edge(tris, c) != corner_edge(tris, d as usize)
-    });
-    let flip = if already_consistent {
+    let flip = if first_disagreement(tris, partner).is_none() {
         outward_flips(tris, partner, positions, report)
     } else {
         let flip = consistent_flips(tris, partner, positions, unorientable, report)?;
@@ -478,6 +498,31 @@ fn orient(
         }
     }
     Ok(())
+}
+
+/// The first corner (directed face edge) that runs along its edge in the same
+/// direction as its partner, if any.
+fn first_disagreement(tris: &[[u32; 3]], partner: &[u32]) -> Option<usize> {
+    (0..partner.len()).into_par_iter().find_first(|&c| {
+        let d = partner[c];
+        d != NONE && same_direction(tris, c, d as usize)
+    })
+}
+
+/// An error naming the first edge across which two faces disagree in orientation.
+fn check_agreement(tris: &[[u32; 3]], partner: &[u32]) -> Result<()> {
+    match first_disagreement(tris, partner) {
+        None => Ok(()),
+        Some(c) => {
+            let (a, b) = corner_edge(tris, c);
+            Err(Error::Mesh(format!(
+                "faces {} and {} disagree in orientation across the edge from vertex {a} to \
+                 vertex {b}",
+                c / 3,
+                partner[c] / 3
+            )))
+        }
+    }
 }
 
 /// The flips for a mesh whose neighbours already agree: only closed components

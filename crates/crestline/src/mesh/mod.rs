@@ -5,7 +5,8 @@
 //! non-manifold edges and vertices, degenerate, repeated and back-to-back faces, and
 //! Möbius-like components, which are cut open into orientable patches) and reports
 //! each repair in a [`RepairReport`]; [`Mesh::from_soup_strict`] refuses a component
-//! that cannot be oriented instead. The result is always an oriented 2-manifold,
+//! that cannot be oriented instead, and [`Mesh::from_oriented_soup`] keeps every face
+//! as given (for surfaces such as isosurfaces, whose orientation carries meaning). The result is always an oriented 2-manifold,
 //! possibly with boundary and several components.
 //!
 //! Storage is a set of plain arrays indexed by u32 ids. Halfedges come in pairs:

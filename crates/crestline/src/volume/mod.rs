@@ -14,20 +14,21 @@
 //! [`Derivatives`] computes Gaussian derivatives of orders 0 to 3 on the grid
 //! (separable, moment-corrected kernels, σ in world units) and [`BSpline`] the C²
 //! cubic B-spline that interpolates the samples, both with world-space gradients,
-//! Hessians and third derivatives.
+//! Hessians and third derivatives. [`isosurface()`] extracts the surface `f = I` as
+//! a closed, oriented [`crate::mesh::Mesh`].
 
 pub mod bspline;
 pub mod derivatives;
+pub mod isosurface;
 pub mod jet;
 pub mod kernels;
 mod separable;
+mod statistics;
 
 pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial};
+pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub use jet::{Jet, ThirdOrder};
-
-mod statistics;
-
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
 use crate::{Error, Point, Result, Vector};
