@@ -109,16 +109,14 @@ fn image_surface(
     let iso = report
         .stage("isosurface", || isosurface(&surface_volume, level))
         .map_err(|e| naming(e, path))?;
-    report.count("vertices", iso.mesh.vertex_count());
-    report.count("faces", iso.mesh.face_count());
+    let mesh = report.stage("mesh", || iso.to_mesh())?;
+    report.count("vertices", mesh.vertex_count());
+    report.count("faces", mesh.face_count());
     let estimator: Arc<dyn CurvatureEstimator + Send + Sync> = match args.curvature {
         CurvatureSource::Image => Arc::new(curvature),
         CurvatureSource::Mesh => estimator.build(),
     };
-    Ok(Surface {
-        mesh: iso.mesh,
-        estimator,
-    })
+    Ok(Surface { mesh, estimator })
 }
 
 /// Set non-finite samples (NaN outside the mask of a resampled scan, say) to the

@@ -110,9 +110,84 @@ pub fn implicit_curvature(
     (PrincipalCurvatures::from_tangent_operator(&shape, &n), n)
 }
 
-/// The third partial derivatives of a scalar field at a point: `t[i][j][k]` =
-/// ∂³f/∂x_i∂x_j∂x_k, symmetric in its three indices.
-pub type ThirdDerivatives = [[[f64; 3]; 3]; 3];
+/// The (symmetric) tensor of third partial derivatives `T[i][j][k] = ∂³f/∂xᵢ∂xⱼ∂xₖ`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThirdOrder(pub [[[f64; 3]; 3]; 3]);
+
+impl ThirdOrder {
+    /// The tensor from its 10 distinct components, in the order
+    /// `xxx, xxy, xxz, xyy, xyz, xzz, yyy, yyz, yzz, zzz` (that of
+    /// `crate::volume::Partial::ALL`).
+    pub fn from_components(c: [f64; 10]) -> ThirdOrder {
+        let mut t = [[[0.0; 3]; 3]; 3];
+        for (i, plane) in t.iter_mut().enumerate() {
+            for (j, row) in plane.iter_mut().enumerate() {
+                for (k, value) in row.iter_mut().enumerate() {
+                    *value = c[component_index(i, j, k)];
+                }
+            }
+        }
+        ThirdOrder(t)
+    }
+
+    /// The component `∂³f/∂xᵢ∂xⱼ∂xₖ`.
+    pub fn get(&self, i: usize, j: usize, k: usize) -> f64 {
+        self.0[i][j][k]
+    }
+
+    /// The derivative of the Hessian along `v`: `Σₖ T[i][j][k] vₖ`.
+    pub fn contract(&self, v: &Vector) -> Matrix3<f64> {
+        Matrix3::from_fn(|i, j| (0..3).map(|k| self.0[i][j][k] * v[k]).sum())
+    }
+
+    /// The third directional derivative along `v`: `Σ T[i][j][k] vᵢ vⱼ vₖ`.
+    pub fn directional(&self, v: &Vector) -> f64 {
+        v.dot(&(self.contract(v) * v))
+    }
+
+    /// The tensor in coordinates `x` where the present ones are `u = J x` (see the
+    /// module documentation).
+    pub fn pulled_back(&self, jacobian: &Matrix3<f64>) -> ThirdOrder {
+        let mut out = [[[0.0; 3]; 3]; 3];
+        for (i, plane) in out.iter_mut().enumerate() {
+            for (j, row) in plane.iter_mut().enumerate() {
+                for (k, value) in row.iter_mut().enumerate() {
+                    *value = self.weighted_sum(jacobian, [i, j, k]);
+                }
+            }
+        }
+        ThirdOrder(out)
+    }
+
+    /// `Σ J[a][i] J[b][j] J[c][k] T[a][b][c]` for `(i, j, k) = at`.
+    fn weighted_sum(&self, jacobian: &Matrix3<f64>, [i, j, k]: [usize; 3]) -> f64 {
+        let mut sum = 0.0;
+        for (a, plane) in self.0.iter().enumerate() {
+            for (b, row) in plane.iter().enumerate() {
+                let ab = jacobian[(a, i)] * jacobian[(b, j)];
+                for (c, value) in row.iter().enumerate() {
+                    sum += ab * jacobian[(c, k)] * value;
+                }
+            }
+        }
+        sum
+    }
+}
+
+/// The position of component `(i, j, k)` among the 10 distinct ones
+/// (`xxx, xxy, xxz, xyy, xyz, xzz, yyy, yyz, yzz, zzz`).
+fn component_index(i: usize, j: usize, k: usize) -> usize {
+    let mut sorted = [i, j, k];
+    sorted.sort_unstable();
+    let [a, b, c] = sorted;
+    // Sorted triples in lexicographic order: those starting with 0 come first (6 of
+    // them), then those starting with 1 (3), then (2, 2, 2).
+    match a {
+        0 => [[0, 1, 2], [0, 3, 4], [0, 0, 5]][b][c],
+        1 => [6, 7, 8][b + c - 2],
+        _ => 9,
+    }
+}
 
 /// The curvature of the iso-surface of an image through one point, and how it
 /// changes along the principal directions.
@@ -149,11 +224,11 @@ pub struct IsoCurvature {
 pub fn isosurface_curvature(
     gradient: &Vector,
     hessian: &Matrix3<f64>,
-    third: &ThirdDerivatives,
+    third: &ThirdOrder,
 ) -> Option<IsoCurvature> {
     let norm = gradient.norm();
     let finite = hessian.iter().all(|h| h.is_finite())
-        && third.iter().flatten().flatten().all(|t| t.is_finite());
+        && third.0.iter().flatten().flatten().all(|t| t.is_finite());
     if !(norm > 0.0 && norm.is_finite() && finite) {
         return None;
     }
@@ -161,7 +236,7 @@ pub fn isosurface_curvature(
     // normal ∇F/|∇F| = −g/|g|.
     let (principal, normal) = implicit_curvature(&-gradient, &-hessian);
     let extremality = |k: f64, t: &Vector| {
-        let f_ttt = directional_third(third, t);
+        let f_ttt = third.directional(t);
         (-f_ttt + 3.0 * k * normal.dot(&(hessian * t))) / norm
     };
     Some(IsoCurvature {
@@ -170,17 +245,4 @@ pub fn isosurface_curvature(
         principal,
         normal,
     })
-}
-
-/// The third directional derivative Σ_ijk t_ijk v_i v_j v_k.
-pub fn directional_third(third: &ThirdDerivatives, v: &Vector) -> f64 {
-    let mut sum = 0.0;
-    for (i, plane) in third.iter().enumerate() {
-        for (j, row) in plane.iter().enumerate() {
-            for (k, t) in row.iter().enumerate() {
-                sum += t * v[i] * v[j] * v[k];
-            }
-        }
-    }
-    sum
 }

@@ -2,7 +2,7 @@
 //! (`differential::isosurface_curvature`), against closed forms and finite
 //! differences on cubic polynomial fields, whose derivatives are exact.
 
-use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdDerivatives};
+use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdOrder};
 use crestline::{Point, Vector};
 use nalgebra::Matrix3;
 
@@ -10,7 +10,7 @@ use nalgebra::Matrix3;
 struct Cubic {
     b: Vector,
     a: Matrix3<f64>,
-    t: ThirdDerivatives,
+    t: ThirdOrder,
 }
 
 impl Cubic {
@@ -18,7 +18,7 @@ impl Cubic {
         let x = p.coords;
         let mut g = self.b + self.a * x;
         for (i, gi) in g.iter_mut().enumerate() {
-            *gi += 0.5 * quadratic(&self.t[i], &x);
+            *gi += 0.5 * quadratic(&self.t.0[i], &x);
         }
         g
     }
@@ -26,7 +26,7 @@ impl Cubic {
     fn hessian(&self, p: &Point) -> Matrix3<f64> {
         let x = p.coords;
         Matrix3::from_fn(|i, j| {
-            self.a[(i, j)] + (0..3).map(|k| self.t[i][j][k] * x[k]).sum::<f64>()
+            self.a[(i, j)] + (0..3).map(|k| self.t.0[i][j][k] * x[k]).sum::<f64>()
         })
     }
 
@@ -43,36 +43,12 @@ fn quadratic(m: &[[f64; 3]; 3], x: &Vector) -> f64 {
         .sum()
 }
 
-/// A symmetric third-order tensor from its ten distinct entries.
-fn symmetric_tensor(entries: [f64; 10]) -> ThirdDerivatives {
-    let index = |i: usize, j: usize, k: usize| {
-        let mut s = [i, j, k];
-        s.sort_unstable();
-        // (0,0,0) (0,0,1) (0,0,2) (0,1,1) (0,1,2) (0,2,2) (1,1,1) (1,1,2) (1,2,2) (2,2,2)
-        match s {
-            [0, 0, 0] => 0,
-            [0, 0, 1] => 1,
-            [0, 0, 2] => 2,
-            [0, 1, 1] => 3,
-            [0, 1, 2] => 4,
-            [0, 2, 2] => 5,
-            [1, 1, 1] => 6,
-            [1, 1, 2] => 7,
-            [1, 2, 2] => 8,
-            _ => 9,
-        }
-    };
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| std::array::from_fn(|k| entries[index(i, j, k)]))
-    })
-}
-
 /// A bright ellipsoid: f = −(x²/a² + y²/b² + z²/c²), inside f ≥ I.
 fn ellipsoid(a: f64, b: f64, c: f64) -> Cubic {
     Cubic {
         b: Vector::zeros(),
         a: Matrix3::from_diagonal(&Vector::new(-2.0 / (a * a), -2.0 / (b * b), -2.0 / (c * c))),
-        t: [[[0.0; 3]; 3]; 3],
+        t: ThirdOrder([[[0.0; 3]; 3]; 3]),
     }
 }
 
@@ -131,7 +107,7 @@ fn extremalities_match_finite_differences_of_curvature_on_cubic_fields() {
     let mut fields = vec![ellipsoid(3.0, 2.0, 1.0)];
     let mut cubic = ellipsoid(2.5, 1.5, 1.0);
     cubic.b = Vector::new(0.1, -0.2, 0.05);
-    cubic.t = symmetric_tensor([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
+    cubic.t = ThirdOrder::from_components([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
     fields.push(cubic);
     let points = [
         Point::new(1.1, 0.7, 0.4),
@@ -166,14 +142,14 @@ fn extremalities_match_finite_differences_of_curvature_on_cubic_fields() {
 #[test]
 fn extremality_sign_follows_the_direction_sign_and_scale_is_consistent() {
     let mut field = ellipsoid(2.5, 1.5, 1.0);
-    field.t = symmetric_tensor([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
+    field.t = ThirdOrder::from_components([0.3, -0.1, 0.2, 0.05, 0.4, -0.25, 0.15, 0.1, -0.3, 0.2]);
     let p = Point::new(1.1, 0.7, 0.4);
     let c = field.curvature(&p);
     // Brightness scale and offset do not change the geometry.
     let scaled = Cubic {
         b: field.b * 7.0,
         a: field.a * 7.0,
-        t: field.t.map(|m| m.map(|r| r.map(|v| v * 7.0))),
+        t: ThirdOrder(field.t.0.map(|m| m.map(|r| r.map(|v| v * 7.0)))),
     };
     let s = scaled.curvature(&p);
     assert!((s.principal.k_max - c.principal.k_max).abs() < 1e-12);
@@ -182,7 +158,7 @@ fn extremality_sign_follows_the_direction_sign_and_scale_is_consistent() {
 
 #[test]
 fn vanishing_or_non_finite_gradient_gives_none() {
-    let zero = [[[0.0; 3]; 3]; 3];
+    let zero = ThirdOrder([[[0.0; 3]; 3]; 3]);
     assert!(isosurface_curvature(&Vector::zeros(), &Matrix3::identity(), &zero).is_none());
     let nan = Vector::new(f64::NAN, 1.0, 0.0);
     assert!(isosurface_curvature(&nan, &Matrix3::identity(), &zero).is_none());
@@ -225,12 +201,13 @@ mod sampled {
     /// The isosurface and its image-based curvature field.
     pub fn surface(volume: &Volume, level: f64, sigma: f64) -> (Mesh, CurvatureField) {
         let (iso, curvature) = image_isosurface(volume, level, sigma).unwrap();
-        let field = estimate_curvature(&iso.mesh, &curvature).unwrap();
+        let mesh = iso.to_mesh().unwrap();
+        let field = estimate_curvature(&mesh, &curvature).unwrap();
         assert!(
             field.unreliable.iter().all(|u| !u),
             "every vertex has a gradient"
         );
-        (iso.mesh, field)
+        (mesh, field)
     }
 
     /// Mean and largest of |measured − expected| / scale over the vertices.
@@ -370,4 +347,47 @@ fn ellipsoid_field_principal_directions_follow_its_curvature_lines() {
         worst < 1e-6,
         "principal direction off a curvature line by 1 − |cos| = {worst}"
     );
+}
+
+#[test]
+fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
+    use crestline::volume::{BSpline, Volume};
+    // f = −(x²/a² + y²/b² + z²/c²) sampled on a grid: the cubic B-spline
+    // reproduces the quadratic, so curvature and extremalities between samples
+    // are those of the field.
+    let field = ellipsoid(9.0, 6.0, 4.0);
+    let n = 25;
+    let origin = -12.0;
+    let samples = (0..n * n * n)
+        .map(|i| {
+            let p = Point::new(
+                origin + (i % n) as f64,
+                origin + ((i / n) % n) as f64,
+                origin + (i / (n * n)) as f64,
+            );
+            (0.5 * p.coords.dot(&(field.a * p.coords))) as f32
+        })
+        .collect();
+    let volume = Volume::new([n; 3], [1.0; 3], [origin; 3], Matrix3::identity(), samples).unwrap();
+    let spline = BSpline::new(&volume);
+    for p in [Point::new(3.3, 2.1, 1.7), Point::new(-5.2, 1.4, -0.6)] {
+        let exact = field.curvature(&p);
+        let sampled = spline
+            .jet_at_world(&p)
+            .unwrap()
+            .isosurface_curvature()
+            .unwrap();
+        let k = exact.principal.k_max;
+        assert!(
+            (sampled.principal.k_max - k).abs() < 1e-3 * k,
+            "{sampled:?} vs {exact:?}"
+        );
+        let sign = sampled.principal.d_max.dot(&exact.principal.d_max).signum();
+        assert!(
+            (sign * sampled.e_max - exact.e_max).abs() < 1e-2 * exact.e_max.abs().max(1e-3),
+            "e_max {} vs {}",
+            sampled.e_max,
+            exact.e_max
+        );
+    }
 }

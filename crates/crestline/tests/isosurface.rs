@@ -67,15 +67,24 @@ fn area(mesh: &Mesh) -> f64 {
     mesh.face_areas().iter().sum()
 }
 
+/// The isosurface of `volume` at `level` and its half-edge mesh (built without
+/// any repair, or `to_mesh` fails).
+fn surface(volume: &Volume, level: f64) -> (Isosurface, Mesh) {
+    let iso = isosurface(volume, level).unwrap();
+    let mesh = iso.to_mesh().unwrap();
+    mesh.check_connectivity().unwrap();
+    assert_eq!(mesh.triangles(), iso.soup().triangles);
+    assert_eq!(mesh.positions(), iso.soup().positions);
+    (iso, mesh)
+}
+
 /// Checks on the raw triangle list, independent of the halfedge structure: no
 /// directed edge is used twice, and an edge used one way only (a boundary edge)
 /// lies in a border plane of the grid. So every interior edge has exactly two
 /// faces running along it in opposite directions.
 fn assert_closed_away_from_border(iso: &Isosurface, volume: &Volume) {
-    let mesh = &iso.mesh;
-    mesh.check_connectivity().unwrap();
     let mut directed = HashMap::new();
-    for (f, t) in mesh.triangles().iter().enumerate() {
+    for (f, t) in iso.soup().triangles.iter().enumerate() {
         for k in 0..3 {
             let edge = (t[k], t[(k + 1) % 3]);
             assert!(
@@ -94,7 +103,7 @@ fn assert_closed_away_from_border(iso: &Isosurface, volume: &Volume) {
 /// Whether vertex `v` is a crossing on an edge that lies in a border plane.
 fn on_border(iso: &Isosurface, volume: &Volume, v: u32) -> bool {
     let dims = volume.dims();
-    match iso.sources[v as usize] {
+    match iso.source(v as usize) {
         VertexSource::Edge { point, axis, .. } => {
             let at = point as usize;
             let index = [
@@ -151,8 +160,8 @@ fn source_position(volume: &Volume, source: VertexSource) -> Option<Point> {
 fn sphere_is_closed_genus_zero_with_accurate_area_and_outward_normals() {
     let (centre, radius) = (Point::new(24.3, 23.7, 24.1), 20.0);
     let volume = cube(49, ball(centre, radius));
-    let iso = isosurface(&volume, 0.0).unwrap();
-    let mesh = &iso.mesh;
+    let (iso, mesh) = surface(&volume, 0.0);
+    let mesh = &mesh;
     assert_closed_away_from_border(&iso, &volume);
     assert!(mesh.boundary_loops().is_empty());
     assert_eq!(mesh.components().len(), 1);
@@ -165,7 +174,7 @@ fn sphere_is_closed_genus_zero_with_accurate_area_and_outward_normals() {
     assert!(volume_error < 0.01, "volume off by {volume_error}");
     // Crossings lie on the sphere up to the interpolation error (h²/8r), polygon
     // centres a little inside it.
-    for (p, source) in mesh.positions().iter().zip(&iso.sources) {
+    for (p, source) in mesh.positions().iter().zip(iso.sources()) {
         let off = ((p - centre).norm() - radius).abs();
         let tolerance = match source {
             VertexSource::Edge { .. } => 0.01,
@@ -178,14 +187,12 @@ fn sphere_is_closed_genus_zero_with_accurate_area_and_outward_normals() {
 }
 
 #[test]
-fn vertex_sources_give_back_the_positions_and_cells() {
+fn vertex_sources_give_back_the_positions() {
     let volume = cube(20, ball(Point::new(9.6, 10.2, 9.9), 6.5));
-    let iso = isosurface(&volume, 0.0).unwrap();
-    let mesh = &iso.mesh;
-    assert_eq!(iso.sources.len(), mesh.vertex_count());
-    assert_eq!(iso.face_cells.len(), mesh.face_count());
+    let (iso, mesh) = surface(&volume, 0.0);
+    assert_eq!(iso.sources().len(), mesh.vertex_count());
     let mut centres = 0;
-    for (v, &source) in iso.sources.iter().enumerate() {
+    for (v, source) in iso.sources().enumerate() {
         match source_position(&volume, source) {
             Some(p) => assert!((p - mesh.positions()[v]).norm() < 1e-12),
             None => centres += 1,
@@ -198,18 +205,26 @@ fn vertex_sources_give_back_the_positions_and_cells() {
         centres > 0,
         "a sphere has polygons of more than three corners"
     );
-    // A face's corners are crossings on its cell's edges, or that cell's centre.
+    // A centre is the mean of its neighbours: the corners of its polygon, which
+    // lie on the edges of its cell.
     let n = volume.dims()[0] as u64;
-    for f in mesh.faces() {
-        let cell = iso.face_cells[f.idx()];
-        for v in mesh.face_vertices(f) {
-            match iso.sources[v.idx()] {
-                VertexSource::Cell { cell: own } => assert_eq!(own, cell),
-                VertexSource::Edge { point, .. } => {
-                    let d = point.wrapping_sub(cell);
-                    assert!([0, 1, n, n + 1, n * n, n * n + 1, n * n + n].contains(&d));
-                }
-            }
+    for v in mesh.vertices() {
+        let VertexSource::Cell { cell } = iso.source(v.idx()) else {
+            continue;
+        };
+        let corners: Vec<_> = mesh.neighbors(v).collect();
+        let mean = corners
+            .iter()
+            .map(|&u| mesh.position(u).coords)
+            .sum::<Vector>()
+            / corners.len() as f64;
+        assert!((mean - mesh.position(v).coords).norm() < 1e-9);
+        for u in corners {
+            let VertexSource::Edge { point, .. } = iso.source(u.idx()) else {
+                panic!("a centre next to a centre");
+            };
+            let d = point.wrapping_sub(cell);
+            assert!([0, 1, n, n + 1, n * n, n * n + 1, n * n + n].contains(&d));
         }
     }
 }
@@ -223,8 +238,8 @@ fn torus_has_euler_characteristic_zero() {
         let ring = (q.x.hypot(q.y) - major).hypot(q.z);
         minor - ring
     });
-    let iso = isosurface(&volume, 0.0).unwrap();
-    let mesh = &iso.mesh;
+    let (iso, mesh) = surface(&volume, 0.0);
+    let mesh = &mesh;
     assert_closed_away_from_border(&iso, &volume);
     assert!(mesh.boundary_loops().is_empty());
     assert_eq!(mesh.components().len(), 1);
@@ -246,8 +261,8 @@ fn gyroid(period: f64) -> impl Fn(Point) -> f64 {
 #[test]
 fn clipped_gyroid_is_open_only_at_the_volume_border() {
     let volume = cube(37, gyroid(16.0));
-    let iso = isosurface(&volume, 0.3).unwrap();
-    let mesh = &iso.mesh;
+    let (iso, mesh) = surface(&volume, 0.3);
+    let mesh = &mesh;
     assert_closed_away_from_border(&iso, &volume);
     assert!(!mesh.boundary_loops().is_empty());
     for boundary in mesh.boundary_loops() {
@@ -305,18 +320,18 @@ fn two_touching_spheres_stay_a_manifold_at_the_contact() {
     let (first, second) = (ball(a, radius), ball(b, radius));
     let volume = cube(35, |p| first(p).max(second(p)));
     for level in [-0.3, 0.0, 0.3] {
-        let iso = isosurface(&volume, level).unwrap();
+        let (iso, mesh) = surface(&volume, level);
         assert_closed_away_from_border(&iso, &volume);
-        assert!(iso.mesh.boundary_loops().is_empty());
-        assert_euler_consistent(&iso.mesh);
-        assert!(signed_volume(&iso.mesh) > 0.0);
+        assert!(mesh.boundary_loops().is_empty());
+        assert_euler_consistent(&mesh);
+        assert!(signed_volume(&mesh) > 0.0);
     }
     // Joined below the contact level, apart above it.
-    let joined = isosurface(&volume, -0.5).unwrap();
-    assert_eq!(joined.mesh.components().len(), 1);
-    let apart = isosurface(&volume, 0.5).unwrap();
-    assert_eq!(apart.mesh.components().len(), 2);
-    assert_eq!(apart.mesh.euler_characteristic(), 4);
+    let (_, joined) = surface(&volume, -0.5);
+    assert_eq!(joined.components().len(), 1);
+    let (_, apart) = surface(&volume, 0.5);
+    assert_eq!(apart.components().len(), 2);
+    assert_eq!(apart.euler_characteristic(), 4);
 }
 
 #[test]
@@ -334,15 +349,11 @@ fn an_ambiguous_face_between_two_cells_is_decided_alike_by_both() {
         samples[6] = low; // (0, 1, 1)
         let volume = from_samples([2, 2, 3], samples);
         assert_eq!(ambiguous_faces(&volume, 0.0), 1);
-        let iso = isosurface(&volume, 0.0).unwrap();
+        let (iso, mesh) = surface(&volume, 0.0);
         assert_closed_away_from_border(&iso, &volume);
         // Joined inside corners make one component, separate ones two.
         let expected = if saddle_inside { 1 } else { 2 };
-        assert_eq!(
-            iso.mesh.components().len(),
-            expected,
-            "v̂ ≥ I: {saddle_inside}"
-        );
+        assert_eq!(mesh.components().len(), expected, "v̂ ≥ I: {saddle_inside}");
     }
 }
 
@@ -366,12 +377,11 @@ fn random_noise_gives_a_manifold_closed_away_from_the_border() {
     for seed in 0..6 {
         let volume = noise(18, seed, false);
         assert!(ambiguous_faces(&volume, 0.0) > 1000);
-        let iso = isosurface(&volume, 0.0).unwrap();
-        assert_closed_away_from_border(&iso, &volume);
-        assert_euler_consistent(&iso.mesh);
-        let shifted = isosurface(&volume, 0.37).unwrap();
-        assert_closed_away_from_border(&shifted, &volume);
-        assert_euler_consistent(&shifted.mesh);
+        for level in [0.0, 0.37] {
+            let (iso, mesh) = surface(&volume, level);
+            assert_closed_away_from_border(&iso, &volume);
+            assert_euler_consistent(&mesh);
+        }
     }
 }
 
@@ -382,9 +392,9 @@ fn samples_equal_to_the_level_give_distinct_vertices_and_a_clean_manifold() {
     for seed in 0..4 {
         let volume = noise(16, seed, true);
         for level in [0.0, 1.0] {
-            let iso = isosurface(&volume, level).unwrap();
+            let (iso, mesh) = surface(&volume, level);
             assert_closed_away_from_border(&iso, &volume);
-            assert_euler_consistent(&iso.mesh);
+            assert_euler_consistent(&mesh);
         }
     }
     // A cube of samples equal to the level in a field below it: a closed box.
@@ -397,11 +407,11 @@ fn samples_equal_to_the_level_give_distinct_vertices_and_a_clean_manifold() {
             0.0
         }
     });
-    let iso = isosurface(&volume, 1.0).unwrap();
+    let (iso, mesh) = surface(&volume, 1.0);
     assert_closed_away_from_border(&iso, &volume);
-    assert!(iso.mesh.boundary_loops().is_empty());
-    assert_eq!(iso.mesh.euler_characteristic(), 2);
-    let enclosed = signed_volume(&iso.mesh);
+    assert!(mesh.boundary_loops().is_empty());
+    assert_eq!(mesh.euler_characteristic(), 2);
+    let enclosed = signed_volume(&mesh);
     assert!((enclosed - 27.0).abs() < 0.01, "{enclosed}");
 }
 
@@ -413,11 +423,11 @@ fn a_cavity_keeps_its_normals_toward_decreasing_f() {
         let r = (p - centre).norm();
         (10.0 - r).min(r - 5.0)
     });
-    let iso = isosurface(&volume, 0.0).unwrap();
+    let (iso, mesh) = surface(&volume, 0.0);
     assert_closed_away_from_border(&iso, &volume);
-    assert_eq!(iso.mesh.components().len(), 2);
+    assert_eq!(mesh.components().len(), 2);
     let exact = 4.0 / 3.0 * PI * (1000.0 - 125.0);
-    assert!((signed_volume(&iso.mesh) - exact).abs() / exact < 0.02);
+    assert!((signed_volume(&mesh) - exact).abs() / exact < 0.02);
     let gradient = |p: Point| {
         let q = p - centre;
         if q.norm() > 7.5 {
@@ -426,7 +436,7 @@ fn a_cavity_keeps_its_normals_toward_decreasing_f() {
             q
         }
     };
-    assert_eq!(area_facing_down(&iso.mesh, gradient), 1.0);
+    assert_eq!(area_facing_down(&mesh, gradient), 1.0);
 }
 
 #[test]
@@ -454,8 +464,8 @@ fn anisotropic_and_mirrored_grids_keep_normals_pointing_out() {
             direction,
             ball(centre, radius),
         );
-        let iso = isosurface(&volume, 0.0).unwrap();
-        let mesh = &iso.mesh;
+        let (iso, mesh) = surface(&volume, 0.0);
+        let mesh = &mesh;
         assert_closed_away_from_border(&iso, &volume);
         assert!(mesh.boundary_loops().is_empty());
         assert_eq!(mesh.euler_characteristic(), 2);
@@ -477,9 +487,8 @@ fn output_does_not_depend_on_the_number_of_threads() {
         pool.install(|| isosurface(&volume, 0.1).unwrap())
     };
     let (one, three) = (run(1), run(3));
-    assert_eq!(one.mesh.positions(), three.mesh.positions());
-    assert_eq!(one.mesh.triangles(), three.mesh.triangles());
-    assert_eq!(one.sources, three.sources);
+    assert_eq!(one.soup(), three.soup());
+    assert!(one.sources().eq(three.sources()));
 }
 
 #[test]

@@ -7,87 +7,10 @@
 //! For world lengths along orthonormal axes `J = directionᵀ`, so that
 //! `g = R g_axes`, `H = R H_axes Rᵀ`.
 
+pub use crate::differential::ThirdOrder;
+use crate::differential::{isosurface_curvature, IsoCurvature};
 use crate::Vector;
 use nalgebra::Matrix3;
-
-/// The (symmetric) tensor of third partial derivatives `T[i][j][k] = ∂³f/∂xᵢ∂xⱼ∂xₖ`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ThirdOrder(pub [[[f64; 3]; 3]; 3]);
-
-impl ThirdOrder {
-    /// The tensor from its 10 distinct components, in the order
-    /// `xxx, xxy, xxz, xyy, xyz, xzz, yyy, yyz, yzz, zzz` (that of
-    /// [`crate::volume::Partial::ALL`]).
-    pub fn from_components(c: [f64; 10]) -> ThirdOrder {
-        let mut t = [[[0.0; 3]; 3]; 3];
-        for (i, plane) in t.iter_mut().enumerate() {
-            for (j, row) in plane.iter_mut().enumerate() {
-                for (k, value) in row.iter_mut().enumerate() {
-                    *value = c[component_index(i, j, k)];
-                }
-            }
-        }
-        ThirdOrder(t)
-    }
-
-    /// The component `∂³f/∂xᵢ∂xⱼ∂xₖ`.
-    pub fn get(&self, i: usize, j: usize, k: usize) -> f64 {
-        self.0[i][j][k]
-    }
-
-    /// The derivative of the Hessian along `v`: `Σₖ T[i][j][k] vₖ`.
-    pub fn contract(&self, v: &Vector) -> Matrix3<f64> {
-        Matrix3::from_fn(|i, j| (0..3).map(|k| self.0[i][j][k] * v[k]).sum())
-    }
-
-    /// The third directional derivative along `v`: `Σ T[i][j][k] vᵢ vⱼ vₖ`.
-    pub fn directional(&self, v: &Vector) -> f64 {
-        v.dot(&(self.contract(v) * v))
-    }
-
-    /// The tensor in coordinates `x` where the present ones are `u = J x` (see the
-    /// module documentation).
-    pub fn pulled_back(&self, jacobian: &Matrix3<f64>) -> ThirdOrder {
-        let mut out = [[[0.0; 3]; 3]; 3];
-        for (i, plane) in out.iter_mut().enumerate() {
-            for (j, row) in plane.iter_mut().enumerate() {
-                for (k, value) in row.iter_mut().enumerate() {
-                    *value = self.weighted_sum(jacobian, [i, j, k]);
-                }
-            }
-        }
-        ThirdOrder(out)
-    }
-
-    /// `Σ J[a][i] J[b][j] J[c][k] T[a][b][c]` for `(i, j, k) = at`.
-    fn weighted_sum(&self, jacobian: &Matrix3<f64>, [i, j, k]: [usize; 3]) -> f64 {
-        let mut sum = 0.0;
-        for (a, plane) in self.0.iter().enumerate() {
-            for (b, row) in plane.iter().enumerate() {
-                let ab = jacobian[(a, i)] * jacobian[(b, j)];
-                for (c, value) in row.iter().enumerate() {
-                    sum += ab * jacobian[(c, k)] * value;
-                }
-            }
-        }
-        sum
-    }
-}
-
-/// The position of component `(i, j, k)` among the 10 distinct ones
-/// (`xxx, xxy, xxz, xyy, xyz, xzz, yyy, yyz, yzz, zzz`).
-fn component_index(i: usize, j: usize, k: usize) -> usize {
-    let mut sorted = [i, j, k];
-    sorted.sort_unstable();
-    let [a, b, c] = sorted;
-    // Sorted triples in lexicographic order: those starting with 0 come first (6 of
-    // them), then those starting with 1 (3), then (2, 2, 2).
-    match a {
-        0 => [[0, 1, 2], [0, 3, 4], [0, 0, 5]][b][c],
-        1 => [6, 7, 8][b + c - 2],
-        _ => 9,
-    }
-}
 
 /// A scalar field's value and derivatives up to order 3 at one point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -103,6 +26,13 @@ pub struct Jet {
 }
 
 impl Jet {
+    /// Principal curvatures, directions, normal and extremalities of the
+    /// iso-surface through this point ([`isosurface_curvature`]); `None` where the
+    /// gradient vanishes.
+    pub fn isosurface_curvature(&self) -> Option<IsoCurvature> {
+        isosurface_curvature(&self.gradient, &self.hessian, &self.third)
+    }
+
     /// The jet from its 20 partial derivatives, in the order of
     /// [`crate::volume::Partial::ALL`]: `f; fx fy fz; fxx fxy fxz fyy fyz fzz;
     /// fxxx fxxy fxxz fxyy fxyz fxzz fyyy fyyz fyzz fzzz`.

@@ -209,33 +209,41 @@ fn gaussian_derivative(x: f64, s: f64, order: usize) -> f64 {
 /// continuous values; the other two moments vanish by symmetry.
 fn correct_moments(half: &mut [f64], sigma: f64, order: usize) {
     let parity = (order % 2) as i32;
+    let degrees = [parity, parity + 2];
     let width = sigma.max(1.0);
-    let window = |k: f64| (-k * k / (2.0 * width * width)).exp();
-    // Σ over k = −R..=R of kʲ v(k) for v of the kernel's parity, from offsets ≥ 0.
-    let full_sum = |j: i32, v: &dyn Fn(usize) -> f64| -> f64 {
+    let basis: [Vec<f64>; 2] = degrees.map(|d| {
         (0..half.len())
             .map(|k| {
-                let term = (k as f64).powi(j) * v(k);
-                if k == 0 {
-                    term
-                } else {
-                    2.0 * term
-                }
+                let k = k as f64;
+                (-k * k / (2.0 * width * width)).exp() * k.powi(d)
             })
-            .sum()
-    };
-    let degrees = [parity, parity + 2];
-    let basis = |d: i32| move |k: usize| window(k as f64) * (k as f64).powi(d);
+            .collect()
+    });
     let target = target_moments(sigma, order);
-    let current = |j: i32| full_sum(j, &|k| half[k]);
-    let rhs = degrees.map(|j| target[j as usize] - current(j));
-    let a = degrees.map(|j| degrees.map(|d| full_sum(j, &basis(d))));
+    let rhs = degrees.map(|j| target[j as usize] - full_moment(half, j));
+    let a = degrees.map(|j| [&basis[0], &basis[1]].map(|b| full_moment(b, j)));
     let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
     let l0 = (rhs[0] * a[1][1] - a[0][1] * rhs[1]) / det;
     let l1 = (a[0][0] * rhs[1] - a[1][0] * rhs[0]) / det;
-    for (k, w) in half.iter_mut().enumerate() {
-        *w += l0 * basis(degrees[0])(k) + l1 * basis(degrees[1])(k);
+    for ((w, b0), b1) in half.iter_mut().zip(&basis[0]).zip(&basis[1]) {
+        *w += l0 * b0 + l1 * b1;
     }
+}
+
+/// The moment `Σ_k kʲ v[k]` over `k = −R..=R` of the full kernel whose offsets
+/// `0..=R` are `half`, for `j` of the kernel's parity (the terms at `±k` are equal).
+fn full_moment(half: &[f64], j: i32) -> f64 {
+    half.iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let term = (k as f64).powi(j) * v;
+            if k == 0 {
+                term
+            } else {
+                2.0 * term
+            }
+        })
+        .sum()
 }
 
 #[cfg(test)]
@@ -283,7 +291,7 @@ mod tests {
         assert_eq!(kernel.radius(), 8);
         assert_eq!(kernel.weights().len(), 17);
         assert_eq!(kernel.weight(-2), -kernel.weight(2));
-        assert_eq!(kernel.weight(7), 0.0);
+        assert_eq!(kernel.weight(9), 0.0);
         assert!(kernel.weight(1) > 0.0);
         assert_eq!(Kernel::gaussian(0.3, 0).unwrap().radius(), 2);
     }

@@ -1,10 +1,11 @@
 //! Separable filtering of a volume by 1-D kernels of several orders along each axis,
 //! sharing the 1-D passes between the outputs that need them.
 //!
-//! The z pass runs first, once per z order needed, into whole volumes. Then every
-//! z slice is finished on its own: x passes (once per x order needed for that z
-//! order) into slice buffers, and y passes from those into the output slices. For
-//! all 20 partials of order ≤ 3 this is 4 + 10 + 20 = 34 passes instead of 60.
+//! Every z slice is computed on its own, in parallel: z passes of the input (once
+//! per z order needed) into slice buffers, x passes of those (once per x order
+//! needed with that z order) into other slice buffers, and y passes from these into
+//! the output slices. For all 20 partials of order ≤ 3 this is 4 + 10 + 20 = 34
+//! passes instead of 60, and nothing but the outputs is allocated per volume.
 //!
 //! Every pass is a correlation of whole rows (runs of `nx` contiguous samples): along
 //! x the rows are shifted copies of one padded line, along y and z they are other
@@ -27,7 +28,7 @@ pub(crate) struct HalfKernel {
 pub(crate) type AxisKernels = Vec<HalfKernel>;
 
 /// Filters `samples` (`dims`, x fastest) into one volume per entry of `orders`,
-/// `[x, y, z]` orders each, with `kernels[axis][order]`.
+/// `[x, y, z]` orders each, with `kernels[axis][order]`, in parallel over z slices.
 pub(crate) fn filter(
     samples: &[f32],
     dims: [usize; 3],
@@ -35,22 +36,65 @@ pub(crate) fn filter(
     orders: &[[usize; 3]],
 ) -> Vec<Vec<f32>> {
     let z_orders = distinct(orders.iter().map(|o| o[2]));
-    let mut z_passes: Vec<Vec<f32>> = z_orders.iter().map(|_| vec![0.0; samples.len()]).collect();
     let z_kernels: Vec<&HalfKernel> = z_orders.iter().map(|&c| &kernels[2][c]).collect();
-    z_pass(samples, dims, &z_kernels, &mut z_passes);
-
     let mut outputs: Vec<Vec<f32>> = orders.iter().map(|_| vec![0.0; samples.len()]).collect();
-    let slice_len = dims[0] * dims[1];
-    slices_by_k(&mut outputs, slice_len)
+    slices_by_k(&mut outputs, dims[0] * dims[1])
         .into_par_iter()
         .enumerate()
-        .for_each(|(k, mut out_slices)| {
+        .for_each_init(Scratch::default, |scratch, (k, mut out_slices)| {
+            let z_passes = scratch.z.take(z_orders.len(), dims[0] * dims[1]);
+            z_slice(samples, dims, k, &z_kernels, z_passes);
             for (z_pass, &c) in z_passes.iter().zip(&z_orders) {
-                let source = &z_pass[k * slice_len..(k + 1) * slice_len];
-                finish_slice(source, dims, kernels, orders, c, &mut out_slices);
+                let x_passes = &mut scratch.x;
+                finish_slice(z_pass, dims, kernels, orders, c, x_passes, &mut out_slices);
             }
         });
     outputs
+}
+
+/// Slice buffers reused from one z slice to the next by a thread.
+#[derive(Default)]
+struct Scratch {
+    /// The z pass of the slice, one buffer per z order.
+    z: Buffers,
+    /// The x passes of one z pass, one buffer per x order.
+    x: Buffers,
+}
+
+/// A set of equally long buffers.
+#[derive(Default)]
+struct Buffers(Vec<Vec<f32>>);
+
+impl Buffers {
+    /// `count` buffers of length `len` (contents unspecified).
+    fn take(&mut self, count: usize, len: usize) -> &mut [Vec<f32>] {
+        if self.0.len() < count {
+            self.0.resize_with(count, Vec::new);
+        }
+        for buffer in &mut self.0[..count] {
+            buffer.resize(len, 0.0);
+        }
+        &mut self.0[..count]
+    }
+}
+
+/// The z passes of slice `k`, one per kernel, into `outputs`.
+fn z_slice(
+    samples: &[f32],
+    dims: [usize; 3],
+    k: usize,
+    kernels: &[&HalfKernel],
+    outputs: &mut [Vec<f32>],
+) {
+    let [nx, ny, nz] = dims;
+    let mut targets: Vec<&mut [f32]> = outputs.iter_mut().map(|o| o.as_mut_slice()).collect();
+    for j in 0..ny {
+        let row = |t: isize| {
+            let at = (clamp(k as isize + t, nz) * ny + j) * nx;
+            &samples[at..at + nx]
+        };
+        correlate_rows(&mut targets, j * nx, kernels, row);
+    }
 }
 
 /// The x and y passes of one z slice already filtered with z order `c`, into the
@@ -61,12 +105,13 @@ fn finish_slice(
     kernels: &[AxisKernels; 3],
     orders: &[[usize; 3]],
     c: usize,
+    scratch: &mut Buffers,
     out_slices: &mut [&mut [f32]],
 ) {
     let x_orders = distinct(orders.iter().filter(|o| o[2] == c).map(|o| o[0]));
     let x_kernels: Vec<&HalfKernel> = x_orders.iter().map(|&a| &kernels[0][a]).collect();
-    let mut x_passes: Vec<Vec<f32>> = x_orders.iter().map(|_| vec![0.0; source.len()]).collect();
-    x_pass(source, dims[0], &x_kernels, &mut x_passes);
+    let x_passes = scratch.take(x_orders.len(), source.len());
+    x_pass(source, dims[0], &x_kernels, x_passes);
     for (x_pass, &a) in x_passes.iter().zip(&x_orders) {
         let mut targets: Vec<&mut [f32]> = Vec::new();
         let mut y_kernels: Vec<&HalfKernel> = Vec::new();
@@ -103,25 +148,6 @@ fn y_pass(slice: &[f32], dims: [usize; 3], kernels: &[&HalfKernel], targets: &mu
         };
         correlate_rows(targets, j * nx, kernels, row);
     }
-}
-
-/// Correlates every z column of the volume with each kernel, into `outputs`,
-/// in parallel over z slices.
-fn z_pass(samples: &[f32], dims: [usize; 3], kernels: &[&HalfKernel], outputs: &mut [Vec<f32>]) {
-    let [nx, ny, nz] = dims;
-    let slice_len = nx * ny;
-    slices_by_k(outputs, slice_len)
-        .into_par_iter()
-        .enumerate()
-        .for_each(|(k, mut targets)| {
-            for j in 0..ny {
-                let row = |t: isize| {
-                    let at = (clamp(k as isize + t, nz) * ny + j) * nx;
-                    &samples[at..at + nx]
-                };
-                correlate_rows(&mut targets, j * nx, kernels, row);
-            }
-        });
 }
 
 /// Writes into `targets[n][at..at + len]` the correlation of kernel `n` with the

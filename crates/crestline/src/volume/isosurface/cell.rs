@@ -127,6 +127,9 @@ pub(super) struct Polygons {
     edges: [u8; 12],
     lengths: [u8; 4],
     count: u8,
+    /// Triangles and barycentres of the triangulation (see [`Polygons::push`]).
+    triangles: u8,
+    centres: u8,
 }
 
 impl Polygons {
@@ -140,7 +143,21 @@ impl Polygons {
         })
     }
 
+    /// The number of triangles: one per triangle, `n` for a polygon of `n > 3`
+    /// corners, fanned around its barycentre.
+    pub(super) fn triangle_count(&self) -> usize {
+        self.triangles as usize
+    }
+
+    /// The number of polygons of more than three corners (each gets a barycentre).
+    pub(super) fn centre_count(&self) -> usize {
+        self.centres as usize
+    }
+
     fn push(&mut self, polygon: &[u8]) {
+        let fanned = polygon.len() > 3;
+        self.triangles += if fanned { polygon.len() as u8 } else { 1 };
+        self.centres += u8::from(fanned);
         let start: usize = self.lengths[..self.count as usize]
             .iter()
             .map(|&n| n as usize)

@@ -28,7 +28,16 @@
 //! [`Volume`]). A mirrored grid (direction of negative determinant) has its
 //! triangles wound the other way, so normals still point toward decreasing `f`.
 //! The cells are processed in parallel over slabs of z; the output does not depend
-//! on the number of threads.
+//! on the number of threads. Vertices are numbered plane by plane of crossings,
+//! then polygon centres; [`Isosurface::source`] tells which grid edge (and where on
+//! it) or cell each vertex comes from, and [`Isosurface::to_mesh`] builds the
+//! half-edge [`Mesh`] with the same numbers, keeping the orientation (a cavity's
+//! surface faces into the cavity).
+//!
+//! Bad input is an error, never a panic: a non-finite sample (naming its voxel; a
+//! NaN is not read as outside, which would silently turn missing data into
+//! surface), a non-finite level, a volume less than 2 samples thick, or a level
+//! that no grid edge crosses (no surface; the message gives the samples' range).
 
 mod cell;
 mod slab;
@@ -44,8 +53,8 @@ use crate::{Error, Result};
 pub enum VertexSource {
     /// The crossing on the grid edge from sample `point` (a linear index into
     /// [`Volume::samples`]) one step along index axis `axis` (0, 1, 2 for x, y, z),
-    /// a fraction `t` of the way (in `(0, 1)`). The grid edge's key is
-    /// `3 · point + axis`.
+    /// a fraction `t` of the way (in `(0, 1)`). The crossing is keyed by the grid
+    /// edge, `3 · point + axis`, and shared by all cells around it.
     Edge {
         /// Linear index of the edge's first sample.
         point: u64,
@@ -62,25 +71,97 @@ pub enum VertexSource {
     },
 }
 
-/// An isosurface of a volume and where its vertices and faces come from.
+/// The key of the grid edge from sample `point` along index axis `axis`:
+/// `3 · point + axis`, shared by every cell around the edge.
+fn edge_key(point: u64, axis: u8) -> u64 {
+    3 * point + u64::from(axis)
+}
+
+/// Marks the key of a cell (its centre vertex) rather than of a grid edge.
+const CELL: u64 = 1 << 63;
+
+/// The key of the cell whose lowest corner is sample `cell`.
+fn cell_key(cell: u64) -> u64 {
+    CELL | cell
+}
+
+impl VertexSource {
+    /// The source with key `key` (see [`edge_key`], [`cell_key`]) and fraction `t`.
+    fn from_key(key: u64, t: f64) -> VertexSource {
+        if key & CELL != 0 {
+            VertexSource::Cell { cell: key & !CELL }
+        } else {
+            VertexSource::Edge {
+                point: key / 3,
+                axis: (key % 3) as u8,
+                t,
+            }
+        }
+    }
+}
+
+/// An isosurface of a volume: shared vertices and triangles, and where each vertex
+/// comes from. [`Isosurface::to_mesh`] connects it into a half-edge [`Mesh`] with
+/// the same vertex and face numbers.
 #[derive(Clone, Debug)]
 pub struct Isosurface {
-    /// The surface: a manifold, counter-clockwise seen from `f < I`, closed except at
-    /// the border of the volume. A closed component may enclose a cavity (negative
-    /// volume); it is not turned inside out.
-    pub mesh: Mesh,
-    /// The source of each vertex of `mesh`, indexed by vertex id.
-    pub sources: Vec<VertexSource>,
-    /// The cell of each face of `mesh` (linear index of the cell's lowest corner),
-    /// indexed by face id.
-    pub face_cells: Vec<u64>,
+    soup: TriangleSoup,
+    /// Per vertex, the key of its grid edge or cell and its fraction along the edge.
+    keys: Vec<u64>,
+    fractions: Vec<f64>,
+}
+
+impl Isosurface {
+    /// Vertex positions (world coordinates) and triangles, counter-clockwise seen
+    /// from `f < I`; every edge has two triangles running along it in opposite
+    /// directions, except at the border of the volume.
+    pub fn soup(&self) -> &TriangleSoup {
+        &self.soup
+    }
+
+    /// The vertices and triangles, without the sources.
+    pub fn into_soup(self) -> TriangleSoup {
+        self.soup
+    }
+
+    /// Where vertex `v` (an index into `soup().positions`) comes from.
+    ///
+    /// Panics if `v` is not a vertex.
+    pub fn source(&self, v: usize) -> VertexSource {
+        VertexSource::from_key(self.keys[v], self.fractions[v])
+    }
+
+    /// Where each vertex comes from, in vertex order.
+    pub fn sources(&self) -> impl ExactSizeIterator<Item = VertexSource> + '_ {
+        let pairs = self.keys.iter().zip(&self.fractions);
+        pairs.map(|(&key, &t)| VertexSource::from_key(key, t))
+    }
+
+    /// The surface as a half-edge [`Mesh`], vertex `v` and face `f` being
+    /// `soup().positions[v]` and `soup().triangles[f]`: a manifold, oriented as the
+    /// triangles are (a closed component around a cavity keeps its negative volume),
+    /// closed except at the border of the volume.
+    ///
+    /// Errors ([`Error::Stage`]) if building the mesh would need a repair, which the
+    /// construction rules out.
+    pub fn to_mesh(&self) -> Result<Mesh> {
+        let (mesh, report) = Mesh::from_oriented_soup(self.soup.clone())?;
+        if report.is_clean() {
+            Ok(mesh)
+        } else {
+            Err(Error::Stage {
+                stage: "isosurface".into(),
+                message: format!("the extracted surface needed repairs: {report}"),
+            })
+        }
+    }
 }
 
 /// The isosurface `f = level` of `volume` (Thirion & Gourdon 1993, §2–3; see the
 /// [module documentation](self) for the conventions): inside is `f ≥ level`, faces
 /// are split by the asymptotic decider, and each cell's polygons (BUILDCYCLES) are
-/// triangulated, so the mesh is closed, manifold and consistently oriented except
-/// at the volume border, with normals toward decreasing `f`.
+/// triangulated, so the surface is closed, manifold and consistently oriented
+/// except at the volume border, with normals toward decreasing `f`.
 ///
 /// Errors ([`Error::Argument`]): `level` is not finite, a dimension of the volume is
 /// below 2 (there are no cells), a sample is not finite (naming the voxel), or no
@@ -92,24 +173,14 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
     if extraction.triangles.is_empty() {
         return Err(no_surface(volume, level));
     }
-    let soup = TriangleSoup {
-        positions: extraction.positions,
-        triangles: extraction.triangles,
-        vertex_scalars: Vec::new(),
-    };
-    let (mesh, report) = Mesh::from_oriented_soup(soup)?;
-    // Vertices and faces keep their numbers only if nothing was repaired; by
-    // construction nothing needs to be.
-    if !report.is_clean() {
-        return Err(Error::Stage {
-            stage: "isosurface".into(),
-            message: format!("the extracted surface needed repairs: {report}"),
-        });
-    }
     Ok(Isosurface {
-        mesh,
-        sources: extraction.sources,
-        face_cells: extraction.face_cells,
+        soup: TriangleSoup {
+            positions: extraction.positions,
+            triangles: extraction.triangles,
+            vertex_scalars: Vec::new(),
+        },
+        keys: extraction.keys,
+        fractions: extraction.fractions,
     })
 }
 
@@ -127,11 +198,14 @@ fn check_input(volume: &Volume, level: f64) -> Result<()> {
             dims[0], dims[1], dims[2]
         )));
     }
-    match volume
-        .samples()
-        .par_iter()
-        .position_first(|v| !v.is_finite())
-    {
+    // A branch-free pass over blocks first (a search that stops early is much
+    // slower): the position is looked for only if there is a bad sample.
+    let samples = volume.samples();
+    let all_finite = |block: &[f32]| block.iter().fold(true, |ok, v| ok & v.is_finite());
+    if samples.par_chunks(1 << 16).all(all_finite) {
+        return Ok(());
+    }
+    match samples.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(at) => {
             let (i, j, k) = (

@@ -2,19 +2,22 @@
 //!
 //! Crossings are numbered plane by plane: the crossings of grid plane `z = k` are
 //! those on its x and y edges and on the z edges leaving it upwards, in scan order
-//! (y, then x, then axis). A first pass counts them per plane, so that each plane's
-//! first vertex number is known; then every slab of cell layers numbers the planes
-//! it touches into dense per-plane arrays (no hashing), computes the crossings of
-//! the planes it owns and the polygons of its cells. Polygon centres get numbers
-//! after all crossings, slab after slab. The numbering does not depend on how the
-//! slabs are spread over threads, so the output is the same for any thread count.
+//! (y, then x, then axis). Polygon centres come after all crossings, and triangles
+//! are in cell order. A first pass over the slabs of cell layers counts the
+//! crossings of each plane and the triangles and centres of each slab; the output
+//! arrays are then allocated once and split into the parts each slab fills in a
+//! second pass, numbering the planes it touches through dense per-plane arrays (no
+//! hashing) and writing its crossings, centres and triangles in place. The slabs
+//! have a fixed size, so the output is the same for any number of threads.
 
 use rayon::prelude::*;
 
-use super::cell::{corner_offset, decider_corners, inside_corners_connected, CaseTable, EDGES};
-use super::VertexSource;
+use super::cell::{
+    corner_offset, decider_corners, inside_corners_connected, CaseTable, Polygons, EDGES,
+};
+use super::{cell_key, edge_key};
 use crate::volume::Volume;
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Vector};
 
 /// Cell layers per slab: a fixed number, so the slabs (and the output) do not
 /// depend on the number of threads.
@@ -24,18 +27,17 @@ const SLAB_LAYERS: usize = 8;
 /// where `f = I` at a corner, the crossings of its edges would otherwise coincide.
 const END_GAP: f64 = 1e-4;
 
-/// Marks a vertex number inside a slab as a polygon centre (numbered per slab).
-const CENTRE: u32 = 1 << 31;
+/// Most vertices a surface may have (its vertex numbers are `u32`).
+const MAX_VERTICES: usize = u32::MAX as usize;
 
-/// No crossing on this edge.
-const NONE: u32 = u32::MAX;
-
-/// Vertices and triangles of the isosurface, with where each came from.
+/// Vertices and triangles of the isosurface, with where each vertex came from.
 pub(super) struct Extraction {
     pub(super) positions: Vec<Point>,
-    pub(super) sources: Vec<VertexSource>,
+    /// Per vertex, the key of its grid edge or cell (see [`edge_key`], [`cell_key`])
+    /// and its fraction along the edge (0 for a cell's centre).
+    pub(super) keys: Vec<u64>,
+    pub(super) fractions: Vec<f64>,
     pub(super) triangles: Vec<[u32; 3]>,
-    pub(super) face_cells: Vec<u64>,
 }
 
 /// The volume seen as a grid of cells at one level.
@@ -44,11 +46,11 @@ struct Grid<'a> {
     samples: &'a [f32],
     dims: [usize; 3],
     level: f64,
-    /// Corner `c` of a cell is sample `cell + corner_step[c]`.
-    corner_step: [usize; 8],
     /// Cell edge `e` is slot `cell slot + edge_slot[e].1` of the cell's lower plane
     /// (`edge_slot[e].0` false) or upper plane (true).
     edge_slot: [(bool, usize); 12],
+    /// Corner `c` of a cell is sample `cell + corner_step[c]`.
+    corner_step: [usize; 8],
     /// The grid is mirrored (the direction has a negative determinant): triangles
     /// are wound the other way so that they stay counter-clockwise from outside.
     mirrored: bool,
@@ -70,66 +72,88 @@ impl<'a> Grid<'a> {
             samples: volume.samples(),
             dims: volume.dims(),
             level,
-            corner_step,
             edge_slot,
+            corner_step,
             mirrored: volume.direction().determinant() < 0.0,
         }
     }
 
-    /// The object/background convention: a sample with `f ≥ I` is inside.
-    fn inside(&self, at: usize) -> bool {
-        f64::from(self.samples[at]) >= self.level
+    /// The samples of plane `z = k`.
+    fn plane_samples(&self, k: usize) -> &[f32] {
+        let size = self.dims[0] * self.dims[1];
+        self.samples.get(k * size..(k + 1) * size).unwrap_or(&[])
     }
 
-    /// Call `visit(slot, sample, axis)` for every crossing of plane `k`, in the
-    /// order that numbers them; `slot = 3 (i + nx j) + axis` and `sample` is the
-    /// linear index of the edge's start.
-    fn scan_plane(&self, k: usize, mut visit: impl FnMut(usize, usize, usize)) {
-        let [nx, ny, nz] = self.dims;
-        let steps = [1, nx, nx * ny];
-        let open = [nx - 1, ny - 1, nz - 1];
+    /// The object/background convention: 1 where `f ≥ I` (inside), 0 elsewhere.
+    fn inside(&self, value: f32) -> u8 {
+        u8::from(f64::from(value) >= self.level)
+    }
+
+    /// The inside flags of the samples of plane `k`.
+    fn classify(&self, k: usize, inside: &mut Vec<u8>) {
+        inside.clear();
+        inside.extend(self.plane_samples(k).iter().map(|&v| self.inside(v)));
+    }
+
+    /// Call `visit(i, j, axis)` for every crossing of plane `k` (whose inside flags
+    /// are `inside`), in the order that numbers them.
+    fn scan_plane(&self, k: usize, inside: &[u8], mut visit: impl FnMut(usize, usize, usize)) {
+        let [nx, ny, _] = self.dims;
+        let above = self.plane_samples(k + 1);
         for j in 0..ny {
-            for i in 0..nx {
-                let at = i + nx * (j + ny * k);
-                let here = self.inside(at);
-                for (axis, index) in [i, j, k].into_iter().enumerate() {
-                    if index < open[axis] && self.inside(at + steps[axis]) != here {
-                        visit(3 * (i + nx * j) + axis, at, axis);
-                    }
+            let row = &inside[nx * j..nx * (j + 1)];
+            let next_row = inside.get(nx * (j + 1)..nx * (j + 2));
+            for (i, &here) in row.iter().enumerate() {
+                if row.get(i + 1).is_some_and(|&x| x != here) {
+                    visit(i, j, 0);
+                }
+                if next_row.is_some_and(|r| r[i] != here) {
+                    visit(i, j, 1);
+                }
+                if above
+                    .get(i + nx * j)
+                    .is_some_and(|&v| self.inside(v) != here)
+                {
+                    visit(i, j, 2);
                 }
             }
         }
     }
 
-    /// The crossing on the edge from sample `at` along `axis`: its world position
-    /// (linear interpolation, kept [`END_GAP`] away from the ends) and source.
-    fn crossing(&self, at: usize, axis: usize) -> (Point, VertexSource) {
+    /// The crossing on the edge from sample `(i, j, k)` along `axis`: its world
+    /// position (linear interpolation, kept [`END_GAP`] away from the ends) and
+    /// source.
+    fn crossing(&self, [i, j, k]: [usize; 3], axis: usize) -> (Point, u64, f64) {
         let [nx, ny, _] = self.dims;
+        let at = i + nx * (j + ny * k);
         let step = [1, nx, nx * ny][axis];
         let (a, b) = (
             f64::from(self.samples[at]),
             f64::from(self.samples[at + step]),
         );
         let t = ((self.level - a) / (b - a)).clamp(END_GAP, 1.0 - END_GAP);
-        let mut index = [at % nx, (at / nx) % ny, at / (nx * ny)].map(|x| x as f64);
+        let mut index = [i, j, k].map(|x| x as f64);
         index[axis] += t;
-        let source = VertexSource::Edge {
-            point: at as u64,
-            axis: axis as u8,
-            t,
-        };
-        (self.volume.index_to_world(index), source)
+        let key = edge_key(at as u64, axis as u8);
+        (self.volume.index_to_world(index), key, t)
     }
 }
 
-/// The crossings of one grid plane: a dense slot → number array and their points.
+/// One grid plane: its inside flags, the inside bits of its squares and its
+/// crossings, numbered through a dense slot array (no hashing).
 struct Plane {
     /// Number of the plane's first crossing.
     base: u32,
-    /// For each slot `3 (i + nx j) + axis`, the crossing's number within the plane.
+    inside: Vec<u8>,
+    /// For square `i + nx j`, the inside bits of its corners `(i, j)`, `(i + 1, j)`,
+    /// `(i, j + 1)`, `(i + 1, j + 1)` (bits 0 to 3, as the cell corners 0 to 3).
+    squares: Vec<u8>,
+    /// For each slot `3 (i + nx j) + axis` that has a crossing, its number within
+    /// the plane (other slots hold stale values and are never read).
     slot: Vec<u32>,
     points: Vec<Point>,
-    sources: Vec<VertexSource>,
+    keys: Vec<u64>,
+    fractions: Vec<f64>,
 }
 
 impl Plane {
@@ -137,105 +161,110 @@ impl Plane {
         let [nx, ny, _] = grid.dims;
         Plane {
             base: 0,
-            slot: vec![NONE; 3 * nx * ny],
+            inside: Vec::with_capacity(nx * ny),
+            squares: vec![0; nx * ny],
+            slot: vec![0; 3 * nx * ny],
             points: Vec::new(),
-            sources: Vec::new(),
+            keys: Vec::new(),
+            fractions: Vec::new(),
         }
     }
 
-    /// Number and place the crossings of plane `k`, the first being number `base`.
+    /// The inside flags of plane `k` and of its squares' corners.
+    fn classify(&mut self, grid: &Grid, k: usize) {
+        let nx = grid.dims[0];
+        grid.classify(k, &mut self.inside);
+        let rows = self.inside.chunks_exact(nx);
+        let pairs = rows.clone().zip(rows.skip(1));
+        for ((low, high), squares) in pairs.zip(self.squares.chunks_exact_mut(nx)) {
+            for i in 0..nx - 1 {
+                squares[i] = low[i] | (low[i + 1] << 1) | (high[i] << 2) | (high[i + 1] << 3);
+            }
+        }
+    }
+
+    /// The number of crossings of plane `k`, once classified.
+    fn count_crossings(&self, grid: &Grid, k: usize) -> u32 {
+        let mut count = 0;
+        grid.scan_plane(k, &self.inside, |_, _, _| count += 1);
+        count
+    }
+
+    /// Classify plane `k`, then number and place its crossings, the first being
+    /// number `base`.
     fn fill(&mut self, grid: &Grid, k: usize, base: u32) {
+        let nx = grid.dims[0];
+        self.classify(grid, k);
         self.base = base;
-        self.slot.fill(NONE);
         self.points.clear();
-        self.sources.clear();
-        grid.scan_plane(k, |slot, at, axis| {
-            self.slot[slot] = self.points.len() as u32;
-            let (point, source) = grid.crossing(at, axis);
+        self.keys.clear();
+        self.fractions.clear();
+        grid.scan_plane(k, &self.inside, |i, j, axis| {
+            self.slot[3 * (i + nx * j) + axis] = self.points.len() as u32;
+            let (point, key, t) = grid.crossing([i, j, k], axis);
             self.points.push(point);
-            self.sources.push(source);
+            self.keys.push(key);
+            self.fractions.push(t);
         });
     }
 }
 
-/// What one slab produced; centres are numbered `CENTRE | n` in `triangles`.
-#[derive(Default)]
-struct Piece {
-    points: Vec<Point>,
-    sources: Vec<VertexSource>,
-    triangles: Vec<[u32; 3]>,
-    face_cells: Vec<u64>,
-    centres: Vec<Point>,
-    centre_cells: Vec<u64>,
-}
-
-impl Piece {
-    fn take_crossings(&mut self, plane: &Plane) {
-        self.points.extend_from_slice(&plane.points);
-        self.sources.extend_from_slice(&plane.sources);
-    }
-
-    fn push_triangle(&mut self, grid: &Grid, [a, b, c]: [u32; 3], cell: usize) {
-        let triangle = if grid.mirrored { [a, c, b] } else { [a, b, c] };
-        self.triangles.push(triangle);
-        self.face_cells.push(cell as u64);
-    }
-
-    /// Triangulate one polygon of `cell`: a triangle as it is, a larger polygon as
-    /// a fan around its barycentre (a new vertex of this cell).
-    fn push_polygon(&mut self, grid: &Grid, ids: &[u32], points: &[Point], cell: usize) {
-        if let [a, b, c] = *ids {
-            self.push_triangle(grid, [a, b, c], cell);
-            return;
-        }
-        let sum = points.iter().fold(Point::origin(), |s, p| s + p.coords);
-        let centre = CENTRE | self.centres.len() as u32;
-        self.centres.push(sum / points.len() as f64);
-        self.centre_cells.push(cell as u64);
-        for (k, &a) in ids.iter().enumerate() {
-            let b = ids[(k + 1) % ids.len()];
-            self.push_triangle(grid, [centre, a, b], cell);
-        }
-    }
-}
-
-/// The polygons of the cells of layer `k`, between planes `lower` (`z = k`) and
-/// `upper` (`z = k + 1`).
-fn cell_layer(grid: &Grid, k: usize, lower: &Plane, upper: &Plane, piece: &mut Piece) {
+/// Call `visit(cell, polygons)` for every cell of layer `k` (between the classified
+/// planes `lower`, `z = k`, and `upper`, `z = k + 1`) that the surface crosses,
+/// with the cell's linear index and polygons.
+fn surface_cells<'t>(
+    grid: &Grid,
+    k: usize,
+    lower: &Plane,
+    upper: &Plane,
+    mut visit: impl FnMut(usize, &'t Polygons),
+) {
     let [nx, ny, _] = grid.dims;
     let table = CaseTable::get();
-    let mut ids = [0u32; 12];
-    let mut points = [Point::origin(); 12];
     for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let cell = i + nx * (j + ny * k);
-            let values = grid.corner_step.map(|step| grid.samples[cell + step]);
-            let mask = (0..8).fold(0u8, |mask, c| {
-                mask | (u8::from(f64::from(values[c]) >= grid.level) << c)
-            });
-            if mask == 0 || mask == u8::MAX {
+        let row = nx * j;
+        let low = &lower.squares[row..row + nx - 1];
+        let high = &upper.squares[row..row + nx - 1];
+        let mut i = 0;
+        while i < nx - 1 {
+            if uniform_run(low, high, i) {
+                i += RUN;
                 continue;
             }
-            let connected = decide_faces(grid, table.ambiguous_faces(mask), &values);
-            let cell_slot = 3 * (i + nx * j);
-            for polygon in table.polygons(mask, connected).iter() {
-                for (n, &edge) in polygon.iter().enumerate() {
-                    let (up, offset) = grid.edge_slot[edge as usize];
-                    let plane = if up { upper } else { lower };
-                    let local = plane.slot[cell_slot + offset] as usize;
-                    ids[n] = plane.base + local as u32;
-                    points[n] = plane.points[local];
-                }
-                let n = polygon.len();
-                piece.push_polygon(grid, &ids[..n], &points[..n], cell);
+            let mask = low[i] | (high[i] << 4);
+            if mask != 0 && mask != u8::MAX {
+                let cell = i + row + nx * ny * k;
+                let connected = decide_faces(grid, table.ambiguous_faces(mask), cell);
+                visit(cell, table.polygons(mask, connected));
             }
+            i += 1;
         }
     }
 }
 
-/// The decider's choice on each ambiguous face (bits of `ambiguous`): bit `f` set
-/// where face `f` joins its inside corners.
-fn decide_faces(grid: &Grid, ambiguous: u8, values: &[f32; 8]) -> u8 {
+/// Cells skipped at once where none is crossed.
+const RUN: usize = 8;
+
+/// Whether the [`RUN`] cells from `i` on all lie inside or all outside (their
+/// squares in the planes below and above, `low` and `high`, are all 0 or all 15).
+fn uniform_run(low: &[u8], high: &[u8], i: usize) -> bool {
+    let word = |squares: &[u8]| {
+        let bytes = squares.get(i..i + RUN).and_then(|run| run.try_into().ok());
+        bytes.map(u64::from_le_bytes)
+    };
+    match (word(low), word(high)) {
+        (Some(low), Some(high)) => low | high == 0 || low & high == 0x0f0f_0f0f_0f0f_0f0f,
+        _ => false,
+    }
+}
+
+/// The decider's choice on each ambiguous face (bits of `ambiguous`) of `cell`:
+/// bit `f` set where face `f` joins its inside corners.
+fn decide_faces(grid: &Grid, ambiguous: u8, cell: usize) -> u8 {
+    if ambiguous == 0 {
+        return 0;
+    }
+    let values = grid.corner_step.map(|step| grid.samples[cell + step]);
     (0..6)
         .filter(|&face| (ambiguous >> face) & 1 == 1)
         .filter(|&face| {
@@ -245,106 +274,224 @@ fn decide_faces(grid: &Grid, ambiguous: u8, values: &[f32; 8]) -> u8 {
         .fold(0, |bits, face| bits | (1 << face))
 }
 
-/// The cell layers `first..end`: it owns (outputs the crossings of) planes
-/// `first..end`, and also the last plane if it is the last slab.
-fn slab(grid: &Grid, bases: &[u32], first: usize, end: usize) -> Piece {
-    let last_plane = grid.dims[2] - 1;
-    let mut piece = Piece::default();
-    let mut lower = Plane::new(grid);
-    let mut upper = Plane::new(grid);
-    lower.fill(grid, first, bases[first]);
-    piece.take_crossings(&lower);
+/// What a slab of cell layers `first..end` holds: it owns the crossings of planes
+/// `first..end` (and of the last plane if it is the last slab).
+#[derive(Clone, Debug, Default)]
+struct SlabCount {
+    first: usize,
+    end: usize,
+    /// Crossings of each plane it owns.
+    crossings: Vec<u32>,
+    triangles: usize,
+    centres: usize,
+}
+
+/// The first pass over the slab of cell layers `first..end`.
+fn count_slab(grid: &Grid, first: usize, end: usize) -> SlabCount {
+    let mut count = SlabCount {
+        first,
+        end,
+        ..SlabCount::default()
+    };
+    let (mut lower, mut upper) = (Plane::new(grid), Plane::new(grid));
+    lower.classify(grid, first);
+    count.crossings.push(lower.count_crossings(grid, first));
     for k in first..end {
-        upper.fill(grid, k + 1, bases[k + 1]);
-        if k + 1 < end || k + 1 == last_plane {
-            piece.take_crossings(&upper);
+        upper.classify(grid, k + 1);
+        if k + 1 < owned_end(grid, end) {
+            count.crossings.push(upper.count_crossings(grid, k + 1));
         }
-        cell_layer(grid, k, &lower, &upper, &mut piece);
+        surface_cells(grid, k, &lower, &upper, |_, polygons| {
+            count.triangles += polygons.triangle_count();
+            count.centres += polygons.centre_count();
+        });
         std::mem::swap(&mut lower, &mut upper);
     }
-    piece
+    count
 }
 
-/// The number of the first crossing of each plane, and (last) the total, or an
-/// error if the surface has too many vertices for 32-bit numbers.
-fn plane_bases(grid: &Grid) -> Result<Vec<u32>> {
-    let counts: Vec<u64> = (0..grid.dims[2])
-        .into_par_iter()
-        .map(|k| {
-            let mut count = 0u64;
-            grid.scan_plane(k, |_, _, _| count += 1);
-            count
-        })
-        .collect();
-    let mut bases = Vec::with_capacity(counts.len() + 1);
-    let mut total = 0u64;
-    bases.push(0);
-    for count in counts {
-        total += count;
-        bases.push(
-            u32::try_from(total)
-                .ok()
-                .filter(|&t| t < CENTRE)
-                .ok_or_else(too_many)?,
-        );
+/// The end of the planes owned by the slab of cell layers ending at `end`.
+fn owned_end(grid: &Grid, end: usize) -> usize {
+    if end == grid.dims[2] - 1 {
+        end + 1
+    } else {
+        end
     }
-    Ok(bases)
 }
 
-fn too_many() -> Error {
-    Error::Argument("the isosurface has more than 2^31 vertices".into())
+/// The part of the output one slab fills.
+struct Part<'a> {
+    /// Number of its first crossing, and its crossings.
+    first_crossing: u32,
+    points: &'a mut [Point],
+    keys: &'a mut [u64],
+    fractions: &'a mut [f64],
+    /// Number of its first centre, and its centres.
+    first_centre: u32,
+    centres: &'a mut [Point],
+    centre_keys: &'a mut [u64],
+    /// Its triangles.
+    triangles: &'a mut [[u32; 3]],
+    /// How many triangles and centres are written.
+    written: usize,
+    written_centres: usize,
+    mirrored: bool,
 }
 
-/// Join the slabs' pieces in order, numbering the centres after all crossings.
-fn join(pieces: Vec<Piece>, crossings: u32) -> Result<Extraction> {
-    let centres: usize = pieces.iter().map(|p| p.centres.len()).sum();
-    let total = crossings as usize + centres;
-    if total >= CENTRE as usize {
-        return Err(too_many());
+impl Part<'_> {
+    /// Copy the crossings of an owned plane into place.
+    fn take(&mut self, plane: &Plane) {
+        let at = (plane.base - self.first_crossing) as usize;
+        let end = at + plane.points.len();
+        self.points[at..end].copy_from_slice(&plane.points);
+        self.keys[at..end].copy_from_slice(&plane.keys);
+        self.fractions[at..end].copy_from_slice(&plane.fractions);
     }
-    let triangles: usize = pieces.iter().map(|p| p.triangles.len()).sum();
-    let mut out = Extraction {
-        positions: Vec::with_capacity(total),
-        sources: Vec::with_capacity(total),
-        triangles: Vec::with_capacity(triangles),
-        face_cells: Vec::with_capacity(triangles),
-    };
-    for piece in &pieces {
-        out.positions.extend_from_slice(&piece.points);
-        out.sources.extend_from_slice(&piece.sources);
+
+    fn push_triangle(&mut self, [a, b, c]: [u32; 3]) {
+        let triangle = if self.mirrored { [a, c, b] } else { [a, b, c] };
+        self.triangles[self.written] = triangle;
+        self.written += 1;
     }
-    for piece in pieces {
-        let first_centre = out.positions.len() as u32;
-        let number = |v: u32| {
-            if v & CENTRE != 0 {
-                first_centre + (v & !CENTRE)
-            } else {
-                v
+
+    /// Triangulate one polygon of `cell` with corners `ids`: a triangle as it is, a
+    /// larger polygon as a fan around its barycentre (a new vertex of this cell),
+    /// `sum / n` from the sum of its corners' positions.
+    fn push_polygon(&mut self, ids: &[u32], sum: Vector, cell: usize) {
+        if let [a, b, c] = *ids {
+            self.push_triangle([a, b, c]);
+            return;
+        }
+        let n = self.written_centres;
+        self.written_centres += 1;
+        self.centres[n] = Point::from(sum / ids.len() as f64);
+        self.centre_keys[n] = cell_key(cell as u64);
+        let centre = self.first_centre + n as u32;
+        for (k, &a) in ids.iter().enumerate() {
+            self.push_triangle([centre, a, ids[(k + 1) % ids.len()]]);
+        }
+    }
+}
+
+/// The second pass over a slab: its crossings, centres and triangles.
+fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
+    let (first, end) = (count.first, count.end);
+    let (mut lower, mut upper) = (Plane::new(grid), Plane::new(grid));
+    lower.fill(grid, first, bases[first]);
+    part.take(&lower);
+    let mut ids = [0u32; 12];
+    for k in first..end {
+        upper.fill(grid, k + 1, bases[k + 1]);
+        if k + 1 < owned_end(grid, end) {
+            part.take(&upper);
+        }
+        let nx = grid.dims[0];
+        surface_cells(grid, k, &lower, &upper, |cell, polygons| {
+            let cell_slot = 3 * (cell % (nx * grid.dims[1]));
+            for polygon in polygons.iter() {
+                let mut sum = Vector::zeros();
+                for (n, &edge) in polygon.iter().enumerate() {
+                    let (up, offset) = grid.edge_slot[edge as usize];
+                    let plane = if up { &upper } else { &lower };
+                    let local = plane.slot[cell_slot + offset] as usize;
+                    ids[n] = plane.base + local as u32;
+                    if polygon.len() > 3 {
+                        sum += plane.points[local].coords;
+                    }
+                }
+                part.push_polygon(&ids[..polygon.len()], sum, cell);
             }
-        };
-        out.triangles
-            .extend(piece.triangles.iter().map(|t| t.map(number)));
-        out.face_cells.extend_from_slice(&piece.face_cells);
-        out.positions.extend_from_slice(&piece.centres);
-        let cells = piece.centre_cells.iter();
-        out.sources
-            .extend(cells.map(|&cell| VertexSource::Cell { cell }));
+        });
+        std::mem::swap(&mut lower, &mut upper);
     }
-    Ok(out)
+}
+
+/// The number of the first crossing of each plane (and, last, the total) and of
+/// the first centre of each slab, or an error if there are too many vertices.
+fn numbering(counts: &[SlabCount]) -> Result<(Vec<u32>, Vec<u32>)> {
+    let plane_counts = counts.iter().flat_map(|c| &c.crossings);
+    let mut bases = vec![0];
+    let mut total = 0usize;
+    for &n in plane_counts {
+        total += n as usize;
+        bases.push(total.min(MAX_VERTICES) as u32);
+    }
+    let mut first_centres = Vec::with_capacity(counts.len());
+    for count in counts {
+        first_centres.push(total.min(MAX_VERTICES) as u32);
+        total += count.centres;
+    }
+    if total >= MAX_VERTICES {
+        return Err(Error::Argument(format!(
+            "the isosurface has {total} vertices, more than the {MAX_VERTICES} supported"
+        )));
+    }
+    Ok((bases, first_centres))
+}
+
+/// `values` of length `n`, filled in parallel.
+fn filled<T: Clone + Send + Sync>(n: usize, value: T) -> Vec<T> {
+    let mut values = Vec::with_capacity(n);
+    values.par_extend(rayon::iter::repeat_n(value, n));
+    values
+}
+
+/// Cut the first `n` items off `slice`, leaving the rest in it.
+fn cut<'a, T>(slice: &mut &'a mut [T], n: usize) -> &'a mut [T] {
+    let (head, tail) = std::mem::take(slice).split_at_mut(n);
+    *slice = tail;
+    head
 }
 
 /// The polygons of every cell of `volume` at `level`, triangulated. The samples
 /// must be finite and every dimension at least 2 (checked by the caller).
 pub(super) fn extract(volume: &Volume, level: f64) -> Result<Extraction> {
     let grid = Grid::new(volume, level);
-    let bases = plane_bases(&grid)?;
     let layers = grid.dims[2] - 1;
-    let pieces: Vec<Piece> = (0..layers.div_ceil(SLAB_LAYERS))
+    let counts: Vec<SlabCount> = (0..layers)
         .into_par_iter()
-        .map(|s| {
-            let first = s * SLAB_LAYERS;
-            slab(&grid, &bases, first, (first + SLAB_LAYERS).min(layers))
-        })
+        .step_by(SLAB_LAYERS)
+        .map(|first| count_slab(&grid, first, (first + SLAB_LAYERS).min(layers)))
         .collect();
-    join(pieces, bases[grid.dims[2]])
+    let (bases, first_centres) = numbering(&counts)?;
+    let crossings = *bases.last().expect("a base per plane") as usize;
+    let centres: usize = counts.iter().map(|c| c.centres).sum();
+    let triangle_count: usize = counts.iter().map(|c| c.triangles).sum();
+    let mut positions = filled(crossings + centres, Point::origin());
+    // Zeroed memory comes from the allocator untouched: the slabs' writes are the
+    // first, in parallel (centres keep their fraction 0).
+    let mut keys = vec![0u64; crossings + centres];
+    let mut fractions = vec![0f64; crossings + centres];
+    let mut triangles = vec![[0u32; 3]; triangle_count];
+    let (mut points, mut centre_points) = positions.split_at_mut(crossings);
+    let (mut crossing_keys, mut centre_keys) = keys.split_at_mut(crossings);
+    let mut fractions_left = &mut fractions[..crossings];
+    let mut triangles_left = &mut triangles[..];
+    let mut parts = Vec::with_capacity(counts.len());
+    for (count, &first_centre) in counts.iter().zip(&first_centres) {
+        let owned = count.crossings.iter().map(|&n| n as usize).sum();
+        parts.push(Part {
+            first_crossing: bases[count.first],
+            points: cut(&mut points, owned),
+            keys: cut(&mut crossing_keys, owned),
+            fractions: cut(&mut fractions_left, owned),
+            first_centre,
+            centres: cut(&mut centre_points, count.centres),
+            centre_keys: cut(&mut centre_keys, count.centres),
+            triangles: cut(&mut triangles_left, count.triangles),
+            written: 0,
+            written_centres: 0,
+            mirrored: grid.mirrored,
+        });
+    }
+    parts
+        .into_par_iter()
+        .zip(&counts)
+        .for_each(|(part, count)| fill_slab(&grid, &bases, count, part));
+    Ok(Extraction {
+        positions,
+        keys,
+        fractions,
+        triangles,
+    })
 }
