@@ -35,7 +35,7 @@ pub struct VolumeArgs {
     /// For a 3D image: standard deviation of the Gaussian smoothing, in world units
     /// (mm), for the isosurface and its curvature. Default: one voxel (the largest
     /// spacing). 0: no smoothing (the cubic B-spline through the samples).
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub sigma: Option<f64>,
     /// For a 3D image: the curvature of the isosurface from the image or from the
     /// mesh.
