@@ -500,3 +500,53 @@ fn bspline_is_c2_across_cell_faces() {
     assert!(spline.value_at_index([1.0, 8.01, 1.0]).is_none());
     assert!(spline.value_at_index([7.0, 8.0, 6.0]).is_some());
 }
+
+#[test]
+fn approximating_spline_derivatives_of_cubics_are_exact() {
+    // The approximating cubic B-spline with the samples as coefficients smooths
+    // axis a by a variance of h_a²/3: ∂^d s = ∂^d p + Σ_a (h_a² / 6) ∂^(d + 2e_a) p
+    // for a cubic p (index axes along the world axes here).
+    let spacing = [1.0, 0.6, 1.5];
+    let dims = [12, 14, 10];
+    let cubic = Cubic::random(11, Point::new(0.3, -0.2, 0.1), 4.0);
+    let volume = cubic.volume(dims, spacing, Matrix3::identity());
+    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
+    let smoothed = |x: &Point, d: [usize; 3]| {
+        let blur: f64 = (0..3)
+            .map(|axis| {
+                let mut dd = d;
+                dd[axis] += 2;
+                spacing[axis] * spacing[axis] / 6.0 * cubic.derivative(x, dd)
+            })
+            .sum();
+        cubic.derivative(x, d) + blur
+    };
+    let magnitude = cubic.magnitudes();
+    for index in interior(dims, [1; 3], 2) {
+        let x = volume.index_to_world(index.map(|v| v as f64));
+        let value = derivatives.value(index).unwrap();
+        assert!((value - smoothed(&x, [0, 0, 0])).abs() < 1e-5 * magnitude[0]);
+        let gradient = derivatives.gradient(index).unwrap();
+        let hessian = derivatives.hessian(index).unwrap();
+        for i in 0..3 {
+            let mut d = [0; 3];
+            d[i] = 1;
+            assert!(
+                (gradient[i] - smoothed(&x, d)).abs() < 1e-5 * magnitude[1],
+                "{index:?}"
+            );
+            for j in 0..3 {
+                let mut d = [0; 3];
+                d[i] += 1;
+                d[j] += 1;
+                assert!(
+                    (hessian[(i, j)] - smoothed(&x, d)).abs() < 1e-5 * magnitude[2],
+                    "{index:?} H[{i}][{j}] {} vs {}",
+                    hessian[(i, j)],
+                    smoothed(&x, d)
+                );
+            }
+        }
+    }
+    assert!(Derivatives::cubic_spline(&volume, 3).is_err());
+}

@@ -26,7 +26,7 @@ mod separable;
 mod statistics;
 
 pub use bspline::BSpline;
-pub use derivatives::{Derivatives, Partial};
+pub use derivatives::{Derivatives, Partial, Smoothing};
 pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub use jet::{Jet, ThirdOrder};
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
