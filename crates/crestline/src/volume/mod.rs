@@ -18,6 +18,7 @@
 //! a closed, oriented [`crate::mesh::Mesh`].
 
 pub mod bspline;
+pub mod crease;
 pub mod derivatives;
 pub mod isosurface;
 pub mod jet;

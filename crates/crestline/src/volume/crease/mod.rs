@@ -1,0 +1,29 @@
+//! Crease (ridge and valley) surfaces of 3D scalar fields after Schultz, Theisel and
+//! Seidel (2010), "Crease Surfaces: From Theory to Extraction and Application to
+//! Diffusion Tensor MRI", §3–4, with the rules of DESIGN.md ("Crease surfaces").
+//!
+//! A ridge surface is where g·e3 = 0 and λ3 < 0 (λ1 ≥ λ2 ≥ λ3 the Hessian's
+//! eigenvalues, e3 the eigenvector of λ3); valleys are ridges of −f. The building
+//! blocks so far: the transformed tensor T and h = T g − g at a point
+//! ([`Eigenframe`]), derivatives stored at the grid points ([`CreaseField`]) and the
+//! crossings of h with the grid edges ([`edge_crossings`]).
+
+mod edges;
+mod field;
+mod tensor;
+
+pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
+pub use field::{CreaseField, Sample};
+pub use tensor::{similarity, Eigenframe};
+
+/// The default ε of the tensor T, as a fraction of the range of the Hessian's
+/// eigenvalues over the volume.
+pub const DEFAULT_EPSILON_FRACTION: f64 = 0.005;
+
+/// The default similarity below which an edge is bisected (eq. 6).
+pub const DEFAULT_THETA: f64 = 0.7;
+
+/// The default least ridge strength −λ3, as a fraction of the strongest over the
+/// volume: it keeps the faint shoulders of a ridge, where −λ3 is a few percent of
+/// the crest's, from making sheets of their own.
+pub const DEFAULT_STRENGTH_FRACTION: f64 = 0.1;
