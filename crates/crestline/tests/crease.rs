@@ -114,3 +114,55 @@ fn without_the_degenerate_rule_the_shell_would_grow_spurious_sheets() {
     eprintln!("crossings more than 1 voxel off: {with_rule} with the rule, {without} without");
     assert!(without > 10 * with_rule.max(1), "{without} vs {with_rule}");
 }
+
+#[test]
+fn spherical_shell_ridge_surface_is_the_sphere() {
+    use crestline::volume::crease::crease_surface;
+    let (radius, width) = (11.0, 3.0);
+    let (volume, centre) = shell(34, radius, width);
+    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
+    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let surface = crease_surface(&field, &field.default_options());
+    let soup = &surface.soup;
+    let distances: Vec<f64> = soup
+        .positions
+        .iter()
+        .map(|p| ((p - centre).norm() - radius).abs())
+        .collect();
+    let mean = distances.iter().sum::<f64>() / distances.len() as f64;
+    let far = distances.iter().filter(|&&d| d > 1.0).count();
+    let area: f64 = soup
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| soup.positions[v as usize]);
+            0.5 * (b - a).cross(&(c - a)).norm()
+        })
+        .sum();
+    let sphere = 4.0 * std::f64::consts::PI * radius * radius;
+    // Every edge of the triangulation is shared by exactly two triangles: closed.
+    let mut edges = std::collections::HashMap::new();
+    for t in &soup.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+            *edges.entry((a, b)).or_insert(0) += 1;
+        }
+    }
+    let open = edges.values().filter(|&&n| n != 2).count();
+    eprintln!(
+        "{} vertices, {} triangles: mean distance {mean:.4} voxel, {far} beyond 1 voxel, area / sphere {:.4}, {open} edges not shared by two triangles",
+        soup.positions.len(),
+        soup.triangles.len(),
+        area / sphere
+    );
+    assert!(mean < 0.05, "mean distance {mean}");
+    assert_eq!(far, 0);
+    assert!(
+        (area / sphere - 1.0).abs() < 0.05,
+        "area ratio {}",
+        area / sphere
+    );
+    assert_eq!(open, 0, "the sphere is closed");
+    let euler = soup.positions.len() as i64 - edges.len() as i64 + soup.triangles.len() as i64;
+    assert_eq!(euler, 2, "a sphere");
+}

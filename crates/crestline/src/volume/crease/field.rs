@@ -2,7 +2,7 @@
 //! linearly interpolated in between, with the Hessian's eigenframe at every point
 //! (Schultz, Theisel and Seidel 2010, §4.6: store derivatives, never interpolate T).
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, SymmetricEigen};
 use rayon::prelude::*;
 
 use super::edges::CrossingOptions;
@@ -55,6 +55,8 @@ pub struct CreaseField {
     origin: Point,
     /// direction · diag(spacing): world offset per index step.
     grid_to_world: Matrix3<f64>,
+    /// Its inverse.
+    world_to_grid: Matrix3<f64>,
     /// The smallest and largest Hessian eigenvalue over the grid.
     eigenvalue_range: (f64, f64),
 }
@@ -111,6 +113,7 @@ impl CreaseField {
             values,
             origin: Point::from(volume.origin()),
             grid_to_world: r * Matrix3::from_diagonal(&Vector::from(volume.spacing())),
+            world_to_grid: *volume.world_to_grid(),
             eigenvalue_range,
         })
     }
@@ -143,6 +146,64 @@ impl CreaseField {
         self.origin + self.grid_to_world * Vector::from(index.map(|v| v as f64))
     }
 
+    /// Gradient and Hessian at world `point`, interpolated trilinearly between the
+    /// grid points (the eigenframe computed there); `None` outside the grid.
+    pub fn sample_at(&self, point: &Point) -> Option<Sample> {
+        let u = self.world_to_grid * (point - self.origin);
+        let mut base = [0usize; 3];
+        let mut frac = [0.0; 3];
+        for axis in 0..3 {
+            let last = (self.dims[axis] - 1) as f64;
+            if !(u[axis] >= -1e-9 && u[axis] <= last + 1e-9) {
+                return None;
+            }
+            let x = u[axis].clamp(0.0, last);
+            base[axis] = (x.floor() as usize).min(self.dims[axis].saturating_sub(2));
+            frac[axis] = x - base[axis] as f64;
+        }
+        let mut sum = [0.0f64; 9];
+        for corner in 0..8 {
+            let offset = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+            let mut weight = 1.0;
+            let mut at = base;
+            for axis in 0..3 {
+                at[axis] = (base[axis] + offset[axis]).min(self.dims[axis] - 1);
+                weight *= if offset[axis] == 1 {
+                    frac[axis]
+                } else {
+                    1.0 - frac[axis]
+                };
+            }
+            if weight > 0.0 {
+                let v = &self.values[self.linear_index(at)];
+                for (s, x) in sum.iter_mut().zip(v) {
+                    *s += weight * f64::from(*x);
+                }
+            }
+        }
+        Some(unpack_f64(sum))
+    }
+
+    /// The unit normal of the crease surface at `point`: the dominant right
+    /// singular vector of J = ∂h/∂x (on the surface J = a nᵀ has rank one; an
+    /// eigenvector of J would be e3), with J by central differences. The zero
+    /// vector outside the grid.
+    pub fn normal_at(&self, point: &Point, epsilon: f64) -> Vector {
+        let step = 0.05 / self.world_to_grid.norm().max(f64::MIN_POSITIVE) * 3f64.sqrt();
+        let h = |p: Point| self.sample_at(&p).map(|s| s.h(epsilon));
+        let mut jacobian = Matrix3::zeros();
+        for j in 0..3 {
+            let offset = Vector::ith(j, step);
+            match (h(point + offset), h(point - offset)) {
+                (Some(a), Some(b)) => jacobian.set_column(j, &((a - b) / (2.0 * step))),
+                _ => return Vector::zeros(),
+            }
+        }
+        let gram = SymmetricEigen::new(jacobian.transpose() * jacobian);
+        let largest = gram.eigenvalues.imax();
+        gram.eigenvectors.column(largest).into_owned()
+    }
+
     /// Gradient, Hessian and eigenframe at grid point `index`.
     pub fn sample(&self, index: [usize; 3]) -> Sample {
         unpack(&self.values[self.linear_index(index)])
@@ -150,7 +211,10 @@ impl CreaseField {
 }
 
 fn unpack(v: &[f32; 9]) -> Sample {
-    let v = v.map(f64::from);
+    unpack_f64(v.map(f64::from))
+}
+
+fn unpack_f64(v: [f64; 9]) -> Sample {
     Sample::new(
         Vector::new(v[0], v[1], v[2]),
         Matrix3::new(v[3], v[4], v[5], v[4], v[6], v[7], v[5], v[7], v[8]),
