@@ -2,6 +2,7 @@
 //! success, 1 an error (printed as one line `error: <file>: <what is wrong>`), 2 bad
 //! usage (printed by clap).
 
+mod crease;
 mod curvature;
 mod draw;
 mod failure;
@@ -43,6 +44,8 @@ enum Command {
     Curvature(curvature::CurvatureArgs),
     /// Extract the isosurface of a 3D image as a closed mesh, with the image's curvature.
     Iso(iso::IsoArgs),
+    /// Extract ridge or valley surfaces of a 3D image (Schultz, Theisel and Seidel 2010).
+    Crease(crease::CreaseArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
     /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
@@ -94,6 +97,7 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
         Command::Iso(args) => iso::run(&args),
+        Command::Crease(args) => crease::run(&args),
         Command::Ridges(args) => ridges::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),

@@ -122,8 +122,7 @@ fn spherical_shell_ridge_surface_is_the_sphere() {
     let (volume, centre) = shell(34, radius, width);
     let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
     let field = CreaseField::new(&volume, &derivatives, true).unwrap();
-    let surface = crease_surface(&field, &field.default_options());
-    let soup = &surface.soup;
+    let soup = &crease_surface(&field, &field.default_options(), 0);
     let distances: Vec<f64> = soup
         .positions
         .iter()

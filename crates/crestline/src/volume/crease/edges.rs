@@ -91,6 +91,12 @@ fn edge(
     if a.frame.gap() < options.epsilon && b.frame.gap() < options.epsilon {
         return;
     }
+    // λ3 is concave in the Hessian, so along the edge −λ3 stays below the larger of
+    // its end values: an edge too weak at both ends has no strong enough crossing.
+    let strongest = -a.frame.eigenvalues[2].min(b.frame.eigenvalues[2]);
+    if strongest < options.strength {
+        return;
+    }
     let mut ts = Vec::new();
     let search = Search {
         a: &a,

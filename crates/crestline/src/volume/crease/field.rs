@@ -52,6 +52,9 @@ pub struct CreaseField {
     dims: [usize; 3],
     /// Gradient (3) and Hessian (xx xy xz yy yz zz) per grid point, world coordinates.
     values: Vec<[f32; 9]>,
+    /// The Hessian's eigenframe per grid point, computed once: every grid point
+    /// ends six edges.
+    frames: Vec<Eigenframe>,
     origin: Point,
     /// direction · diag(spacing): world offset per index step.
     grid_to_world: Matrix3<f64>,
@@ -98,12 +101,10 @@ impl CreaseField {
                 .map(|x| x as f32)
             })
             .collect();
-        let eigenvalue_range = values
+        let frames: Vec<Eigenframe> = values.par_iter().map(|v| unpack(v).frame).collect();
+        let eigenvalue_range = frames
             .par_iter()
-            .map(|v| {
-                let s = unpack(v);
-                (s.frame.eigenvalues[2], s.frame.eigenvalues[0])
-            })
+            .map(|f| (f.eigenvalues[2], f.eigenvalues[0]))
             .reduce(
                 || (f64::INFINITY, f64::NEG_INFINITY),
                 |a, b| (a.0.min(b.0), a.1.max(b.1)),
@@ -111,6 +112,7 @@ impl CreaseField {
         Ok(CreaseField {
             dims: volume.dims(),
             values,
+            frames,
             origin: Point::from(volume.origin()),
             grid_to_world: r * Matrix3::from_diagonal(&Vector::from(volume.spacing())),
             world_to_grid: *volume.world_to_grid(),
@@ -206,7 +208,13 @@ impl CreaseField {
 
     /// Gradient, Hessian and eigenframe at grid point `index`.
     pub fn sample(&self, index: [usize; 3]) -> Sample {
-        unpack(&self.values[self.linear_index(index)])
+        let n = self.linear_index(index);
+        let v = self.values[n].map(f64::from);
+        Sample {
+            gradient: Vector::new(v[0], v[1], v[2]),
+            hessian: hessian(&v),
+            frame: self.frames[n],
+        }
     }
 }
 
@@ -215,8 +223,10 @@ fn unpack(v: &[f32; 9]) -> Sample {
 }
 
 fn unpack_f64(v: [f64; 9]) -> Sample {
-    Sample::new(
-        Vector::new(v[0], v[1], v[2]),
-        Matrix3::new(v[3], v[4], v[5], v[4], v[6], v[7], v[5], v[7], v[8]),
-    )
+    Sample::new(Vector::new(v[0], v[1], v[2]), hessian(&v))
+}
+
+/// The symmetric Hessian of a packed gradient-and-Hessian record.
+fn hessian(v: &[f64; 9]) -> Matrix3<f64> {
+    Matrix3::new(v[3], v[4], v[5], v[4], v[6], v[7], v[5], v[7], v[8])
 }

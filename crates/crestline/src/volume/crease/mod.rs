@@ -18,7 +18,7 @@ mod tensor;
 
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
 pub use field::{CreaseField, Sample};
-pub use surface::{crease_surface, CreaseSurface};
+pub use surface::{crease_surface, STRENGTH};
 pub use tensor::{similarity, Eigenframe};
 
 /// The default ε of the tensor T, as a fraction of the range of the Hessian's

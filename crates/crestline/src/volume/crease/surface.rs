@@ -12,21 +12,21 @@ use rayon::prelude::*;
 
 use super::edges::{edge_crossings, CrossingOptions, EdgeCrossing};
 use super::field::CreaseField;
-use crate::mesh::TriangleSoup;
+use crate::mesh::{ScalarProperty, TriangleSoup};
 use crate::{Point, Vector};
 
-/// A crease surface: triangles that need not be consistently orientable, with the
-/// ridge strength −λ3 at each vertex.
-#[derive(Clone, Debug)]
-pub struct CreaseSurface {
-    /// Vertices and triangles.
-    pub soup: TriangleSoup,
-    /// −λ3 per vertex.
-    pub strength: Vec<f64>,
-}
+/// The name of the per-vertex ridge strength −λ3 in the surface's soup.
+pub const STRENGTH: &str = "strength";
 
-/// The crease surface of `field` with `options`.
-pub fn crease_surface(field: &CreaseField, options: &CrossingOptions) -> CreaseSurface {
+/// The crease surface of `field` with `options`: triangles that need not be
+/// consistently orientable, with the ridge strength −λ3 of each vertex as the
+/// vertex scalar [`STRENGTH`]. Connected pieces of fewer than `min_component`
+/// triangles are dropped.
+pub fn crease_surface(
+    field: &CreaseField,
+    options: &CrossingOptions,
+    min_component: usize,
+) -> TriangleSoup {
     let crossings = edge_crossings(field, options);
     let normals: Vec<Vector> = crossings
         .par_iter()
@@ -43,7 +43,30 @@ pub fn crease_surface(field: &CreaseField, options: &CrossingOptions) -> CreaseS
         .par_iter()
         .map(|&cell| cell_polygons(cell, field, &index, &crossings, &normals))
         .collect();
-    triangulate(&crossings, polygons.into_iter().flatten())
+    let (positions, triangles, strength) = triangulate(&crossings, polygons.into_iter().flatten());
+    let triangles = large_components(triangles, positions.len(), min_component);
+    compact(positions, triangles, strength)
+}
+
+/// The triangles of the connected pieces (sharing vertices) of at least `min`
+/// triangles.
+fn large_components(triangles: Vec<[u32; 3]>, vertices: usize, min: usize) -> Vec<[u32; 3]> {
+    if min <= 1 {
+        return triangles;
+    }
+    let mut pieces = petgraph::unionfind::UnionFind::<u32>::new(vertices);
+    for [a, b, c] in &triangles {
+        pieces.union(*a, *b);
+        pieces.union(*a, *c);
+    }
+    let mut size = vec![0usize; vertices];
+    for t in &triangles {
+        size[pieces.find(t[0]) as usize] += 1;
+    }
+    triangles
+        .into_iter()
+        .filter(|t| size[pieces.find(t[0]) as usize] >= min)
+        .collect()
 }
 
 /// The crossings of each grid edge, by edge key.
@@ -254,7 +277,7 @@ fn walk(start: usize, neighbours: &HashMap<usize, Vec<usize>>) -> Option<Vec<usi
 fn triangulate(
     crossings: &[EdgeCrossing],
     polygons: impl Iterator<Item = Vec<usize>>,
-) -> CreaseSurface {
+) -> (Vec<Point>, Vec<[u32; 3]>, Vec<f64>) {
     let mut positions: Vec<Point> = crossings.iter().map(|c| c.position).collect();
     let mut strength: Vec<f64> = crossings.iter().map(|c| -c.lambda3).collect();
     let mut triangles = Vec::new();
@@ -284,16 +307,16 @@ fn triangulate(
             }
         }
     }
-    compact(positions, triangles, strength)
+    (positions, triangles, strength)
 }
 
 /// The surface without the vertices no triangle uses (crossings whose polygon did
-/// not close).
+/// not close, pieces dropped for their size), with the strength as a vertex scalar.
 fn compact(
     positions: Vec<Point>,
     mut triangles: Vec<[u32; 3]>,
     strength: Vec<f64>,
-) -> CreaseSurface {
+) -> TriangleSoup {
     let mut new_id = vec![u32::MAX; positions.len()];
     let mut kept_positions = Vec::new();
     let mut kept_strength = Vec::new();
@@ -306,12 +329,12 @@ fn compact(
         }
         *corner = new_id[old];
     }
-    CreaseSurface {
-        soup: TriangleSoup {
-            positions: kept_positions,
-            triangles,
-            vertex_scalars: Vec::new(),
-        },
-        strength: kept_strength,
+    TriangleSoup {
+        positions: kept_positions,
+        triangles,
+        vertex_scalars: vec![ScalarProperty {
+            name: STRENGTH.to_string(),
+            values: kept_strength,
+        }],
     }
 }
