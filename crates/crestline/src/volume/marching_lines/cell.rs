@@ -1,0 +1,180 @@
+//! The segments of bi-iso-lines inside one cell: the isosurface polygons of the
+//! cell (BUILDCYCLES), the labelled points of `g = J` on their edges
+//! (CYCLESTOPOINTS) and their pairing (CYCLETOSEGS), Thirion & Gourdon 1993 §4.2.
+
+use std::ops::Range;
+
+use super::{PointKey, SecondField, Segment};
+use crate::volume::isosurface::cell::{
+    corner_offset, crossing_fraction, decide_faces, CaseTable, EDGES,
+};
+use crate::volume::isosurface::edge_key;
+use crate::volume::Volume;
+
+/// The grid indices of the 8 corners of the cell whose lowest corner is `cell`.
+pub(super) fn corner_indices(cell: [usize; 3]) -> [[usize; 3]; 8] {
+    std::array::from_fn(|c| {
+        let offset = corner_offset(c);
+        std::array::from_fn(|a| cell[a] + offset[a])
+    })
+}
+
+/// A vertex of an isosurface polygon: the key of its grid edge, its position in
+/// grid index coordinates and the value of `g` there.
+#[derive(Clone, Copy, Debug)]
+struct Vertex {
+    key: u64,
+    index: [f64; 3],
+    g: f64,
+}
+
+/// A point of `g = J` on a polygon edge, labelled `+` if the edge ends at a vertex
+/// with `g ≥ J`.
+#[derive(Clone, Copy, Debug)]
+struct Labelled {
+    key: PointKey,
+    index: [f64; 3],
+    plus: bool,
+}
+
+/// One cell: its place in the grid and the values of `f` and `g` at its corners.
+struct Cell {
+    index: [usize; 3],
+    dims: [usize; 3],
+    f: [f64; 8],
+    g: [f64; 8],
+}
+
+impl Cell {
+    /// The vertex of the isosurface `f = level` on cell edge `edge`: where `f`
+    /// crosses the level along it (as the isosurface places it) and `g` there.
+    fn vertex(&self, edge: u8, level: f64) -> Vertex {
+        let (c, axis) = EDGES[edge as usize];
+        let d = c | (1 << axis);
+        let t = crossing_fraction(self.f[c], self.f[d], level);
+        let corner = corner_indices(self.index)[c];
+        let [nx, ny, _] = self.dims;
+        let point = corner[0] + nx * (corner[1] + ny * corner[2]);
+        let mut index = corner.map(|x| x as f64);
+        index[axis] += t;
+        Vertex {
+            key: edge_key(point as u64, axis as u8),
+            index,
+            g: self.g[c] + t * (self.g[d] - self.g[c]),
+        }
+    }
+}
+
+/// CYCLESTOPOINTS: the labelled points of `g = g_level` on the edges of the
+/// polygon `vertices` (in its order), each computed from the edge's ends in key
+/// order so that the neighbouring cell computes the same point.
+fn cycle_to_points(vertices: &[Vertex], g_level: f64) -> Vec<Labelled> {
+    let n = vertices.len();
+    (0..n)
+        .filter_map(|m| {
+            let (a, b) = (vertices[m], vertices[(m + 1) % n]);
+            let plus = b.g >= g_level;
+            if (a.g >= g_level) == plus {
+                return None;
+            }
+            let (p, q) = if a.key < b.key { (a, b) } else { (b, a) };
+            let s = crossing_fraction(p.g, q.g, g_level);
+            Some(Labelled {
+                key: [p.key, q.key],
+                index: std::array::from_fn(|i| p.index[i] + s * (q.index[i] - p.index[i])),
+                plus,
+            })
+        })
+        .collect()
+}
+
+/// CYCLETOSEGS: the labelled points (alternately `−` and `+` around the polygon),
+/// rotated so that the first is `−`, paired from `−` to `+` as `Q0→Q1, Q2→Q3, …`
+/// (joining the `+` sides of the polygon) or `Q2→Q1, …, Q0→Q(n−1)` (joining its
+/// `−` sides).
+fn cycle_to_segments(mut points: Vec<Labelled>, join_plus: bool) -> Vec<[Labelled; 2]> {
+    let n = points.len();
+    if let Some(first) = points.iter().position(|q| !q.plus) {
+        points.rotate_left(first);
+    }
+    (0..n / 2)
+        .map(|m| {
+            let to = if join_plus {
+                2 * m + 1
+            } else {
+                (2 * m + n - 1) % n
+            };
+            [points[2 * m], points[to]]
+        })
+        .collect()
+}
+
+/// The segments of one cell whose isosurface polygons are known, in grid index
+/// coordinates, with the mean-value convention choosing the pairing per polygon.
+fn cell_segments(cell: &Cell, level: f64, g_level: f64, out: &mut Vec<[Labelled; 2]>) {
+    let mask = (0..8).fold(0u8, |m, c| m | (u8::from(cell.f[c] >= level) << c));
+    let table = CaseTable::get();
+    let connected = decide_faces(table.ambiguous_faces(mask), &cell.f, level);
+    for polygon in table.polygons(mask, connected).iter() {
+        let vertices: Vec<Vertex> = polygon.iter().map(|&e| cell.vertex(e, level)).collect();
+        let points = cycle_to_points(&vertices, g_level);
+        if points.is_empty() {
+            continue;
+        }
+        let mean = vertices.iter().map(|v| v.g).sum::<f64>() / vertices.len() as f64;
+        out.extend(cycle_to_segments(points, mean >= g_level));
+    }
+}
+
+/// Whether the isosurface crosses a cell with these corner values of `f`.
+fn crossed(f: &[f64; 8], level: f64) -> bool {
+    let inside = f.iter().filter(|&&v| v >= level).count();
+    inside != 0 && inside != 8
+}
+
+/// The segments of all cells of the z layers `layers`, in cell order, in world
+/// coordinates.
+pub(super) fn slab_segments(
+    volume: &Volume,
+    level: f64,
+    field: &impl SecondField,
+    g_level: f64,
+    layers: Range<usize>,
+) -> Vec<Segment> {
+    let dims = volume.dims();
+    let [nx, ny, _] = dims;
+    let samples = volume.samples();
+    let mirrored = volume.direction().determinant() < 0.0;
+    let mut segments = Vec::new();
+    let mut found = Vec::new();
+    for k in layers {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let index = [i, j, k];
+                let f = corner_indices(index)
+                    .map(|[a, b, c]| f64::from(samples[a + nx * (b + ny * c)]));
+                if !crossed(&f, level) {
+                    continue;
+                }
+                let Some(g) = field.corners(index) else {
+                    continue;
+                };
+                found.clear();
+                cell_segments(&Cell { index, dims, f, g }, level, g_level, &mut found);
+                let kept = found.iter().filter(|[a, b]| {
+                    let local =
+                        std::array::from_fn(|n| 0.5 * (a.index[n] + b.index[n]) - index[n] as f64);
+                    field.keep(index, &g, local)
+                });
+                segments.extend(kept.map(|&[a, b]| {
+                    let [a, b] = if mirrored { [b, a] } else { [a, b] };
+                    Segment {
+                        keys: [a.key, b.key],
+                        points: [a.index, b.index].map(|x| volume.index_to_world(x)),
+                    }
+                }));
+            }
+        }
+    }
+    segments
+}
