@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod crest_lines;
 pub mod curvature;
 pub mod differential;
 pub mod draw;

@@ -1,10 +1,13 @@
 //! Marching Lines (Thirion & Gourdon 1993, §4): bi-iso-lines of two sampled
 //! fields are closed except at the volume border and where the second field is
 //! undefined, lie where both fields cross their levels, follow the bi-iso-line
-//! orientation convention and do not depend on the number of threads.
+//! orientation convention and do not depend on the number of threads; crest
+//! lines (§5) of an ellipsoid are its largest principal ellipse.
 
 use std::f64::consts::PI;
 
+use crestline::crest_lines::crest_lines;
+use crestline::lines::LineKind;
 use crestline::volume::{bi_iso_lines, BiIsoLine, Volume};
 use crestline::Point;
 use nalgebra::Matrix3;
@@ -184,4 +187,80 @@ fn bad_input_is_an_error() {
     assert!(bi_iso_lines(&volume, f64::NAN, &g, 0.0).is_err());
     assert!(bi_iso_lines(&volume, 0.0, &g, f64::INFINITY).is_err());
     assert!(bi_iso_lines(&volume, 100.0, &g, 0.0).unwrap().is_empty());
+}
+
+/// A volume of `dims` unit-spaced samples of `f`, centred on the origin.
+fn centred(dims: [usize; 3], f: impl Fn(Point) -> f64) -> Volume {
+    let origin = dims.map(|n| -(n as f64 - 1.0) / 2.0);
+    let count = dims.iter().product();
+    let grid = Volume::new(
+        dims,
+        [1.0; 3],
+        origin,
+        Matrix3::identity(),
+        vec![0.0; count],
+    );
+    let grid = grid.unwrap();
+    let [nx, ny, _] = dims;
+    let samples = (0..count)
+        .map(|at| {
+            let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
+            f(grid.index_to_world(index.map(|x| x as f64))) as f32
+        })
+        .collect();
+    grid.with_samples(samples).unwrap()
+}
+
+/// The fraction of the angles around the z axis (in bins of half a degree) that
+/// segments of `lines` span.
+fn angular_coverage(lines: &[&crestline::lines::Polyline]) -> f64 {
+    const BINS: usize = 720;
+    let bin = |p: &Point| {
+        let turn = p.y.atan2(p.x) / (2.0 * PI) + 1.0;
+        ((turn * BINS as f64) as usize) % BINS
+    };
+    let mut covered = [false; BINS];
+    for line in lines {
+        let n = line.points.len();
+        let pairs = if line.closed { n } else { n - 1 };
+        for i in 0..pairs {
+            let (a, b) = (bin(&line.points[i]), bin(&line.points[(i + 1) % n]));
+            let (low, high) = (a.min(b), a.max(b));
+            // The short way round between the two bins.
+            if high - low <= BINS / 2 {
+                covered[low..=high].iter_mut().for_each(|c| *c = true);
+            } else {
+                covered[high..].iter_mut().for_each(|c| *c = true);
+                covered[..=low].iter_mut().for_each(|c| *c = true);
+            }
+        }
+    }
+    covered.iter().filter(|&&c| c).count() as f64 / BINS as f64
+}
+
+#[test]
+fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let volume = centred([49, 39, 31], ellipsoid);
+    let lines = crest_lines(&volume, -1.0, 1.5).unwrap();
+    let ridges: Vec<_> = lines.iter().filter(|l| l.kind == LineKind::Ridge).collect();
+    let points: Vec<Point> = ridges.iter().flat_map(|l| l.points.clone()).collect();
+    assert!(!points.is_empty());
+    let mean = points.iter().map(|p| p.z.abs()).sum::<f64>() / points.len() as f64;
+    let worst = points.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
+    let coverage = angular_coverage(&ridges);
+    let valleys = lines.len() - ridges.len();
+    println!(
+        "ellipsoid: {} ridge lines, {} points, mean |z| {mean:.2e} ({:.2e} of a), max |z| \
+         {worst:.2e}, coverage {coverage:.3}, {valleys} valley lines",
+        ridges.len(),
+        points.len(),
+        mean / a
+    );
+    assert!(mean < 0.005 * a, "mean distance to the plane {mean}");
+    // Minima of k_max (on the other principal ellipses) are not ridges.
+    assert!(worst < 1.0, "a ridge point {worst} off the plane");
+    assert!(coverage >= 0.95, "coverage {coverage}");
+    assert_eq!(valleys, 0, "a convex surface has no valleys");
 }

@@ -1,0 +1,279 @@
+//! Crest lines of the isosurfaces of a 3D image, by the Marching Lines algorithm
+//! (Thirion & Gourdon 1993, "The 3D marching lines algorithm", §5): the lines where
+//! the isosurface `f = I` of the smoothed image meets the zero set of an
+//! extremality, with the conventions of DESIGN.md ("Isosurfaces and implicit
+//! curvature").
+//!
+//! - The image is smoothed by a Gaussian of standard deviation σ (world units) and
+//!   differentiated up to order 3 ([`Derivatives`]); at every grid point the
+//!   isosurface through it has principal curvatures `k_max ≥ k_min` (positive on a
+//!   bright convex object), directions `t_max`, `t_min` and extremalities
+//!   `e_max = ∇k_max · t_max`, `e_min = ∇k_min · t_min`
+//!   ([`crate::differential::isosurface_curvature`]).
+//! - Ridges are maxima of `k_max` along `t_max` where `k_max > |k_min|`, so that
+//!   Thirion's crest lines of the curvature larger in magnitude map to our ridges;
+//!   valleys are minima of `k_min` along `t_min` where `|k_min| > |k_max|`.
+//! - The sign of a principal direction, and so of its extremality, is only locally
+//!   meaningful: in each cell the eight corner directions are oriented to corner 0,
+//!   and the cell is used only if all 28 pairwise dot products are then positive
+//!   (the two cells of a face decide the same); other cells, and cells with a
+//!   corner where the curvature is undefined (vanishing gradient), have no segment.
+//!   A segment is kept where the trilinear gradient of the oriented extremality
+//!   points against the trilinear (oriented) direction at its midpoint
+//!   (`∇e_max · t_max < 0` for a maximum, `> 0` for a minimum) and the curvature
+//!   condition holds there.
+//! - The lines are chained by point key without regard to direction
+//!   ([`crate::volume::marching_lines`]) and are unoriented. Their strength is the
+//!   integral of the curvature magnitude along them (dimensionless).
+
+use rayon::prelude::*;
+
+use crate::differential::IsoCurvature;
+use crate::lines::{LineKind, Polyline};
+use crate::volume::marching_lines::{marching_lines, BiIsoLine, SecondField};
+use crate::volume::{Derivatives, Partial, Volume};
+use crate::{Point, Result, Vector};
+
+/// Curvature of the isosurface through one grid point, stored compactly.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// `k_max`, `k_min`.
+    k: [f32; 2],
+    /// `e_max`, `e_min`.
+    e: [f32; 2],
+    /// `t_max`, `t_min`.
+    t: [[f32; 3]; 2],
+}
+
+impl Frame {
+    fn new(c: &IsoCurvature) -> Frame {
+        let p = &c.principal;
+        let direction = |d: &Vector| [d.x as f32, d.y as f32, d.z as f32];
+        Frame {
+            k: [p.k_max as f32, p.k_min as f32],
+            e: [c.e_max as f32, c.e_min as f32],
+            t: [direction(&p.d_max), direction(&p.d_min)],
+        }
+    }
+
+    /// Direction `which` (0: `t_max`, 1: `t_min`).
+    fn direction(&self, which: usize) -> Vector {
+        Vector::from(self.t[which].map(f64::from))
+    }
+}
+
+/// The curvature at every grid point of a volume, `None` where undefined.
+struct Curvatures {
+    dims: [usize; 3],
+    frames: Vec<Option<Frame>>,
+    /// `∂index/∂world`, turning gradients along index axes into world gradients.
+    world_to_grid: nalgebra::Matrix3<f64>,
+}
+
+impl Curvatures {
+    fn new(derivatives: &Derivatives, volume: &Volume) -> Curvatures {
+        let [nx, ny, nz] = volume.dims();
+        let frames = (0..nx * ny * nz)
+            .into_par_iter()
+            .map(|at| {
+                let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
+                let curvature = derivatives.jet(index)?.isosurface_curvature()?;
+                let frame = Frame::new(&curvature);
+                let finite = frame.k.iter().chain(&frame.e).all(|v| v.is_finite());
+                finite.then_some(frame)
+            })
+            .collect();
+        Curvatures {
+            dims: volume.dims(),
+            frames,
+            world_to_grid: *volume.world_to_grid(),
+        }
+    }
+
+    /// The frames at the 8 corners of `cell`, or `None` if one is undefined.
+    fn corners(&self, [i, j, k]: [usize; 3]) -> Option<[Frame; 8]> {
+        let [nx, ny, _] = self.dims;
+        let at = |c: usize| (i + (c & 1)) + nx * ((j + ((c >> 1) & 1)) + ny * (k + (c >> 2)));
+        let frames: [Option<Frame>; 8] = std::array::from_fn(|c| self.frames[at(c)]);
+        frames
+            .iter()
+            .all(Option::is_some)
+            .then(|| frames.map(Option::unwrap))
+    }
+}
+
+/// Which crest lines to find: ridges (maxima of `k_max` along `t_max`) or valleys
+/// (minima of `k_min` along `t_min`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Crest {
+    Ridge,
+    Valley,
+}
+
+/// The extremality of one kind of crest line as the second field of the Marching
+/// Lines, oriented per cell.
+struct Extremality<'a> {
+    curvatures: &'a Curvatures,
+    crest: Crest,
+}
+
+impl Extremality<'_> {
+    /// 0 for `k_max`, `t_max`, `e_max`; 1 for `k_min`, `t_min`, `e_min`.
+    fn which(&self) -> usize {
+        match self.crest {
+            Crest::Ridge => 0,
+            Crest::Valley => 1,
+        }
+    }
+
+    /// The corner frames of `cell` and the signs that orient their directions to
+    /// corner 0, if all 28 pairs of oriented directions then agree.
+    fn oriented(&self, cell: [usize; 3]) -> Option<([Frame; 8], [f64; 8])> {
+        let frames = self.curvatures.corners(cell)?;
+        let directions = frames.map(|f| f.direction(self.which()));
+        let signs = directions.map(|d| d.dot(&directions[0]).signum());
+        let oriented: [Vector; 8] = std::array::from_fn(|c| directions[c] * signs[c]);
+        let agree = (0..8).all(|a| (a + 1..8).all(|b| oriented[a].dot(&oriented[b]) > 0.0));
+        agree.then_some((frames, signs))
+    }
+}
+
+/// A fixed direction with no zero component, to break ties (see [`untied`]).
+const TIE_BREAK: Vector = Vector::new(0.36, 0.48, 0.8);
+
+/// The extremality `e` along principal direction `direction`, moved off an exact
+/// zero (which symmetric images produce on whole grid planes) by the smallest
+/// amount, with the sign of `direction · TIE_BREAK`: like a nonzero `e`, the result
+/// changes sign with the direction, so once oriented per cell the labels of the two
+/// cells of a face stay opposite (an exact zero would be `+` in both).
+fn untied(e: f64, direction: &Vector) -> f64 {
+    if e == 0.0 {
+        f64::MIN_POSITIVE.copysign(direction.dot(&TIE_BREAK))
+    } else {
+        e
+    }
+}
+
+/// Trilinear weights of the 8 corners at cell coordinates `u`, and their
+/// derivatives along each index axis.
+fn trilinear(u: [f64; 3]) -> ([f64; 8], [[f64; 8]; 3]) {
+    let factor = |c: usize, a: usize| if (c >> a) & 1 == 1 { u[a] } else { 1.0 - u[a] };
+    let slope = |c: usize, a: usize| if (c >> a) & 1 == 1 { 1.0 } else { -1.0 };
+    let weights = std::array::from_fn(|c| (0..3).map(|a| factor(c, a)).product());
+    let derivatives = std::array::from_fn(|axis| {
+        std::array::from_fn(|c| {
+            (0..3)
+                .map(|a| if a == axis { slope(c, a) } else { factor(c, a) })
+                .product()
+        })
+    });
+    (weights, derivatives)
+}
+
+impl SecondField for Extremality<'_> {
+    fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
+        let (frames, signs) = self.oriented(cell)?;
+        Some(std::array::from_fn(|c| {
+            let direction = frames[c].direction(self.which());
+            untied(f64::from(frames[c].e[self.which()]), &direction) * signs[c]
+        }))
+    }
+
+    fn keep(&self, cell: [usize; 3], corners: &[f64; 8], local: [f64; 3]) -> bool {
+        let Some((frames, signs)) = self.oriented(cell) else {
+            return false;
+        };
+        let (weights, slopes) = trilinear(local);
+        let along_index = Vector::from(slopes.map(|s| (0..8).map(|c| s[c] * corners[c]).sum()));
+        let gradient = self.curvatures.world_to_grid.transpose() * along_index;
+        let direction: Vector = (0..8)
+            .map(|c| frames[c].direction(self.which()) * (signs[c] * weights[c]))
+            .sum();
+        let k = |n: usize| {
+            (0..8)
+                .map(|c| f64::from(frames[c].k[n]) * weights[c])
+                .sum::<f64>()
+        };
+        let (k_max, k_min) = (k(0), k(1));
+        let slope = gradient.dot(&direction);
+        match self.crest {
+            Crest::Ridge => slope < 0.0 && k_max > k_min.abs(),
+            Crest::Valley => slope > 0.0 && -k_min > k_max.abs(),
+        }
+    }
+}
+
+/// The crest lines (ridges, then valleys) of the isosurface `f = level` of
+/// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units
+/// (Thirion & Gourdon 1993 §5; see the [module documentation](self)), as
+/// unoriented polylines of kind [`LineKind::Ridge`] and [`LineKind::Valley`] in
+/// world coordinates, with the integral of `|k|` along them as strength.
+///
+/// Errors as [`Derivatives::new`] (σ, direction matrix) and
+/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions).
+pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+    let derivatives = Derivatives::new(volume, sigma, 3)?;
+    let smoothed = derivatives
+        .grid(Partial::new([0, 0, 0])?)
+        .expect("order 0 is computed");
+    let smoothed = volume.with_samples(smoothed.to_vec())?;
+    let curvatures = Curvatures::new(&derivatives, volume);
+    let mut polylines = Vec::new();
+    for (crest, kind) in [
+        (Crest::Ridge, LineKind::Ridge),
+        (Crest::Valley, LineKind::Valley),
+    ] {
+        let field = Extremality {
+            curvatures: &curvatures,
+            crest,
+        };
+        let lines = marching_lines(&smoothed, level, &field, 0.0)?;
+        polylines.extend(
+            lines
+                .iter()
+                .map(|line| polyline(line, kind, &curvatures, volume)),
+        );
+    }
+    Ok(polylines)
+}
+
+/// A crest line as a [`Polyline`], its strength the integral of the curvature
+/// magnitude along it (trapezoid rule, curvature interpolated trilinearly).
+fn polyline(
+    line: &BiIsoLine,
+    kind: LineKind,
+    curvatures: &Curvatures,
+    volume: &Volume,
+) -> Polyline {
+    let which = usize::from(kind == LineKind::Valley);
+    let k: Vec<f64> = line
+        .points
+        .iter()
+        .map(|p| curvature_at(curvatures, volume, p, which).abs())
+        .collect();
+    let n = line.points.len();
+    let pieces = if line.closed { n } else { n.saturating_sub(1) };
+    let strength = (0..pieces)
+        .map(|i| {
+            let j = (i + 1) % n;
+            0.5 * (k[i] + k[j]) * (line.points[j] - line.points[i]).norm()
+        })
+        .sum();
+    Polyline::new(kind, line.closed, strength, line.points.clone())
+}
+
+/// Principal curvature `which` (0: `k_max`, 1: `k_min`) at world point `p`,
+/// interpolated trilinearly in its cell (0 if a corner is undefined).
+fn curvature_at(curvatures: &Curvatures, volume: &Volume, p: &Point, which: usize) -> f64 {
+    let index = volume.world_to_index(p);
+    let dims = curvatures.dims;
+    let cell: [usize; 3] =
+        std::array::from_fn(|a| (index[a].floor().max(0.0) as usize).min(dims[a] - 2));
+    let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
+    let (weights, _) = trilinear(local);
+    curvatures.corners(cell).map_or(0.0, |frames| {
+        (0..8)
+            .map(|c| f64::from(frames[c].k[which]) * weights[c])
+            .sum()
+    })
+}
