@@ -238,29 +238,48 @@ fn angular_coverage(lines: &[&crestline::lines::Polyline]) -> f64 {
     covered.iter().filter(|&&c| c).count() as f64 / BINS as f64
 }
 
-#[test]
-fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
+/// The crest lines of kind `kind` of the ellipsoid image `sign · (x²/a² + y²/b² +
+/// z²/c²)` at level `sign` on a grid of `dims`, σ = 1.5 voxels: they are one
+/// closed line in the plane of the two longest axes, around all of it; the lines
+/// of the other kind are none.
+fn check_ellipsoid_crests(dims: [usize; 3], sign: f64, kind: LineKind) {
     let (a, b, c) = (16.0, 11.0, 7.0);
-    let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
-    let volume = centred([49, 39, 31], ellipsoid);
-    let lines = crest_lines(&volume, -1.0, 1.5).unwrap();
-    let ridges: Vec<_> = lines.iter().filter(|l| l.kind == LineKind::Ridge).collect();
-    let points: Vec<Point> = ridges.iter().flat_map(|l| l.points.clone()).collect();
+    let ellipsoid =
+        move |p: Point| sign * ((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let volume = centred(dims, ellipsoid);
+    let lines = crest_lines(&volume, sign, 1.5).unwrap();
+    let crests: Vec<_> = lines.iter().filter(|l| l.kind == kind).collect();
+    let points: Vec<Point> = crests.iter().flat_map(|l| l.points.clone()).collect();
     assert!(!points.is_empty());
     let mean = points.iter().map(|p| p.z.abs()).sum::<f64>() / points.len() as f64;
     let worst = points.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
-    let coverage = angular_coverage(&ridges);
-    let valleys = lines.len() - ridges.len();
+    let coverage = angular_coverage(&crests);
+    let others = lines.len() - crests.len();
+    assert!(crests.len() == 1 && crests[0].closed, "not one closed line");
     println!(
-        "ellipsoid: {} ridge lines, {} points, mean |z| {mean:.2e} ({:.2e} of a), max |z| \
-         {worst:.2e}, coverage {coverage:.3}, {valleys} valley lines",
-        ridges.len(),
+        "ellipsoid {dims:?}, {kind:?}: {} lines ({} closed), {} points, mean |z| {mean:.2e} \
+         ({:.2e} of a), max |z| {worst:.2e}, coverage {coverage:.3}, {others} other lines",
+        crests.len(),
+        crests.iter().filter(|l| l.closed).count(),
         points.len(),
         mean / a
     );
     assert!(mean < 0.005 * a, "mean distance to the plane {mean}");
     // Minima of k_max (on the other principal ellipses) are not ridges.
-    assert!(worst < 1.0, "a ridge point {worst} off the plane");
+    assert!(worst < 1.0, "a point {worst} off the plane");
     assert!(coverage >= 0.95, "coverage {coverage}");
-    assert_eq!(valleys, 0, "a convex surface has no valleys");
+    assert_eq!(others, 0, "lines of the other kind");
+}
+
+#[test]
+fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
+    // The plane z = 0 through grid points (extremality exactly zero there) or
+    // between them.
+    check_ellipsoid_crests([49, 39, 31], -1.0, LineKind::Ridge);
+    check_ellipsoid_crests([48, 38, 30], -1.0, LineKind::Ridge);
+}
+
+#[test]
+fn the_crests_of_a_dark_ellipsoid_are_valleys() {
+    check_ellipsoid_crests([49, 39, 31], 1.0, LineKind::Valley);
 }

@@ -103,7 +103,7 @@ fn walk(graph: &Graph, half: u32, used: &mut [bool]) -> BiIsoLine {
     let mut current = half;
     let closed = loop {
         used[(current / 2) as usize] = true;
-        forward += if current % 2 == 0 { 1 } else { -1 };
+        forward += if current.is_multiple_of(2) { 1 } else { -1 };
         let node = graph.end(current);
         if node == start {
             break true;
