@@ -25,12 +25,14 @@
 //! - The lines are chained by point key without regard to direction
 //!   ([`crate::volume::marching_lines`]) and are unoriented. Their strength is the
 //!   integral of the curvature magnitude along them (dimensionless).
+//! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
+//!   curvature `K = k_max k_min` at 0, a field with a global sign.
 
 use rayon::prelude::*;
 
 use crate::differential::IsoCurvature;
 use crate::lines::{LineKind, Polyline};
-use crate::volume::marching_lines::{marching_lines, BiIsoLine, SecondField};
+use crate::volume::marching_lines::{bi_iso_lines, marching_lines, BiIsoLine, SecondField};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Point, Result, Vector};
 
@@ -53,6 +55,17 @@ impl Frame {
             k: [p.k_max as f32, p.k_min as f32],
             e: [c.e_max as f32, c.e_min as f32],
             t: [direction(&p.d_max), direction(&p.d_min)],
+        }
+    }
+
+    /// The curvature magnitude that measures a line of kind `kind`: `|k_max|` for a
+    /// ridge, `|k_min|` for a valley, the larger of the two otherwise.
+    fn magnitude(&self, kind: LineKind) -> f64 {
+        let [k_max, k_min] = self.k.map(|k| f64::from(k).abs());
+        match kind {
+            LineKind::Ridge => k_max,
+            LineKind::Valley => k_min,
+            _ => k_max.max(k_min),
         }
     }
 
@@ -203,21 +216,28 @@ impl SecondField for Extremality<'_> {
     }
 }
 
-/// The crest lines (ridges, then valleys) of the isosurface `f = level` of
-/// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units
-/// (Thirion & Gourdon 1993 §5; see the [module documentation](self)), as
-/// unoriented polylines of kind [`LineKind::Ridge`] and [`LineKind::Valley`] in
-/// world coordinates, with the integral of `|k|` along them as strength.
-///
-/// Errors as [`Derivatives::new`] (σ, direction matrix) and
-/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions).
-pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+/// The image smoothed by a Gaussian of standard deviation `sigma` (world units),
+/// and the curvature of its isosurfaces at every grid point.
+fn smoothed_curvatures(volume: &Volume, sigma: f64) -> Result<(Volume, Curvatures)> {
     let derivatives = Derivatives::new(volume, sigma, 3)?;
     let smoothed = derivatives
         .grid(Partial::new([0, 0, 0])?)
         .expect("order 0 is computed");
     let smoothed = volume.with_samples(smoothed.to_vec())?;
-    let curvatures = Curvatures::new(&derivatives, volume);
+    Ok((smoothed, Curvatures::new(&derivatives, volume)))
+}
+
+/// The crest lines (ridges, then valleys) of the isosurface `f = level` of
+/// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units
+/// (Thirion & Gourdon 1993 §5; see the [module documentation](self)), as
+/// unoriented polylines of kind [`LineKind::Ridge`] and [`LineKind::Valley`] in
+/// world coordinates, with the integral of `|k_max|` (ridges) or `|k_min|`
+/// (valleys) along them as strength.
+///
+/// Errors as [`Derivatives::new`] (σ, direction matrix) and
+/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions).
+pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+    let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
     let mut polylines = Vec::new();
     for (crest, kind) in [
         (Crest::Ridge, LineKind::Ridge),
@@ -228,28 +248,46 @@ pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyli
             crest,
         };
         let lines = marching_lines(&smoothed, level, &field, 0.0)?;
-        polylines.extend(
-            lines
-                .iter()
-                .map(|line| polyline(line, kind, &curvatures, volume)),
-        );
+        let polyline = |line| polyline(line, kind, &curvatures, volume);
+        polylines.extend(lines.iter().map(polyline));
     }
     Ok(polylines)
 }
 
-/// A crest line as a [`Polyline`], its strength the integral of the curvature
-/// magnitude along it (trapezoid rule, curvature interpolated trilinearly).
+/// The parabolic lines of the isosurface `f = level` of `volume` smoothed by a
+/// Gaussian of standard deviation `sigma` in world units: the bi-iso-lines of the
+/// Gaussian curvature `K = k_max k_min` at `K = 0` (Thirion & Gourdon 1993 §5),
+/// oriented by the bi-iso-line convention (`K ≥ 0` on the left seen from
+/// `f < level`), of kind [`LineKind::Parabolic`], with the integral of the larger
+/// curvature magnitude along them as strength. `K` is undefined (and the lines
+/// end) where the gradient vanishes.
+///
+/// Errors as [`crest_lines`].
+pub fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+    let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
+    let gauss: Vec<f32> = curvatures
+        .frames
+        .iter()
+        .map(|frame| frame.map_or(f32::NAN, |f| f.k[0] * f.k[1]))
+        .collect();
+    let lines = bi_iso_lines(&smoothed, level, &gauss, 0.0)?;
+    let polyline = |line| polyline(line, LineKind::Parabolic, &curvatures, volume);
+    Ok(lines.iter().map(polyline).collect())
+}
+
+/// A line as a [`Polyline`] of kind `kind`, its strength the integral along it of
+/// the curvature magnitude [`Frame::magnitude`] (trapezoid rule, interpolated
+/// trilinearly).
 fn polyline(
     line: &BiIsoLine,
     kind: LineKind,
     curvatures: &Curvatures,
     volume: &Volume,
 ) -> Polyline {
-    let which = usize::from(kind == LineKind::Valley);
     let k: Vec<f64> = line
         .points
         .iter()
-        .map(|p| curvature_at(curvatures, volume, p, which).abs())
+        .map(|p| interpolated(curvatures, volume, p, |f| f.magnitude(kind)))
         .collect();
     let n = line.points.len();
     let pieces = if line.closed { n } else { n.saturating_sub(1) };
@@ -262,9 +300,14 @@ fn polyline(
     Polyline::new(kind, line.closed, strength, line.points.clone())
 }
 
-/// Principal curvature `which` (0: `k_max`, 1: `k_min`) at world point `p`,
-/// interpolated trilinearly in its cell (0 if a corner is undefined).
-fn curvature_at(curvatures: &Curvatures, volume: &Volume, p: &Point, which: usize) -> f64 {
+/// `value` of the frames at world point `p`, interpolated trilinearly in its cell
+/// (0 if a corner is undefined).
+fn interpolated(
+    curvatures: &Curvatures,
+    volume: &Volume,
+    p: &Point,
+    value: impl Fn(&Frame) -> f64,
+) -> f64 {
     let index = volume.world_to_index(p);
     let dims = curvatures.dims;
     let cell: [usize; 3] =
@@ -272,8 +315,6 @@ fn curvature_at(curvatures: &Curvatures, volume: &Volume, p: &Point, which: usiz
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
     let (weights, _) = trilinear(local);
     curvatures.corners(cell).map_or(0.0, |frames| {
-        (0..8)
-            .map(|c| f64::from(frames[c].k[which]) * weights[c])
-            .sum()
+        (0..8).map(|c| value(&frames[c]) * weights[c]).sum()
     })
 }

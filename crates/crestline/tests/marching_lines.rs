@@ -6,7 +6,7 @@
 
 use std::f64::consts::PI;
 
-use crestline::crest_lines::crest_lines;
+use crestline::crest_lines::{crest_lines, parabolic_lines};
 use crestline::lines::LineKind;
 use crestline::volume::{bi_iso_lines, BiIsoLine, Volume};
 use crestline::Point;
@@ -282,4 +282,33 @@ fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
 #[test]
 fn the_crests_of_a_dark_ellipsoid_are_valleys() {
     check_ellipsoid_crests([49, 39, 31], 1.0, LineKind::Valley);
+}
+
+#[test]
+fn the_parabolic_lines_of_a_torus_are_its_top_and_bottom_circles() {
+    let (big, small) = (10.0, 4.0);
+    let torus = move |p: Point| small - ((p.x.hypot(p.y) - big).powi(2) + p.z * p.z).sqrt();
+    let volume = centred([40, 40, 20], torus);
+    let lines = parabolic_lines(&volume, 0.0, 1.0).unwrap();
+    assert_eq!(lines.len(), 2);
+    for line in &lines {
+        assert!(line.closed);
+        assert_eq!(line.kind, LineKind::Parabolic);
+        let n = line.points.len() as f64;
+        let radius = line.points.iter().map(|p| p.x.hypot(p.y)).sum::<f64>() / n;
+        let height = line.points.iter().map(|p| p.z.abs()).sum::<f64>() / n;
+        let spread = line
+            .points
+            .iter()
+            .map(|p| {
+                (p.x.hypot(p.y) - radius)
+                    .abs()
+                    .max((p.z.abs() - height).abs())
+            })
+            .fold(0.0, f64::max);
+        println!("parabolic circle: radius {radius:.3}, |z| {height:.3}, spread {spread:.3}");
+        assert!((radius - big).abs() < 0.3, "radius {radius}");
+        assert!((height - small).abs() < 0.3, "height {height}");
+        assert!(spread < 0.2, "spread {spread}");
+    }
 }
