@@ -32,7 +32,9 @@ use rayon::prelude::*;
 
 use crate::differential::IsoCurvature;
 use crate::lines::{LineKind, Polyline};
-use crate::volume::marching_lines::{bi_iso_lines, marching_lines, BiIsoLine, SecondField};
+use crate::volume::marching_lines::{
+    bi_iso_lines, cell_corners, marching_lines, BiIsoLine, SecondField,
+};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Point, Result, Vector};
 
@@ -104,10 +106,8 @@ impl Curvatures {
     }
 
     /// The frames at the 8 corners of `cell`, or `None` if one is undefined.
-    fn corners(&self, [i, j, k]: [usize; 3]) -> Option<[Frame; 8]> {
-        let [nx, ny, _] = self.dims;
-        let at = |c: usize| (i + (c & 1)) + nx * ((j + ((c >> 1) & 1)) + ny * (k + (c >> 2)));
-        let frames: [Option<Frame>; 8] = std::array::from_fn(|c| self.frames[at(c)]);
+    fn corners(&self, cell: [usize; 3]) -> Option<[Frame; 8]> {
+        let frames = cell_corners(self.dims, cell).map(|at| self.frames[at]);
         frames
             .iter()
             .all(Option::is_some)

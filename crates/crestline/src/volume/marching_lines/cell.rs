@@ -4,20 +4,12 @@
 
 use std::ops::Range;
 
-use super::{PointKey, SecondField, Segment};
+use super::{cell_corners, PointKey, SecondField, Segment};
 use crate::volume::isosurface::cell::{
     corner_offset, crossing_fraction, decide_faces, CaseTable, EDGES,
 };
 use crate::volume::isosurface::edge_key;
 use crate::volume::Volume;
-
-/// The grid indices of the 8 corners of the cell whose lowest corner is `cell`.
-pub(super) fn corner_indices(cell: [usize; 3]) -> [[usize; 3]; 8] {
-    std::array::from_fn(|c| {
-        let offset = corner_offset(c);
-        std::array::from_fn(|a| cell[a] + offset[a])
-    })
-}
 
 /// A vertex of an isosurface polygon: the key of its grid edge, its position in
 /// grid index coordinates and the value of `g` there.
@@ -37,10 +29,11 @@ struct Labelled {
     plus: bool,
 }
 
-/// One cell: its place in the grid and the values of `f` and `g` at its corners.
+/// One cell: its place in the grid, the linear indices of its corners and the
+/// values of `f` and `g` there.
 struct Cell {
     index: [usize; 3],
-    dims: [usize; 3],
+    corners: [usize; 8],
     f: [f64; 8],
     g: [f64; 8],
 }
@@ -52,13 +45,11 @@ impl Cell {
         let (c, axis) = EDGES[edge as usize];
         let d = c | (1 << axis);
         let t = crossing_fraction(self.f[c], self.f[d], level);
-        let corner = corner_indices(self.index)[c];
-        let [nx, ny, _] = self.dims;
-        let point = corner[0] + nx * (corner[1] + ny * corner[2]);
-        let mut index = corner.map(|x| x as f64);
+        let offset = corner_offset(c);
+        let mut index: [f64; 3] = std::array::from_fn(|a| (self.index[a] + offset[a]) as f64);
         index[axis] += t;
         Vertex {
-            key: edge_key(point as u64, axis as u8),
+            key: edge_key(self.corners[c] as u64, axis as u8),
             index,
             g: self.g[c] + t * (self.g[d] - self.g[c]),
         }
@@ -109,21 +100,22 @@ fn cycle_to_segments(mut points: Vec<Labelled>, join_plus: bool) -> Vec<[Labelle
         .collect()
 }
 
-/// The segments of one cell whose isosurface polygons are known, in grid index
-/// coordinates, with the mean-value convention choosing the pairing per polygon.
-fn cell_segments(cell: &Cell, level: f64, g_level: f64, out: &mut Vec<[Labelled; 2]>) {
+/// The segments of one cell, in grid index coordinates, with the mean-value
+/// convention choosing the pairing per polygon.
+fn cell_segments(cell: &Cell, level: f64, g_level: f64) -> Vec<[Labelled; 2]> {
     let mask = (0..8).fold(0u8, |m, c| m | (u8::from(cell.f[c] >= level) << c));
     let table = CaseTable::get();
     let connected = decide_faces(table.ambiguous_faces(mask), &cell.f, level);
+    let mut segments = Vec::new();
     for polygon in table.polygons(mask, connected).iter() {
         let vertices: Vec<Vertex> = polygon.iter().map(|&e| cell.vertex(e, level)).collect();
         let points = cycle_to_points(&vertices, g_level);
-        if points.is_empty() {
-            continue;
+        if !points.is_empty() {
+            let mean = vertices.iter().map(|v| v.g).sum::<f64>() / vertices.len() as f64;
+            segments.extend(cycle_to_segments(points, mean >= g_level));
         }
-        let mean = vertices.iter().map(|v| v.g).sum::<f64>() / vertices.len() as f64;
-        out.extend(cycle_to_segments(points, mean >= g_level));
     }
+    segments
 }
 
 /// Whether the isosurface crosses a cell with these corner values of `f`.
@@ -132,47 +124,57 @@ fn crossed(f: &[f64; 8], level: f64) -> bool {
     inside != 0 && inside != 8
 }
 
-/// The segments of all cells of the z layers `layers`, in cell order, in world
-/// coordinates.
+/// Append the kept segments of cell `index` to `segments`, in world coordinates,
+/// each running with `g ≥ J` on its left seen from `f < I` (reversed on a
+/// mirrored grid, where the polygons' winding in index space is reversed in the
+/// world).
+fn push_cell(
+    volume: &Volume,
+    (level, g_level): (f64, f64),
+    field: &impl SecondField,
+    index: [usize; 3],
+    segments: &mut Vec<Segment>,
+) {
+    let corners = cell_corners(volume.dims(), index);
+    let f = corners.map(|at| f64::from(volume.samples()[at]));
+    if !crossed(&f, level) {
+        return;
+    }
+    let Some(g) = field.corners(index) else {
+        return;
+    };
+    let cell = Cell {
+        index,
+        corners,
+        f,
+        g,
+    };
+    let mirrored = volume.direction().determinant() < 0.0;
+    for [a, b] in cell_segments(&cell, level, g_level) {
+        let local = std::array::from_fn(|n| 0.5 * (a.index[n] + b.index[n]) - index[n] as f64);
+        if field.keep(index, &g, local) {
+            let [a, b] = if mirrored { [b, a] } else { [a, b] };
+            segments.push(Segment {
+                keys: [a.key, b.key],
+                points: [a.index, b.index].map(|x| volume.index_to_world(x)),
+            });
+        }
+    }
+}
+
+/// The segments of all cells of the z layers `layers`, in cell order.
 pub(super) fn slab_segments(
     volume: &Volume,
-    level: f64,
+    levels: (f64, f64),
     field: &impl SecondField,
-    g_level: f64,
     layers: Range<usize>,
 ) -> Vec<Segment> {
-    let dims = volume.dims();
-    let [nx, ny, _] = dims;
-    let samples = volume.samples();
-    let mirrored = volume.direction().determinant() < 0.0;
+    let [nx, ny, _] = volume.dims();
     let mut segments = Vec::new();
-    let mut found = Vec::new();
     for k in layers {
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
-                let index = [i, j, k];
-                let f = corner_indices(index)
-                    .map(|[a, b, c]| f64::from(samples[a + nx * (b + ny * c)]));
-                if !crossed(&f, level) {
-                    continue;
-                }
-                let Some(g) = field.corners(index) else {
-                    continue;
-                };
-                found.clear();
-                cell_segments(&Cell { index, dims, f, g }, level, g_level, &mut found);
-                let kept = found.iter().filter(|[a, b]| {
-                    let local =
-                        std::array::from_fn(|n| 0.5 * (a.index[n] + b.index[n]) - index[n] as f64);
-                    field.keep(index, &g, local)
-                });
-                segments.extend(kept.map(|&[a, b]| {
-                    let [a, b] = if mirrored { [b, a] } else { [a, b] };
-                    Segment {
-                        keys: [a.key, b.key],
-                        points: [a.index, b.index].map(|x| volume.index_to_world(x)),
-                    }
-                }));
+                push_cell(volume, levels, field, [i, j, k], &mut segments);
             }
         }
     }

@@ -43,6 +43,7 @@ mod chain;
 
 use rayon::prelude::*;
 
+use crate::volume::isosurface::cell::corner_offset;
 use crate::volume::isosurface::check_input;
 use crate::volume::Volume;
 use crate::{Error, Point, Result};
@@ -69,6 +70,17 @@ pub trait SecondField: Sync {
         let _ = (cell, corners, local);
         true
     }
+}
+
+/// The linear sample indices (x fastest) of the 8 corners of the cell whose lowest
+/// corner is sample `cell` of a grid of `dims` samples, corner `c` at offset
+/// `(c & 1, (c >> 1) & 1, (c >> 2) & 1)`.
+pub fn cell_corners(dims: [usize; 3], [i, j, k]: [usize; 3]) -> [usize; 8] {
+    let [nx, ny, _] = dims;
+    std::array::from_fn(|c| {
+        let [di, dj, dk] = corner_offset(c);
+        (i + di) + nx * ((j + dj) + ny * (k + dk))
+    })
 }
 
 /// A field sampled on the grid of a volume: `g` at each sample, undefined where a
@@ -98,10 +110,8 @@ impl<'a> SampledField<'a> {
 }
 
 impl SecondField for SampledField<'_> {
-    fn corners(&self, [i, j, k]: [usize; 3]) -> Option<[f64; 8]> {
-        let [nx, ny, _] = self.dims;
-        let corners = cell::corner_indices([i, j, k])
-            .map(|[a, b, c]| f64::from(self.values[a + nx * (b + ny * c)]));
+    fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
+        let corners = cell_corners(self.dims, cell).map(|at| f64::from(self.values[at]));
         corners.iter().all(|v| v.is_finite()).then_some(corners)
     }
 }
@@ -169,7 +179,7 @@ pub fn marching_lines(
         .step_by(SLAB_LAYERS)
         .map(|first| {
             let layers = first..(first + SLAB_LAYERS).min(layers);
-            cell::slab_segments(volume, level, field, g_level, layers)
+            cell::slab_segments(volume, (level, g_level), field, layers)
         })
         .collect();
     Ok(chain::chain(&slabs.concat()))
