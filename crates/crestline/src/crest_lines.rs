@@ -23,7 +23,7 @@
 //!   (`∇e_max · t_max < 0` for a maximum, `> 0` for a minimum) and the curvature
 //!   condition holds there.
 //! - The lines are chained by point key without regard to direction
-//!   ([`crate::volume::marching_lines`]) and are unoriented. Their strength is the
+//!   ([`crate::volume::marching_lines()`]) and are unoriented. Their strength is the
 //!   integral of the curvature magnitude along them (dimensionless).
 //! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
 //!   curvature `K = k_max k_min` at 0, a field with a global sign.

@@ -97,6 +97,30 @@ fn lines_keep_the_positive_side_of_g_on_their_left_seen_from_outside() {
 }
 
 #[test]
+fn a_mirrored_grid_keeps_the_orientation_in_the_world() {
+    // The same ball and plane on a grid whose x axis runs backwards.
+    let n = 24;
+    let mirror = Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
+    let half = (n as f64 - 1.0) / 2.0;
+    let grid = Volume::new(
+        [n; 3],
+        [1.0; 3],
+        [half, -half, -half],
+        mirror,
+        vec![0.0; n * n * n],
+    );
+    let grid = grid.unwrap();
+    let positions: Vec<Point> = (0..n * n * n)
+        .map(|at| grid.index_to_world([at % n, (at / n) % n, at / (n * n)].map(|x| x as f64)))
+        .collect();
+    let f = positions.iter().map(|&p| ball(8.0)(p) as f32).collect();
+    let g: Vec<f32> = positions.iter().map(|p| p.z as f32).collect();
+    let lines = bi_iso_lines(&grid.with_samples(f).unwrap(), 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 1);
+    assert!(xy_area(&lines[0]) > 0.0);
+}
+
+#[test]
 fn two_planes_meet_in_a_straight_open_line_ending_at_the_border() {
     let (volume, g) = fields(16, |p| 0.3 - p.x, |p| p.y - 0.2);
     let lines = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
@@ -201,14 +225,19 @@ fn centred(dims: [usize; 3], f: impl Fn(Point) -> f64) -> Volume {
         vec![0.0; count],
     );
     let grid = grid.unwrap();
-    let [nx, ny, _] = dims;
-    let samples = (0..count)
+    let samples = samples_of(&grid, f);
+    grid.with_samples(samples).unwrap()
+}
+
+/// The samples of `f` at the grid points of `grid`.
+fn samples_of(grid: &Volume, f: impl Fn(Point) -> f64) -> Vec<f32> {
+    let [nx, ny, _] = grid.dims();
+    (0..grid.len())
         .map(|at| {
             let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
             f(grid.index_to_world(index.map(|x| x as f64))) as f32
         })
-        .collect();
-    grid.with_samples(samples).unwrap()
+        .collect()
 }
 
 /// The fraction of the angles around the z axis (in bins of half a degree) that
@@ -277,6 +306,39 @@ fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
     // between them.
     check_ellipsoid_crests([49, 39, 31], -1.0, LineKind::Ridge);
     check_ellipsoid_crests([48, 38, 30], -1.0, LineKind::Ridge);
+}
+
+#[test]
+fn crest_lines_scale_with_the_image() {
+    // The same ellipsoid sampled with voxels twice as large in world units, σ
+    // doubled: the same lines, twice as large.
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let small = centred([48, 38, 30], ellipsoid);
+    let doubled = move |p: Point| ellipsoid(p / 2.0);
+    let large = Volume::new(
+        small.dims(),
+        [2.0; 3],
+        small.origin().map(|x| 2.0 * x),
+        Matrix3::identity(),
+        small.samples().to_vec(),
+    )
+    .unwrap();
+    let large = large.with_samples(samples_of(&large, doubled)).unwrap();
+    let unit = crest_lines(&small, -1.0, 1.5).unwrap();
+    let twice = crest_lines(&large, -1.0, 3.0).unwrap();
+    assert_eq!(unit.len(), twice.len());
+    for (u, t) in unit.iter().zip(&twice) {
+        assert_eq!(u.points.len(), t.points.len());
+        let worst = u
+            .points
+            .iter()
+            .zip(&t.points)
+            .map(|(p, q)| (p.coords * 2.0 - q.coords).norm())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-3, "points differ by {worst}");
+        assert!((u.strength - t.strength).abs() < 1e-3 * u.strength);
+    }
 }
 
 #[test]

@@ -180,3 +180,62 @@ pub(super) fn slab_segments(
     }
     segments
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Labelled points with keys `[n, n]` and the given labels, in cycle order.
+    fn labelled(labels: &[bool]) -> Vec<Labelled> {
+        let point = |(n, &plus): (usize, &bool)| Labelled {
+            key: [n as u64; 2],
+            index: [0.0; 3],
+            plus,
+        };
+        labels.iter().enumerate().map(point).collect()
+    }
+
+    /// The segments as pairs of point numbers.
+    fn pairs(segments: &[[Labelled; 2]]) -> Vec<[u64; 2]> {
+        segments.iter().map(|s| s.map(|q| q.key[0])).collect()
+    }
+
+    #[test]
+    fn both_pairings_run_from_minus_to_plus_without_crossing() {
+        // Q0 is '+': the cycle is rotated to start at Q1, the first '−'.
+        let points = labelled(&[true, false, true, false, true, false]);
+        let joining_plus = cycle_to_segments(points.clone(), true);
+        assert_eq!(pairs(&joining_plus), [[1, 2], [3, 4], [5, 0]]);
+        let joining_minus = cycle_to_segments(points, false);
+        assert_eq!(pairs(&joining_minus), [[1, 0], [3, 2], [5, 4]]);
+    }
+
+    #[test]
+    fn two_points_give_one_segment_either_way() {
+        let points = labelled(&[true, false]);
+        assert_eq!(pairs(&cycle_to_segments(points.clone(), true)), [[1, 0]]);
+        assert_eq!(pairs(&cycle_to_segments(points, false)), [[1, 0]]);
+    }
+
+    #[test]
+    fn points_are_labelled_by_the_end_of_their_edge_and_keyed_in_order() {
+        let vertex = |key: u64, x: f64, g: f64| Vertex {
+            key,
+            index: [x, 0.0, 0.0],
+            g,
+        };
+        // A triangle with g = −1, 1, 3 at keys 7, 2, 5.
+        let triangle = [
+            vertex(7, 0.0, -1.0),
+            vertex(2, 1.0, 1.0),
+            vertex(5, 2.0, 3.0),
+        ];
+        let points = cycle_to_points(&triangle, 0.0);
+        assert_eq!(points.len(), 2);
+        assert!(points[0].plus && !points[1].plus);
+        assert_eq!(points[0].key, [2, 7]);
+        assert_eq!(points[1].key, [5, 7]);
+        assert!((points[0].index[0] - 0.5).abs() < 1e-12);
+        assert!((points[1].index[0] - 0.5).abs() < 1e-12);
+    }
+}
