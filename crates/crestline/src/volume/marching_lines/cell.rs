@@ -217,6 +217,45 @@ mod tests {
         assert_eq!(pairs(&cycle_to_segments(points, false)), [[1, 0]]);
     }
 
+    /// The g value of the polygon vertex that each segment of a saddle cell cuts
+    /// off, for g = `saddle` + `offset` on a horizontal isosurface quad.
+    fn cut_off_values(offset: f64) -> Vec<f64> {
+        // f crosses 0 half way up every z edge; g alternates around the quad.
+        let saddle = [1.0, -1.0, -1.0, 1.0].map(|v: f64| v + offset);
+        let g = std::array::from_fn(|c| saddle[c & 3]);
+        let f = std::array::from_fn(|c| if c < 4 { -1.0 } else { 1.0 });
+        let corners = cell_corners([2, 2, 2], [0, 0, 0]);
+        let cell = Cell {
+            index: [0, 0, 0],
+            corners,
+            f,
+            g,
+        };
+        let vertex_g = |key: u64| {
+            (0..4)
+                .find(|&c| 3 * corners[c] as u64 + 2 == key)
+                .map(|c| g[c])
+        };
+        cell_segments(&cell, 0.0, 0.0)
+            .iter()
+            .map(|[a, b]| {
+                let shared = a.key.iter().find(|k| b.key.contains(k)).unwrap();
+                vertex_g(*shared).unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_mean_of_g_chooses_which_sides_the_segments_join() {
+        // Mean above J: the '+' sides are joined, each segment cuts off a '−' vertex.
+        let above = cut_off_values(0.5);
+        assert_eq!(above.len(), 2);
+        assert!(above.iter().all(|&g| g < 0.0), "{above:?}");
+        let below = cut_off_values(-0.5);
+        assert_eq!(below.len(), 2);
+        assert!(below.iter().all(|&g| g >= 0.0), "{below:?}");
+    }
+
     #[test]
     fn points_are_labelled_by_the_end_of_their_edge_and_keyed_in_order() {
         let vertex = |key: u64, x: f64, g: f64| Vertex {
