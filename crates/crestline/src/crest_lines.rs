@@ -115,28 +115,19 @@ impl Curvatures {
     }
 }
 
-/// Which crest lines to find: ridges (maxima of `k_max` along `t_max`) or valleys
-/// (minima of `k_min` along `t_min`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Crest {
-    Ridge,
-    Valley,
-}
-
 /// The extremality of one kind of crest line as the second field of the Marching
-/// Lines, oriented per cell.
+/// Lines, oriented per cell: `e_max` for ridges (maxima of `k_max` along `t_max`),
+/// `e_min` for valleys (minima of `k_min` along `t_min`).
 struct Extremality<'a> {
     curvatures: &'a Curvatures,
-    crest: Crest,
+    /// [`LineKind::Ridge`] or [`LineKind::Valley`].
+    kind: LineKind,
 }
 
 impl Extremality<'_> {
     /// 0 for `k_max`, `t_max`, `e_max`; 1 for `k_min`, `t_min`, `e_min`.
     fn which(&self) -> usize {
-        match self.crest {
-            Crest::Ridge => 0,
-            Crest::Valley => 1,
-        }
+        usize::from(self.kind == LineKind::Valley)
     }
 
     /// The corner frames of `cell` and the signs that orient their directions to
@@ -209,9 +200,10 @@ impl SecondField for Extremality<'_> {
         };
         let (k_max, k_min) = (k(0), k(1));
         let slope = gradient.dot(&direction);
-        match self.crest {
-            Crest::Ridge => slope < 0.0 && k_max > k_min.abs(),
-            Crest::Valley => slope > 0.0 && -k_min > k_max.abs(),
+        if self.kind == LineKind::Ridge {
+            slope < 0.0 && k_max > k_min.abs()
+        } else {
+            slope > 0.0 && -k_min > k_max.abs()
         }
     }
 }
@@ -239,13 +231,10 @@ fn smoothed_curvatures(volume: &Volume, sigma: f64) -> Result<(Volume, Curvature
 pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
     let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
     let mut polylines = Vec::new();
-    for (crest, kind) in [
-        (Crest::Ridge, LineKind::Ridge),
-        (Crest::Valley, LineKind::Valley),
-    ] {
+    for kind in [LineKind::Ridge, LineKind::Valley] {
         let field = Extremality {
             curvatures: &curvatures,
-            crest,
+            kind,
         };
         let lines = marching_lines(&smoothed, level, &field, 0.0)?;
         let polyline = |line| polyline(line, kind, &curvatures, volume);
