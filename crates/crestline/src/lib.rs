@@ -9,6 +9,11 @@
 //! and the extracted lines are collected in a [`lines::FeatureLines`] value that the
 //! writers in [`lines`] save as JSON, OBJ, PLY or VTK.
 //!
+//! For 3D images, [`volume::isosurface()`] extracts isosurfaces,
+//! [`volume::marching_lines()`] the lines where an isosurface meets the level set of a
+//! second field (Thirion & Gourdon's Marching Lines), and [`crest_lines`] turns
+//! them into ridge, valley and parabolic lines of the isosurface.
+//!
 //! ## Conventions
 //! - Geometry is `f64`. Ids are `u32` newtypes ([`mesh::VertexId`], ...).
 //! - Faces are counter-clockwise seen from outside; on a sphere with outward normals
@@ -22,6 +27,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod crest_lines;
 pub mod curvature;
 pub mod differential;
 pub mod draw;

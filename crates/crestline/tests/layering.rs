@@ -23,6 +23,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("lines", 5),
     ("ridges", 6),
     ("morse", 6),
+    ("crest_lines", 6),
     ("draw", 7),
 ];
 

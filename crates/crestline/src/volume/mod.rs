@@ -15,7 +15,9 @@
 //! (separable, moment-corrected kernels, σ in world units) and [`BSpline`] the C²
 //! cubic B-spline that interpolates the samples, both with world-space gradients,
 //! Hessians and third derivatives. [`isosurface()`] extracts the surface `f = I` as
-//! a closed, oriented [`crate::mesh::Mesh`].
+//! a closed, oriented [`crate::mesh::Mesh`], and [`marching_lines()`] the curves
+//! where it meets the level set of a second field (Thirion & Gourdon's Marching
+//! Lines).
 
 pub mod bspline;
 pub mod crease;
@@ -23,6 +25,7 @@ pub mod derivatives;
 pub mod isosurface;
 pub mod jet;
 pub mod kernels;
+pub mod marching_lines;
 mod separable;
 mod statistics;
 
@@ -30,6 +33,7 @@ pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial, Smoothing};
 pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub use jet::{Jet, ThirdOrder};
+pub use marching_lines::{bi_iso_lines, marching_lines, BiIsoLine, SampledField, SecondField};
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
 use crate::{Error, Point, Result, Vector};

@@ -14,7 +14,7 @@
 use std::sync::OnceLock;
 
 /// The 12 cell edges as (start corner, axis): the 4 edges along x, then y, then z.
-pub(super) const EDGES: [(usize, usize); 12] = [
+pub(in crate::volume) const EDGES: [(usize, usize); 12] = [
     (0, 0),
     (2, 0),
     (4, 0),
@@ -30,7 +30,7 @@ pub(super) const EDGES: [(usize, usize); 12] = [
 ];
 
 /// The offset of corner `c` from the cell's lowest corner, along x, y and z.
-pub(super) fn corner_offset(c: usize) -> [usize; 3] {
+pub(in crate::volume) fn corner_offset(c: usize) -> [usize; 3] {
     [c & 1, (c >> 1) & 1, (c >> 2) & 1]
 }
 
@@ -65,7 +65,7 @@ fn face_cycle(face: usize) -> [usize; 4] {
 /// The corners of face `face` in the fixed order `(s00, s10, s11, s01)` of the
 /// asymptotic decider. It depends only on the face's position in the grid, so the
 /// two cells that share a face read its values in the same order and decide alike.
-pub(super) fn decider_corners(face: usize) -> [usize; 4] {
+fn decider_corners(face: usize) -> [usize; 4] {
     let at = |du, dv| face_corner(face, du, dv);
     [at(0, 0), at(1, 0), at(1, 1), at(0, 1)]
 }
@@ -75,7 +75,7 @@ pub(super) fn decider_corners(face: usize) -> [usize; 4] {
 /// bilinear interpolant at the crossing of its asymptotes,
 /// `v̂ = (s00 s11 − s10 s01) / (s00 + s11 − s10 − s01)`, decides: `v̂ ≥ level`
 /// connects the two inside corners across the face, otherwise the outside ones.
-pub(super) fn inside_corners_connected([s00, s10, s11, s01]: [f64; 4], level: f64) -> bool {
+fn inside_corners_connected([s00, s10, s11, s01]: [f64; 4], level: f64) -> bool {
     let saddle = (s00 * s11 - s10 * s01) / (s00 + s11 - s10 - s01);
     saddle >= level
 }
@@ -85,6 +85,26 @@ pub(super) fn inside_corners_connected([s00, s10, s11, s01]: [f64; 4], level: f6
 fn is_ambiguous(mask: usize, face: usize) -> bool {
     let inside = face_cycle(face).map(|c| (mask >> c) & 1);
     inside[0] == inside[2] && inside[1] == inside[3] && inside[0] != inside[1]
+}
+
+/// The decider's choice on each ambiguous face (bits of `ambiguous`) of a cell
+/// whose corners have the sample values `values`: bit `f` set where face `f` joins
+/// its inside corners.
+pub(in crate::volume) fn decide_faces(ambiguous: u8, values: &[f64; 8], level: f64) -> u8 {
+    (0..6)
+        .filter(|&face| (ambiguous >> face) & 1 == 1)
+        .filter(|&face| inside_corners_connected(decider_corners(face).map(|c| values[c]), level))
+        .fold(0, |bits, face| bits | (1 << face))
+}
+
+/// How far a crossing stays from the ends of its edge, as a fraction of the edge:
+/// where `f = I` at a corner, the crossings of its edges would otherwise coincide.
+const END_GAP: f64 = 1e-4;
+
+/// Where the linear interpolation from `a` (fraction 0) to `b` (fraction 1) crosses
+/// `level`, kept [`END_GAP`] away from the ends (the paper's ε shift).
+pub(in crate::volume) fn crossing_fraction(a: f64, b: f64, level: f64) -> f64 {
+    ((level - a) / (b - a)).clamp(END_GAP, 1.0 - END_GAP)
 }
 
 /// No segment leaves this cell edge (it has no crossing).
@@ -123,7 +143,7 @@ fn face_segments(mask: usize, face: usize, connected: bool, next: &mut [u8; 12])
 /// The oriented polygons of one cell case, as cell edges in order, one polygon
 /// after the other.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(super) struct Polygons {
+pub(in crate::volume) struct Polygons {
     edges: [u8; 12],
     lengths: [u8; 4],
     count: u8,
@@ -134,7 +154,7 @@ pub(super) struct Polygons {
 
 impl Polygons {
     /// The cell edges of each polygon, in order (at least 3 each).
-    pub(super) fn iter(&self) -> impl Iterator<Item = &[u8]> + '_ {
+    pub(in crate::volume) fn iter(&self) -> impl Iterator<Item = &[u8]> + '_ {
         let mut start = 0;
         self.lengths[..self.count as usize].iter().map(move |&n| {
             let polygon = &self.edges[start..start + n as usize];
@@ -197,14 +217,14 @@ fn build_cycles(mask: usize, connected: u8) -> Polygons {
 }
 
 /// The polygons of every cell case, and the ambiguous faces of every corner mask.
-pub(super) struct CaseTable {
+pub(in crate::volume) struct CaseTable {
     ambiguous: [u8; 256],
     polygons: Vec<Polygons>,
 }
 
 impl CaseTable {
     /// The table, built on first use.
-    pub(super) fn get() -> &'static CaseTable {
+    pub(in crate::volume) fn get() -> &'static CaseTable {
         static TABLE: OnceLock<CaseTable> = OnceLock::new();
         TABLE.get_or_init(CaseTable::build)
     }
@@ -226,13 +246,13 @@ impl CaseTable {
 
     /// The ambiguous faces of a cell whose inside corners are the bits of `mask`,
     /// as bits `1 << face`.
-    pub(super) fn ambiguous_faces(&self, mask: u8) -> u8 {
+    pub(in crate::volume) fn ambiguous_faces(&self, mask: u8) -> u8 {
         self.ambiguous[mask as usize]
     }
 
     /// The polygons of a cell with inside bits `mask` whose ambiguous faces join
     /// their inside corners where `connected` has their bit set.
-    pub(super) fn polygons(&self, mask: u8, connected: u8) -> &Polygons {
+    pub(in crate::volume) fn polygons(&self, mask: u8, connected: u8) -> &Polygons {
         &self.polygons[mask as usize * 64 + connected as usize]
     }
 }

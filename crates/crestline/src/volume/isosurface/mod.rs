@@ -39,7 +39,7 @@
 //! surface), a non-finite level, a volume less than 2 samples thick, or a level
 //! that no grid edge crosses (no surface; the message gives the samples' range).
 
-mod cell;
+pub(in crate::volume) mod cell;
 mod slab;
 
 use rayon::prelude::*;
@@ -73,7 +73,7 @@ pub enum VertexSource {
 
 /// The key of the grid edge from sample `point` along index axis `axis`:
 /// `3 · point + axis`, shared by every cell around the edge.
-fn edge_key(point: u64, axis: u8) -> u64 {
+pub(in crate::volume) fn edge_key(point: u64, axis: u8) -> u64 {
     3 * point + u64::from(axis)
 }
 
@@ -185,7 +185,7 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
 }
 
 /// Refuse a non-finite level, a volume without cells and non-finite samples.
-fn check_input(volume: &Volume, level: f64) -> Result<()> {
+pub(in crate::volume) fn check_input(volume: &Volume, level: f64) -> Result<()> {
     if !level.is_finite() {
         return Err(Error::Argument(format!(
             "the isosurface level {level} is not finite"

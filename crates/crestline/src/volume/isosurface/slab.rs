@@ -12,9 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::cell::{
-    corner_offset, decider_corners, inside_corners_connected, CaseTable, Polygons, EDGES,
-};
+use super::cell::{corner_offset, crossing_fraction, decide_faces, CaseTable, Polygons, EDGES};
 use super::{cell_key, edge_key};
 use crate::volume::Volume;
 use crate::{Error, Point, Result, Vector};
@@ -22,10 +20,6 @@ use crate::{Error, Point, Result, Vector};
 /// Cell layers per slab: a fixed number, so the slabs (and the output) do not
 /// depend on the number of threads.
 const SLAB_LAYERS: usize = 8;
-
-/// How far a crossing stays from the ends of its edge, as a fraction of the edge:
-/// where `f = I` at a corner, the crossings of its edges would otherwise coincide.
-const END_GAP: f64 = 1e-4;
 
 /// Most vertices a surface may have (its vertex numbers are `u32`).
 const MAX_VERTICES: usize = u32::MAX as usize;
@@ -121,7 +115,7 @@ impl<'a> Grid<'a> {
     }
 
     /// The crossing on the edge from sample `(i, j, k)` along `axis`: its world
-    /// position (linear interpolation, kept [`END_GAP`] away from the ends) and
+    /// position (linear interpolation, kept away from the ends) and
     /// source.
     fn crossing(&self, [i, j, k]: [usize; 3], axis: usize) -> (Point, u64, f64) {
         let [nx, ny, _] = self.dims;
@@ -131,7 +125,7 @@ impl<'a> Grid<'a> {
             f64::from(self.samples[at]),
             f64::from(self.samples[at + step]),
         );
-        let t = ((self.level - a) / (b - a)).clamp(END_GAP, 1.0 - END_GAP);
+        let t = crossing_fraction(a, b, self.level);
         let mut index = [i, j, k].map(|x| x as f64);
         index[axis] += t;
         let key = edge_key(at as u64, axis as u8);
@@ -234,7 +228,7 @@ fn surface_cells<'t>(
             let mask = low[i] | (high[i] << 4);
             if mask != 0 && mask != u8::MAX {
                 let cell = i + row + nx * ny * k;
-                let connected = decide_faces(grid, table.ambiguous_faces(mask), cell);
+                let connected = decide_cell_faces(grid, table.ambiguous_faces(mask), cell);
                 visit(cell, table.polygons(mask, connected));
             }
             i += 1;
@@ -260,18 +254,14 @@ fn uniform_run(low: &[u8], high: &[u8], i: usize) -> bool {
 
 /// The decider's choice on each ambiguous face (bits of `ambiguous`) of `cell`:
 /// bit `f` set where face `f` joins its inside corners.
-fn decide_faces(grid: &Grid, ambiguous: u8, cell: usize) -> u8 {
+fn decide_cell_faces(grid: &Grid, ambiguous: u8, cell: usize) -> u8 {
     if ambiguous == 0 {
         return 0;
     }
-    let values = grid.corner_step.map(|step| grid.samples[cell + step]);
-    (0..6)
-        .filter(|&face| (ambiguous >> face) & 1 == 1)
-        .filter(|&face| {
-            let corners = decider_corners(face).map(|c| f64::from(values[c]));
-            inside_corners_connected(corners, grid.level)
-        })
-        .fold(0, |bits, face| bits | (1 << face))
+    let values = grid
+        .corner_step
+        .map(|step| f64::from(grid.samples[cell + step]));
+    decide_faces(ambiguous, &values, grid.level)
 }
 
 /// What a slab of cell layers `first..end` holds: it owns the crossings of planes

@@ -1,0 +1,186 @@
+//! Bi-iso-lines: the curves where the isosurface `f = I` of a volume meets the
+//! level set `g = J` of a second field on the same grid, by the Marching Lines
+//! algorithm of Thirion & Gourdon 1993 ("The 3D marching lines algorithm", §4),
+//! with the conventions of DESIGN.md ("Isosurfaces and implicit curvature").
+//!
+//! In every cell the isosurface is cut into its oriented polygons, exactly as
+//! [`isosurface()`](crate::volume::isosurface()) does (BUILDCYCLES, asymptotic
+//! decider, inside `f ≥ I`, counter-clockwise seen from `f < I`). Then:
+//!
+//! - `g` is interpolated linearly along the grid edge of each polygon vertex, and
+//!   each polygon edge whose ends lie on different sides of `J` (a vertex with
+//!   `g ≥ J` is `+`, the object/background convention) carries one point, at the
+//!   linear interpolation of `g` between its ends, labelled like the edge's end
+//!   (CYCLESTOPOINTS, §4.2). A polygon edge lies on one face of the cell, so the
+//!   point is named by the polygon edge, the pair of grid-edge keys `3·point +
+//!   axis` of its ends ([`PointKey`]), and computed from the ends in key order: the
+//!   two cells of the face produce the same point, bit for bit.
+//! - The labelled points alternate `−`, `+` around the polygon. Rotated so that
+//!   `Q0` is a `−` point, they are paired `Q0→Q1, Q2→Q3, …` or, shifted,
+//!   `Q2→Q1, Q4→Q3, …, Q0→Q(n−1)`: the only two non-crossing matchings that run
+//!   from `−` to `+` (CYCLETOSEGS). The first joins the `+` sides of the polygon,
+//!   the second its `−` sides; the mean of `g` over the polygon's vertices (the
+//!   values the points are interpolated from) decides: at least `J` joins the `+`
+//!   sides (the average value convention, convention 4 of the paper). Each segment
+//!   keeps `g ≥ J` on its left seen from `f < I` (the bi-iso-line orientation
+//!   convention, convention 3).
+//! - The segments of all cells are chained by point key into polylines. Every point
+//!   inside the volume ends one segment in each of the two cells of its face, so the
+//!   lines are closed except at the volume border and next to cells where `g` is
+//!   undefined ([`SecondField::corners`] gives `None`, e.g. a NaN sample).
+//!
+//! A [`SecondField`] may also orient its values per cell and drop segments
+//! ([`SecondField::keep`]), as crest lines need (`g` = extremality, whose sign
+//! follows a principal direction chosen per cell; DESIGN.md): the chaining is
+//! therefore undirected, and a line is given the direction of the majority of its
+//! segments, which for a field with a global sign is the convention's.
+//!
+//! Points are in world coordinates. Cells are processed in parallel over slabs of
+//! z layers of fixed size, so the result does not depend on the number of threads.
+
+mod cell;
+mod chain;
+
+use rayon::prelude::*;
+
+use crate::volume::isosurface::cell::corner_offset;
+use crate::volume::isosurface::check_input;
+use crate::volume::Volume;
+use crate::{Error, Point, Result};
+
+/// Names a point of a bi-iso-line: the polygon edge of the isosurface it lies on,
+/// as the keys `3·point + axis` of the two grid edges that carry the edge's ends,
+/// smaller first. Both cells sharing the face of the polygon edge give it the same
+/// key.
+pub type PointKey = [u64; 2];
+
+/// The second field `g` of a bi-iso-line, read cell by cell.
+pub trait SecondField: Sync {
+    /// The values of `g` at the 8 corners of the cell whose lowest corner is
+    /// sample `cell` (corner `c` at offset `(c & 1, (c >> 1) & 1, (c >> 2) & 1)`),
+    /// or `None` where `g` is undefined: the cell then has no segments, and the
+    /// lines that reach it end there. Two cells sharing a face must give the same
+    /// values on it, or the same values negated.
+    fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]>;
+
+    /// Whether to keep a segment of `cell` whose midpoint is at `local` (cell
+    /// coordinates in `[0, 1]³`), with the corner values `corners` given by
+    /// [`SecondField::corners`]. Keeps every segment unless overridden.
+    fn keep(&self, cell: [usize; 3], corners: &[f64; 8], local: [f64; 3]) -> bool {
+        let _ = (cell, corners, local);
+        true
+    }
+}
+
+/// The linear sample indices (x fastest) of the 8 corners of the cell whose lowest
+/// corner is sample `cell` of a grid of `dims` samples, corner `c` at offset
+/// `(c & 1, (c >> 1) & 1, (c >> 2) & 1)`.
+pub fn cell_corners(dims: [usize; 3], [i, j, k]: [usize; 3]) -> [usize; 8] {
+    let [nx, ny, _] = dims;
+    std::array::from_fn(|c| {
+        let [di, dj, dk] = corner_offset(c);
+        (i + di) + nx * ((j + dj) + ny * (k + dk))
+    })
+}
+
+/// A field sampled on the grid of a volume: `g` at each sample, undefined where a
+/// value is not finite.
+#[derive(Clone, Copy, Debug)]
+pub struct SampledField<'a> {
+    values: &'a [f32],
+    dims: [usize; 3],
+}
+
+impl<'a> SampledField<'a> {
+    /// The field with one value per sample of `volume`, in the same order (x
+    /// fastest). Errors ([`Error::Argument`]) if the number of values differs.
+    pub fn new(volume: &Volume, values: &'a [f32]) -> Result<SampledField<'a>> {
+        if values.len() != volume.len() {
+            return Err(Error::Argument(format!(
+                "the second field has {} values for a volume of {} samples",
+                values.len(),
+                volume.len()
+            )));
+        }
+        Ok(SampledField {
+            values,
+            dims: volume.dims(),
+        })
+    }
+}
+
+impl SecondField for SampledField<'_> {
+    fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
+        let corners = cell_corners(self.dims, cell).map(|at| f64::from(self.values[at]));
+        corners.iter().all(|v| v.is_finite()).then_some(corners)
+    }
+}
+
+/// One bi-iso-line: world points in order and whether the line is a loop.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BiIsoLine {
+    /// The points, without a repeated first point for a loop.
+    pub points: Vec<Point>,
+    /// The key of each point (see [`PointKey`]).
+    pub keys: Vec<PointKey>,
+    /// Whether the last point joins the first.
+    pub closed: bool,
+}
+
+/// A segment of a bi-iso-line inside one cell, from its first end to its second.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Segment {
+    keys: [PointKey; 2],
+    points: [Point; 2],
+}
+
+/// Cell layers per slab: a fixed number, so the output does not depend on the
+/// number of threads.
+const SLAB_LAYERS: usize = 8;
+
+/// The bi-iso-lines of `volume`'s samples `f` at `level` and the samples `g` at
+/// `g_level` (Marching Lines; see the [module documentation](self)), with `g` one
+/// value per sample (NaN where undefined).
+///
+/// Errors ([`Error::Argument`]) as [`marching_lines`], or if `g` does not have one
+/// value per sample.
+pub fn bi_iso_lines(
+    volume: &Volume,
+    level: f64,
+    g: &[f32],
+    g_level: f64,
+) -> Result<Vec<BiIsoLine>> {
+    marching_lines(volume, level, &SampledField::new(volume, g)?, g_level)
+}
+
+/// The lines where the isosurface `f = level` of `volume` meets `g = g_level` for
+/// the second field `field` (Marching Lines, Thirion & Gourdon 1993 §4; see the
+/// [module documentation](self)): closed except at the border of the volume and
+/// where `g` is undefined, in a deterministic order.
+///
+/// Errors ([`Error::Argument`]): a level is not finite, a dimension of the volume
+/// is below 2, or a sample of `f` is not finite. No crossing is not an error: the
+/// result is empty.
+pub fn marching_lines(
+    volume: &Volume,
+    level: f64,
+    field: &impl SecondField,
+    g_level: f64,
+) -> Result<Vec<BiIsoLine>> {
+    check_input(volume, level)?;
+    if !g_level.is_finite() {
+        return Err(Error::Argument(format!(
+            "the level {g_level} of the second field is not finite"
+        )));
+    }
+    let layers = volume.dims()[2] - 1;
+    let slabs: Vec<Vec<Segment>> = (0..layers)
+        .into_par_iter()
+        .step_by(SLAB_LAYERS)
+        .map(|first| {
+            let layers = first..(first + SLAB_LAYERS).min(layers);
+            cell::slab_segments(volume, (level, g_level), field, layers)
+        })
+        .collect();
+    Ok(chain::chain(&slabs.concat()))
+}

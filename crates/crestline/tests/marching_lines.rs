@@ -1,0 +1,376 @@
+//! Marching Lines (Thirion & Gourdon 1993, §4): bi-iso-lines of two sampled
+//! fields are closed except at the volume border and where the second field is
+//! undefined, lie where both fields cross their levels, follow the bi-iso-line
+//! orientation convention and do not depend on the number of threads; crest
+//! lines (§5) of an ellipsoid are its largest principal ellipse.
+
+use std::f64::consts::PI;
+
+use crestline::crest_lines::{crest_lines, parabolic_lines};
+use crestline::lines::LineKind;
+use crestline::volume::{bi_iso_lines, BiIsoLine, Volume};
+use crestline::Point;
+use nalgebra::Matrix3;
+
+/// A unit-spaced volume of `n³` samples centred on the origin, with the samples of
+/// `f` and of `g` (world functions).
+fn fields(n: usize, f: impl Fn(Point) -> f64, g: impl Fn(Point) -> f64) -> (Volume, Vec<f32>) {
+    let half = (n as f64 - 1.0) / 2.0;
+    let origin = [-half; 3];
+    let count = n * n * n;
+    let grid = Volume::new(
+        [n; 3],
+        [1.0; 3],
+        origin,
+        Matrix3::identity(),
+        vec![0.0; count],
+    );
+    let grid = grid.unwrap();
+    let positions: Vec<Point> = (0..count)
+        .map(|at| grid.index_to_world([at % n, (at / n) % n, at / (n * n)].map(|x| x as f64)))
+        .collect();
+    let f = positions.iter().map(|&p| f(p) as f32).collect();
+    let g = positions.iter().map(|&p| g(p) as f32).collect();
+    (grid.with_samples(f).unwrap(), g)
+}
+
+/// Signed distance to a sphere of radius `r` about the origin, positive inside.
+fn ball(r: f64) -> impl Fn(Point) -> f64 {
+    move |p| r - p.coords.norm()
+}
+
+/// The length of a line, closing it if it is a loop.
+fn length(line: &BiIsoLine) -> f64 {
+    let n = line.points.len();
+    let pairs = if line.closed { n } else { n - 1 };
+    (0..pairs)
+        .map(|i| (line.points[(i + 1) % n] - line.points[i]).norm())
+        .sum()
+}
+
+/// Twice the area a loop encloses, projected on the xy plane (positive when it runs
+/// counter-clockwise seen from +z).
+fn xy_area(line: &BiIsoLine) -> f64 {
+    let n = line.points.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (line.points[i], line.points[(i + 1) % n]);
+            a.x * b.y - a.y * b.x
+        })
+        .sum()
+}
+
+#[test]
+fn a_sphere_cut_by_a_plane_is_one_closed_circle() {
+    let r = 15.0;
+    let (volume, g) = fields(40, ball(r), |p| p.z);
+    let lines = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 1);
+    let circle = &lines[0];
+    assert!(circle.closed);
+    let worst = circle
+        .points
+        .iter()
+        .map(|p| (p.coords.norm() - r).abs() / r)
+        .fold(0.0, f64::max);
+    let height = circle.points.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
+    let error = (length(circle) - 2.0 * PI * r).abs() / (2.0 * PI * r);
+    println!(
+        "circle: {} points, radius error {worst:.2e}, |z| ≤ {height:.1e}, length error {error:.2e}",
+        circle.points.len()
+    );
+    assert!(worst < 0.005, "radius error {worst}");
+    assert!(height < 1e-6, "off the plane by {height}");
+    assert!(error < 0.01, "length error {error}");
+}
+
+#[test]
+fn lines_keep_the_positive_side_of_g_on_their_left_seen_from_outside() {
+    // Outside the ball (f < I), g = z ≥ 0 on the left: the equator runs
+    // counter-clockwise seen from +z. Negating g reverses it.
+    let (volume, g) = fields(24, ball(8.0), |p| p.z);
+    let up = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
+    let negated: Vec<f32> = g.iter().map(|v| -v).collect();
+    let down = bi_iso_lines(&volume, 0.0, &negated, 0.0).unwrap();
+    assert!(xy_area(&up[0]) > 0.0);
+    assert!(xy_area(&down[0]) < 0.0);
+}
+
+#[test]
+fn a_mirrored_grid_keeps_the_orientation_in_the_world() {
+    // The same ball and plane on a grid whose x axis runs backwards.
+    let n = 24;
+    let mirror = Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, 1.0, 1.0));
+    let half = (n as f64 - 1.0) / 2.0;
+    let grid = Volume::new(
+        [n; 3],
+        [1.0; 3],
+        [half, -half, -half],
+        mirror,
+        vec![0.0; n * n * n],
+    );
+    let grid = grid.unwrap();
+    let positions: Vec<Point> = (0..n * n * n)
+        .map(|at| grid.index_to_world([at % n, (at / n) % n, at / (n * n)].map(|x| x as f64)))
+        .collect();
+    let f = positions.iter().map(|&p| ball(8.0)(p) as f32).collect();
+    let g: Vec<f32> = positions.iter().map(|p| p.z as f32).collect();
+    let lines = bi_iso_lines(&grid.with_samples(f).unwrap(), 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 1);
+    assert!(xy_area(&lines[0]) > 0.0);
+}
+
+#[test]
+fn two_planes_meet_in_a_straight_open_line_ending_at_the_border() {
+    let (volume, g) = fields(16, |p| 0.3 - p.x, |p| p.y - 0.2);
+    let lines = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 1);
+    let line = &lines[0];
+    assert!(!line.closed);
+    let off = line
+        .points
+        .iter()
+        .map(|p| (p.x - 0.3).abs().max((p.y - 0.2).abs()))
+        .fold(0.0, f64::max);
+    assert!(off < 1e-5, "off the line by {off}");
+    let ends = [line.points[0].z, line.points[line.points.len() - 1].z];
+    let span = ends[0].min(ends[1])..=ends[0].max(ends[1]);
+    println!(
+        "line: {} points, off by {off:.1e}, ends {ends:?}",
+        line.points.len()
+    );
+    assert!(*span.start() <= -7.0 && *span.end() >= 7.0, "ends {ends:?}");
+}
+
+#[test]
+fn a_torus_cut_through_its_middle_gives_two_circles() {
+    let (big, small) = (10.0, 3.5);
+    let torus = move |p: Point| small - ((p.x.hypot(p.y) - big).powi(2) + p.z * p.z).sqrt();
+    let (volume, g) = fields(36, torus, |p| p.z);
+    let lines = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 2);
+    let mut radii: Vec<f64> = lines
+        .iter()
+        .map(|line| {
+            assert!(line.closed);
+            let n = line.points.len() as f64;
+            line.points.iter().map(|p| p.coords.norm()).sum::<f64>() / n
+        })
+        .collect();
+    radii.sort_by(f64::total_cmp);
+    println!("torus circles: mean radii {radii:?}");
+    assert!((radii[0] - (big - small)).abs() < 0.05);
+    assert!((radii[1] - (big + small)).abs() < 0.05);
+    // Both run with z ≥ 0 on their left seen from outside the tube: the outer
+    // circle counter-clockwise seen from +z, the inner one clockwise.
+    let areas: Vec<f64> = lines.iter().map(xy_area).collect();
+    assert!(areas.iter().any(|&a| a > 0.0) && areas.iter().any(|&a| a < 0.0));
+}
+
+#[test]
+fn lines_end_where_g_is_undefined() {
+    let (volume, g) = fields(30, ball(11.0), |p| if p.x > 0.0 { f64::NAN } else { p.z });
+    let lines = bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap();
+    assert_eq!(lines.len(), 1);
+    let line = &lines[0];
+    assert!(!line.closed);
+    let rightmost = line.points.iter().map(|p| p.x).fold(f64::MIN, f64::max);
+    let ends = [line.points[0], line.points[line.points.len() - 1]];
+    println!("half circle: {} points, x ≤ {rightmost}", line.points.len());
+    assert!(rightmost <= 0.0);
+    assert!(
+        ends.iter().all(|p| p.x > -1.5 && p.y.abs() > 9.0),
+        "ends {ends:?}"
+    );
+}
+
+#[test]
+fn the_lines_do_not_depend_on_the_number_of_threads() {
+    let (volume, g) = fields(
+        44,
+        |p| 12.0 - p.coords.norm() + 0.8 * (p.x * 0.7).sin(),
+        |p| p.z + 2.0 * (p.x * 0.5).cos() * (p.y * 0.4).sin(),
+    );
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| bi_iso_lines(&volume, 0.0, &g, 0.0).unwrap())
+    };
+    let one = run(1);
+    assert!(!one.is_empty());
+    assert_eq!(one, run(3));
+    assert_eq!(one, run(4));
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let (volume, g) = fields(8, ball(2.0), |p| p.z);
+    assert!(bi_iso_lines(&volume, 0.0, &g[1..], 0.0).is_err());
+    assert!(bi_iso_lines(&volume, f64::NAN, &g, 0.0).is_err());
+    assert!(bi_iso_lines(&volume, 0.0, &g, f64::INFINITY).is_err());
+    assert!(bi_iso_lines(&volume, 100.0, &g, 0.0).unwrap().is_empty());
+}
+
+/// A volume of `dims` unit-spaced samples of `f`, centred on the origin.
+fn centred(dims: [usize; 3], f: impl Fn(Point) -> f64) -> Volume {
+    let origin = dims.map(|n| -(n as f64 - 1.0) / 2.0);
+    let count = dims.iter().product();
+    let grid = Volume::new(
+        dims,
+        [1.0; 3],
+        origin,
+        Matrix3::identity(),
+        vec![0.0; count],
+    );
+    let grid = grid.unwrap();
+    let samples = samples_of(&grid, f);
+    grid.with_samples(samples).unwrap()
+}
+
+/// The samples of `f` at the grid points of `grid`.
+fn samples_of(grid: &Volume, f: impl Fn(Point) -> f64) -> Vec<f32> {
+    let [nx, ny, _] = grid.dims();
+    (0..grid.len())
+        .map(|at| {
+            let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
+            f(grid.index_to_world(index.map(|x| x as f64))) as f32
+        })
+        .collect()
+}
+
+/// The fraction of the angles around the z axis (in bins of half a degree) that
+/// segments of `lines` span.
+fn angular_coverage(lines: &[&crestline::lines::Polyline]) -> f64 {
+    const BINS: usize = 720;
+    let bin = |p: &Point| {
+        let turn = p.y.atan2(p.x) / (2.0 * PI) + 1.0;
+        ((turn * BINS as f64) as usize) % BINS
+    };
+    let mut covered = [false; BINS];
+    for line in lines {
+        let n = line.points.len();
+        let pairs = if line.closed { n } else { n - 1 };
+        for i in 0..pairs {
+            let (a, b) = (bin(&line.points[i]), bin(&line.points[(i + 1) % n]));
+            let (low, high) = (a.min(b), a.max(b));
+            // The short way round between the two bins.
+            if high - low <= BINS / 2 {
+                covered[low..=high].iter_mut().for_each(|c| *c = true);
+            } else {
+                covered[high..].iter_mut().for_each(|c| *c = true);
+                covered[..=low].iter_mut().for_each(|c| *c = true);
+            }
+        }
+    }
+    covered.iter().filter(|&&c| c).count() as f64 / BINS as f64
+}
+
+/// The crest lines of kind `kind` of the ellipsoid image `sign · (x²/a² + y²/b² +
+/// z²/c²)` at level `sign` on a grid of `dims`, σ = 1.5 voxels: they are one
+/// closed line in the plane of the two longest axes, around all of it; the lines
+/// of the other kind are none.
+fn check_ellipsoid_crests(dims: [usize; 3], sign: f64, kind: LineKind) {
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let ellipsoid =
+        move |p: Point| sign * ((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let volume = centred(dims, ellipsoid);
+    let lines = crest_lines(&volume, sign, 1.5).unwrap();
+    let crests: Vec<_> = lines.iter().filter(|l| l.kind == kind).collect();
+    let points: Vec<Point> = crests.iter().flat_map(|l| l.points.clone()).collect();
+    assert!(!points.is_empty());
+    let mean = points.iter().map(|p| p.z.abs()).sum::<f64>() / points.len() as f64;
+    let worst = points.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
+    let coverage = angular_coverage(&crests);
+    let others = lines.len() - crests.len();
+    assert!(crests.len() == 1 && crests[0].closed, "not one closed line");
+    println!(
+        "ellipsoid {dims:?}, {kind:?}: {} lines ({} closed), {} points, mean |z| {mean:.2e} \
+         ({:.2e} of a), max |z| {worst:.2e}, coverage {coverage:.3}, {others} other lines",
+        crests.len(),
+        crests.iter().filter(|l| l.closed).count(),
+        points.len(),
+        mean / a
+    );
+    assert!(mean < 0.005 * a, "mean distance to the plane {mean}");
+    // Minima of k_max (on the other principal ellipses) are not ridges.
+    assert!(worst < 1.0, "a point {worst} off the plane");
+    assert!(coverage >= 0.95, "coverage {coverage}");
+    assert_eq!(others, 0, "lines of the other kind");
+}
+
+#[test]
+fn the_ridges_of_an_ellipsoid_are_its_largest_principal_ellipse() {
+    // The plane z = 0 through grid points (extremality exactly zero there) or
+    // between them.
+    check_ellipsoid_crests([49, 39, 31], -1.0, LineKind::Ridge);
+    check_ellipsoid_crests([48, 38, 30], -1.0, LineKind::Ridge);
+}
+
+#[test]
+fn crest_lines_scale_with_the_image() {
+    // The same ellipsoid sampled with voxels twice as large in world units, σ
+    // doubled: the same lines, twice as large.
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let small = centred([48, 38, 30], ellipsoid);
+    let doubled = move |p: Point| ellipsoid(p / 2.0);
+    let large = Volume::new(
+        small.dims(),
+        [2.0; 3],
+        small.origin().map(|x| 2.0 * x),
+        Matrix3::identity(),
+        small.samples().to_vec(),
+    )
+    .unwrap();
+    let large = large.with_samples(samples_of(&large, doubled)).unwrap();
+    let unit = crest_lines(&small, -1.0, 1.5).unwrap();
+    let twice = crest_lines(&large, -1.0, 3.0).unwrap();
+    assert_eq!(unit.len(), twice.len());
+    for (u, t) in unit.iter().zip(&twice) {
+        assert_eq!(u.points.len(), t.points.len());
+        let worst = u
+            .points
+            .iter()
+            .zip(&t.points)
+            .map(|(p, q)| (p.coords * 2.0 - q.coords).norm())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-3, "points differ by {worst}");
+        assert!((u.strength - t.strength).abs() < 1e-3 * u.strength);
+    }
+}
+
+#[test]
+fn the_crests_of_a_dark_ellipsoid_are_valleys() {
+    check_ellipsoid_crests([49, 39, 31], 1.0, LineKind::Valley);
+}
+
+#[test]
+fn the_parabolic_lines_of_a_torus_are_its_top_and_bottom_circles() {
+    let (big, small) = (10.0, 4.0);
+    let torus = move |p: Point| small - ((p.x.hypot(p.y) - big).powi(2) + p.z * p.z).sqrt();
+    let volume = centred([40, 40, 20], torus);
+    let lines = parabolic_lines(&volume, 0.0, 1.0).unwrap();
+    assert_eq!(lines.len(), 2);
+    for line in &lines {
+        assert!(line.closed);
+        assert_eq!(line.kind, LineKind::Parabolic);
+        let n = line.points.len() as f64;
+        let radius = line.points.iter().map(|p| p.x.hypot(p.y)).sum::<f64>() / n;
+        let height = line.points.iter().map(|p| p.z.abs()).sum::<f64>() / n;
+        let spread = line
+            .points
+            .iter()
+            .map(|p| {
+                (p.x.hypot(p.y) - radius)
+                    .abs()
+                    .max((p.z.abs() - height).abs())
+            })
+            .fold(0.0, f64::max);
+        println!("parabolic circle: radius {radius:.3}, |z| {height:.3}, spread {spread:.3}");
+        assert!((radius - big).abs() < 0.3, "radius {radius}");
+        assert!((height - small).abs() < 0.3, "height {height}");
+        assert!(spread < 0.2, "spread {spread}");
+    }
+}
