@@ -3,6 +3,7 @@
 //! usage (printed by clap).
 
 mod crease;
+mod crest;
 mod curvature;
 mod draw;
 mod failure;
@@ -46,6 +47,8 @@ enum Command {
     Iso(iso::IsoArgs),
     /// Extract ridge or valley surfaces of a 3D image (Schultz, Theisel and Seidel 2010).
     Crease(crease::CreaseArgs),
+    /// Trace crest lines of a 3D image's isosurface (Marching Lines, Thirion & Gourdon 1993).
+    CrestLines(crest::CrestArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
     /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
@@ -98,6 +101,7 @@ fn main() -> ExitCode {
         Command::Curvature(args) => curvature::run(&args),
         Command::Iso(args) => iso::run(&args),
         Command::Crease(args) => crease::run(&args),
+        Command::CrestLines(args) => crest::run(&args),
         Command::Ridges(args) => ridges::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),

@@ -820,3 +820,42 @@ fn iso_at_a_level_outside_the_values_says_so() {
     assert_one_line_error(&out, MNI, "1000");
     assert!(!surface.exists());
 }
+
+#[test]
+fn crest_lines_of_the_brain_are_gyri_and_sulci() {
+    let dir = tempfile::tempdir().unwrap();
+    let lines = dir.path().join("crest.json");
+    let out = crestline(&[
+        "crest-lines",
+        MNI,
+        "--level",
+        "60",
+        "--min-length",
+        "10",
+        "-o",
+        lines.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&lines).unwrap()).unwrap();
+    let lines = json["lines"].as_array().unwrap();
+    let count = |kind: &str| lines.iter().filter(|l| l["kind"] == kind).count();
+    // Convex crests (gyri) and concave ones (sulci) both, and nothing else.
+    assert!(
+        count("ridge") > 100 && count("valley") > 100,
+        "{} ridges, {} valleys",
+        count("ridge"),
+        count("valley")
+    );
+    assert_eq!(count("ridge") + count("valley"), lines.len());
+    // Every point lies on the brain: within the template's world box.
+    for line in lines {
+        for p in line["points"].as_array().unwrap() {
+            let [x, y, z] = [0, 1, 2].map(|i| p[i].as_f64().unwrap());
+            assert!(
+                (-98.0..=98.0).contains(&x)
+                    && (-134.0..=98.0).contains(&y)
+                    && (-72.0..=116.0).contains(&z)
+            );
+        }
+    }
+}
