@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crestline::crest_lines::{crest_lines, parabolic_lines};
+use crestline::crest_lines::{crest_lines, iso_gaussian_lines, parabolic_lines};
 use crestline::io::{is_volume_path, read_volume};
 use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
 use crestline::{Error, Result};
@@ -14,7 +14,7 @@ use super::surface::default_sigma;
 use super::ReportArg;
 
 /// Which lines to trace.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum LineFamily {
     /// Ridges (maxima of k_max where k_max > |k_min|: convex crests, gyri) and
     /// valleys (the mirror case: concave crests, sulci).
@@ -22,6 +22,25 @@ pub enum LineFamily {
     Crest,
     /// Parabolic lines, where the Gaussian curvature is zero.
     Parabolic,
+    /// Iso-Gaussian curves, where the Gaussian curvature is this value.
+    Gauss(f64),
+}
+
+impl std::str::FromStr for LineFamily {
+    type Err = String;
+
+    fn from_str(text: &str) -> std::result::Result<LineFamily, String> {
+        match text {
+            "crest" => Ok(LineFamily::Crest),
+            "parabolic" => Ok(LineFamily::Parabolic),
+            _ => text
+                .strip_prefix("gauss=")
+                .and_then(|j| j.parse::<f64>().ok())
+                .filter(|j| j.is_finite())
+                .map(LineFamily::Gauss)
+                .ok_or_else(|| format!("'{text}' is not crest, parabolic or gauss=J (J a number)")),
+        }
+    }
 }
 
 /// Arguments of `crestline crest-lines`.
@@ -38,8 +57,9 @@ pub struct CrestArgs {
     /// Output lines: .json, .obj, .ply or .vtk.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which lines.
-    #[arg(long, value_enum, default_value_t)]
+    /// Which lines: crest (ridges and valleys), parabolic (K = 0) or gauss=J (the
+    /// iso-Gaussian curves K = J, J in world units⁻²).
+    #[arg(long, default_value = "crest", value_name = "crest|parabolic|gauss=J")]
     pub kind: LineFamily,
     /// Keep lines at least this long, in world units (mm); default three voxels.
     #[arg(long, value_name = "L")]
@@ -68,19 +88,18 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     let mut report = report_with_progress("crest-lines", &args.volume);
     let volume = report.stage("read", || read_volume(&args.volume))?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
-    let trace = match args.kind {
-        LineFamily::Crest => crest_lines,
-        LineFamily::Parabolic => parabolic_lines,
+    let trace = || match args.kind {
+        LineFamily::Crest => crest_lines(&volume, args.level, sigma),
+        LineFamily::Parabolic => parabolic_lines(&volume, args.level, sigma),
+        LineFamily::Gauss(j) => iso_gaussian_lines(&volume, args.level, sigma, j),
     };
-    let traced = report
-        .stage("marching lines", || trace(&volume, args.level, sigma))
-        .map_err(|e| match e {
-            Error::Argument(message) => Error::File {
-                path: args.volume.clone(),
-                message,
-            },
-            other => other.in_file(&args.volume),
-        })?;
+    let traced = report.stage("marching lines", trace).map_err(|e| match e {
+        Error::Argument(message) => Error::File {
+            path: args.volume.clone(),
+            message,
+        },
+        other => other.in_file(&args.volume),
+    })?;
     let mut lines = FeatureLines::new(args.volume.display().to_string());
     lines.lines = traced;
     report.count("traced", lines.len());

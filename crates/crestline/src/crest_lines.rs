@@ -253,14 +253,34 @@ pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyli
 ///
 /// Errors as [`crest_lines`].
 pub fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+    iso_gaussian_lines(volume, level, sigma, 0.0)
+}
+
+/// The iso-Gaussian curves `K = gauss` of the isosurface `f = level` (Thirion &
+/// Gourdon 1993 §5), as [`parabolic_lines`] (which are the case `gauss = 0`) but of
+/// kind [`LineKind::Contour`] for `gauss ≠ 0`. `gauss` has the units of a
+/// curvature squared (world units⁻²).
+///
+/// Errors as [`crest_lines`], and for a non-finite `gauss`.
+pub fn iso_gaussian_lines(
+    volume: &Volume,
+    level: f64,
+    sigma: f64,
+    gauss: f64,
+) -> Result<Vec<Polyline>> {
     let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
-    let gauss: Vec<f32> = curvatures
+    let values: Vec<f32> = curvatures
         .frames
         .iter()
         .map(|frame| frame.map_or(f32::NAN, |f| f.k[0] * f.k[1]))
         .collect();
-    let lines = bi_iso_lines(&smoothed, level, &gauss, 0.0)?;
-    let polyline = |line| polyline(line, LineKind::Parabolic, &curvatures, volume);
+    let lines = bi_iso_lines(&smoothed, level, &values, gauss)?;
+    let kind = if gauss == 0.0 {
+        LineKind::Parabolic
+    } else {
+        LineKind::Contour
+    };
+    let polyline = |line| polyline(line, kind, &curvatures, volume);
     Ok(lines.iter().map(polyline).collect())
 }
 

@@ -6,7 +6,7 @@
 
 use std::f64::consts::PI;
 
-use crestline::crest_lines::{crest_lines, parabolic_lines};
+use crestline::crest_lines::{crest_lines, iso_gaussian_lines, parabolic_lines};
 use crestline::lines::LineKind;
 use crestline::volume::{bi_iso_lines, BiIsoLine, Volume};
 use crestline::Point;
@@ -372,5 +372,30 @@ fn the_parabolic_lines_of_a_torus_are_its_top_and_bottom_circles() {
         assert!((radius - big).abs() < 0.3, "radius {radius}");
         assert!((height - small).abs() < 0.3, "height {height}");
         assert!(spread < 0.2, "spread {spread}");
+    }
+}
+
+#[test]
+fn the_iso_gaussian_curves_of_a_torus_are_circles_of_one_latitude() {
+    // On the torus of radii R, r the Gaussian curvature at tube angle φ is
+    // K = cos φ / (r (R + r cos φ)): K = J on the two circles of cos φ = J r R /
+    // (1 − J r²), at distance R + r cos φ from the axis and height ±r sin φ.
+    let (big, small) = (10.0, 4.0);
+    let torus = move |p: Point| small - ((p.x.hypot(p.y) - big).powi(2) + p.z * p.z).sqrt();
+    let volume = centred([40, 40, 20], torus);
+    let gauss = 0.01;
+    let lines = iso_gaussian_lines(&volume, 0.0, 1.0, gauss).unwrap();
+    let cos = gauss * small * big / (1.0 - gauss * small * small);
+    let (radius, height) = (big + small * cos, small * (1.0 - cos * cos).sqrt());
+    assert_eq!(lines.len(), 2);
+    for line in &lines {
+        assert!(line.closed);
+        assert_eq!(line.kind, LineKind::Contour);
+        let n = line.points.len() as f64;
+        let r = line.points.iter().map(|p| p.x.hypot(p.y)).sum::<f64>() / n;
+        let z = line.points.iter().map(|p| p.z.abs()).sum::<f64>() / n;
+        println!("iso-Gaussian circle: radius {r:.3} (exact {radius:.3}), |z| {z:.3} (exact {height:.3})");
+        assert!((r - radius).abs() < 0.3, "radius {r}, exact {radius}");
+        assert!((z - height).abs() < 0.3, "height {z}, exact {height}");
     }
 }
