@@ -18,8 +18,10 @@ use super::load::report_with_progress;
 use super::morse::{extract as extract_morse, MorseArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
-use super::surface::Surface;
+use super::surface::{default_sigma, Surface};
 use super::ReportArg;
+use crestline::crest_lines::crest_lines;
+use crestline::lines::{MinLength, MinStrength};
 
 /// Which feature lines to draw.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -29,6 +31,9 @@ pub enum LinesChoice {
     Ridges,
     /// Ascending and descending lines of the Morse-Smale complex.
     Morse,
+    /// For a 3D image: crest lines of its isosurface by Marching Lines (Thirion &
+    /// Gourdon), traced in the image rather than on the triangles.
+    Crest,
     /// No feature lines (e.g. silhouettes only).
     None,
 }
@@ -285,8 +290,26 @@ fn extract(surface: &Surface, args: &DrawArgs, report: &mut Report) -> Result<Fe
         LinesChoice::Morse => {
             extract_morse(surface, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
         }
+        LinesChoice::Crest => marching_crest_lines(surface, args),
         LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
     }
+}
+
+/// The crest lines of the image the surface was extracted from, at least three
+/// voxels long and as strong as `--threshold` (∫|k| ds, as for ridges).
+fn marching_crest_lines(surface: &Surface, args: &DrawArgs) -> Result<FeatureLines> {
+    let Some(image) = &surface.image else {
+        return Err(Error::File {
+            path: args.mesh.clone(),
+            message: "--lines crest traces lines in a 3D image; for a mesh use ridges or morse"
+                .into(),
+        });
+    };
+    let mut lines = FeatureLines::new(args.mesh.display().to_string());
+    lines.lines = crest_lines(&image.volume, image.level, image.sigma)?;
+    lines.filter(&MinLength(3.0 * default_sigma(&image.volume)));
+    lines.filter(&MinStrength(args.tracer.threshold));
+    Ok(lines)
 }
 
 /// The drawing must be an `.svg` file.

@@ -49,6 +49,18 @@ pub struct Surface {
     pub mesh: Mesh,
     /// The mesh estimator chosen on the command line, or the image's curvature.
     pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
+    /// For an isosurface: the image, its level and smoothing.
+    pub image: Option<ImageSource>,
+}
+
+/// The image an isosurface was extracted from.
+pub struct ImageSource {
+    /// The image (non-finite samples replaced).
+    pub volume: Volume,
+    /// The isosurface level.
+    pub level: f64,
+    /// The Gaussian σ in world units (0: the B-spline).
+    pub sigma: f64,
 }
 
 /// The surface in `path`: a mesh file (with per-vertex `scalars` read from text
@@ -80,6 +92,7 @@ pub fn load_surface(
     Ok(Surface {
         mesh,
         estimator: estimator.build(),
+        image: None,
     })
 }
 
@@ -116,7 +129,16 @@ fn image_surface(
         CurvatureSource::Image => Arc::new(curvature),
         CurvatureSource::Mesh => estimator.build(),
     };
-    Ok(Surface { mesh, estimator })
+    drop(surface_volume);
+    Ok(Surface {
+        mesh,
+        estimator,
+        image: Some(ImageSource {
+            volume,
+            level,
+            sigma,
+        }),
+    })
 }
 
 /// Set non-finite samples (NaN outside the mask of a resampled scan, say) to the
