@@ -399,3 +399,63 @@ fn the_iso_gaussian_curves_of_a_torus_are_circles_of_one_latitude() {
         assert!((z - height).abs() < 0.3, "height {z}, exact {height}");
     }
 }
+
+/// A smooth random field: a sum of Gaussian bumps of both signs, from a seed.
+fn random_smooth(seed: u64) -> impl Fn(Point) -> f64 {
+    let mut state = seed;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let bumps: Vec<(Point, f64, f64)> = (0..40)
+        .map(|_| {
+            let centre = Point::new(9.0 * next(), 9.0 * next(), 9.0 * next());
+            (centre, next(), 2.0 + 2.0 * next().abs())
+        })
+        .collect();
+    move |p: Point| {
+        bumps
+            .iter()
+            .map(|(c, a, w)| a * (-(p - c).norm_squared() / (w * w)).exp())
+            .sum()
+    }
+}
+
+#[test]
+fn bi_iso_lines_of_random_fields_end_only_at_the_border_and_cross_each_face_once() {
+    let dims = [22, 20, 18];
+    let mut lines_seen = 0;
+    for seed in 1..=6 {
+        let f = centred(dims, random_smooth(seed));
+        let g_volume = centred(dims, random_smooth(seed + 100));
+        let lines = bi_iso_lines(&f, 0.0, g_volume.samples(), 0.0).unwrap();
+        let mut keys = std::collections::HashSet::new();
+        for line in &lines {
+            for key in &line.keys {
+                assert!(
+                    keys.insert(*key),
+                    "seed {seed}: a polygon edge is visited twice"
+                );
+            }
+            if !line.closed {
+                // g is defined everywhere: an open line ends in a border cell.
+                for end in [line.points[0], *line.points.last().unwrap()] {
+                    let index = f.world_to_index(&end);
+                    let on_border = (0..3)
+                        .any(|a| index[a] <= 1.0 + 1e-9 || index[a] >= (dims[a] - 2) as f64 - 1e-9);
+                    assert!(
+                        on_border,
+                        "seed {seed}: a line ends inside the grid at {index:?}"
+                    );
+                }
+            }
+        }
+        lines_seen += lines.len();
+    }
+    assert!(
+        lines_seen > 20,
+        "{lines_seen} lines: the fields are too tame to test anything"
+    );
+}
