@@ -35,6 +35,7 @@ use crate::lines::{LineKind, Polyline};
 use crate::volume::marching_lines::{
     bi_iso_lines, cell_corners, marching_lines, BiIsoLine, SecondField,
 };
+use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Point, Result, Vector};
 
@@ -158,22 +159,6 @@ fn untied(e: f64, direction: &Vector) -> f64 {
     }
 }
 
-/// Trilinear weights of the 8 corners at cell coordinates `u`, and their
-/// derivatives along each index axis.
-fn trilinear(u: [f64; 3]) -> ([f64; 8], [[f64; 8]; 3]) {
-    let factor = |c: usize, a: usize| if (c >> a) & 1 == 1 { u[a] } else { 1.0 - u[a] };
-    let slope = |c: usize, a: usize| if (c >> a) & 1 == 1 { 1.0 } else { -1.0 };
-    let weights = std::array::from_fn(|c| (0..3).map(|a| factor(c, a)).product());
-    let derivatives = std::array::from_fn(|axis| {
-        std::array::from_fn(|c| {
-            (0..3)
-                .map(|a| if a == axis { slope(c, a) } else { factor(c, a) })
-                .product()
-        })
-    });
-    (weights, derivatives)
-}
-
 impl SecondField for Extremality<'_> {
     fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
         let (frames, signs) = self.oriented(cell)?;
@@ -187,7 +172,7 @@ impl SecondField for Extremality<'_> {
         let Some((frames, signs)) = self.oriented(cell) else {
             return false;
         };
-        let (weights, slopes) = trilinear(local);
+        let (weights, slopes) = (weights(local), weight_derivatives(local));
         let along_index = Vector::from(slopes.map(|s| (0..8).map(|c| s[c] * corners[c]).sum()));
         let gradient = self.curvatures.world_to_grid.transpose() * along_index;
         let direction: Vector = (0..8)
@@ -322,7 +307,7 @@ fn interpolated(
     let cell: [usize; 3] =
         std::array::from_fn(|a| (index[a].floor().max(0.0) as usize).min(dims[a] - 2));
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
-    let (weights, _) = trilinear(local);
+    let weights = weights(local);
     curvatures.corners(cell).map_or(0.0, |frames| {
         (0..8).map(|c| value(&frames[c]) * weights[c]).sum()
     })

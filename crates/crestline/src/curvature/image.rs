@@ -16,6 +16,7 @@ use nalgebra::Matrix3;
 
 use super::{implicit_curvature, CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 use crate::mesh::Mesh;
+use crate::volume::trilinear::corners_and_weights;
 use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 
@@ -188,42 +189,15 @@ pub fn image_isosurface(
 /// The nine first and second partials at the fractional index `index`,
 /// interpolated trilinearly; `None` outside the grid (beyond a small tolerance).
 fn trilinear(derivatives: &Derivatives, index: [f64; 3]) -> Option<[f64; 9]> {
-    const TOLERANCE: f64 = 1e-6;
-    let dims = derivatives.dims();
-    let mut base = [0usize; 3];
-    let mut frac = [0.0; 3];
-    for axis in 0..3 {
-        let last = (dims[axis] - 1) as f64;
-        let u = index[axis];
-        if !(u >= -TOLERANCE && u <= last + TOLERANCE) {
-            return None;
-        }
-        let u = u.clamp(0.0, last);
-        let cell = (u.floor() as usize).min(dims[axis].saturating_sub(2));
-        base[axis] = cell;
-        frac[axis] = u - cell as f64;
-    }
-    let [nx, ny, _] = dims;
+    let (corners, weights) = corners_and_weights(derivatives.dims(), index)?;
     let mut out = [0.0; 9];
     for (value, partial) in out.iter_mut().zip(&Partial::ALL[FIRST_AND_SECOND]) {
         let grid = derivatives.grid(*partial)?;
-        for corner in 0..8 {
-            let offset = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-            let mut weight = 1.0;
-            let mut at = [0usize; 3];
-            for axis in 0..3 {
-                let step = offset[axis].min(dims[axis] - 1 - base[axis]);
-                at[axis] = base[axis] + step;
-                weight *= if offset[axis] == 1 {
-                    frac[axis]
-                } else {
-                    1.0 - frac[axis]
-                };
-            }
-            if weight != 0.0 {
-                *value += weight * f64::from(grid[at[0] + nx * (at[1] + ny * at[2])]);
-            }
-        }
+        *value = corners
+            .iter()
+            .zip(weights)
+            .map(|(&at, w)| w * f64::from(grid[at]))
+            .sum();
     }
     Some(out)
 }

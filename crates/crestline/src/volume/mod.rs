@@ -28,6 +28,7 @@ pub mod kernels;
 pub mod marching_lines;
 mod separable;
 mod statistics;
+pub mod trilinear;
 
 pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial, Smoothing};

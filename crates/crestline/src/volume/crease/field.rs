@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::edges::CrossingOptions;
 use super::tensor::Eigenframe;
 use super::{DEFAULT_EPSILON_FRACTION, DEFAULT_STRENGTH_FRACTION, DEFAULT_THETA};
+use crate::volume::trilinear::corners_and_weights;
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 
@@ -152,35 +153,11 @@ impl CreaseField {
     /// grid points (the eigenframe computed there); `None` outside the grid.
     pub fn sample_at(&self, point: &Point) -> Option<Sample> {
         let u = self.world_to_grid * (point - self.origin);
-        let mut base = [0usize; 3];
-        let mut frac = [0.0; 3];
-        for axis in 0..3 {
-            let last = (self.dims[axis] - 1) as f64;
-            if !(u[axis] >= -1e-9 && u[axis] <= last + 1e-9) {
-                return None;
-            }
-            let x = u[axis].clamp(0.0, last);
-            base[axis] = (x.floor() as usize).min(self.dims[axis].saturating_sub(2));
-            frac[axis] = x - base[axis] as f64;
-        }
+        let (corners, weights) = corners_and_weights(self.dims, [u.x, u.y, u.z])?;
         let mut sum = [0.0f64; 9];
-        for corner in 0..8 {
-            let offset = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-            let mut weight = 1.0;
-            let mut at = base;
-            for axis in 0..3 {
-                at[axis] = (base[axis] + offset[axis]).min(self.dims[axis] - 1);
-                weight *= if offset[axis] == 1 {
-                    frac[axis]
-                } else {
-                    1.0 - frac[axis]
-                };
-            }
-            if weight > 0.0 {
-                let v = &self.values[self.linear_index(at)];
-                for (s, x) in sum.iter_mut().zip(v) {
-                    *s += weight * f64::from(*x);
-                }
+        for (&at, weight) in corners.iter().zip(weights) {
+            for (s, x) in sum.iter_mut().zip(&self.values[at]) {
+                *s += weight * f64::from(*x);
             }
         }
         Some(unpack_f64(sum))
