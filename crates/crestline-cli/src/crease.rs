@@ -3,13 +3,14 @@
 
 use std::path::PathBuf;
 
-use crestline::io::{is_volume_path, read_volume, write_soup};
+use crestline::io::{read_volume, write_soup};
 use crestline::volume::crease::{crease_surface, CreaseField, DEFAULT_STRENGTH_FRACTION};
 use crestline::volume::Derivatives;
 use crestline::{Error, Result};
 
 use super::load::report_with_progress;
-use super::outputs::{check_paths, OutputSet};
+use super::outputs::check_paths;
+use super::surface::{naming, require_image};
 use super::ReportArg;
 
 /// Arguments of `crestline crease`.
@@ -44,12 +45,7 @@ pub struct CreaseArgs {
 
 /// Extract the crease surface and write it.
 pub fn run(args: &CreaseArgs) -> Result<()> {
-    if !is_volume_path(&args.volume) {
-        return Err(Error::File {
-            path: args.volume.clone(),
-            message: "crease needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)".into(),
-        });
-    }
+    require_image(&args.volume, "crease")?;
     if !(args.strength.is_finite() && (0.0..=1.0).contains(&args.strength)) {
         return Err(Error::Argument(format!(
             "--strength is a fraction of the strongest ridge, from 0 to 1, not {}",
@@ -61,13 +57,7 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
         .collect();
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crease", &args.volume);
-    let in_file = |e: Error| match e {
-        Error::Argument(message) => Error::File {
-            path: args.volume.clone(),
-            message,
-        },
-        other => other.in_file(&args.volume),
-    };
+    let in_file = |e| naming(e, &args.volume);
     let volume = report.stage("read", || read_volume(&args.volume))?;
     let derivatives = report
         .stage("reconstruction", || {
@@ -97,12 +87,6 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
             "no crease surface is as strong as --strength; try a lower --strength",
         );
     }
-    let mut files = OutputSet::default();
-    report.stage("write", || {
-        files.write(&args.output, |p| write_soup(p, &soup))
-    })?;
-    if let Some(path) = &args.report.report {
-        files.write(path, |p| report.write(p))?;
-    }
-    files.commit()
+    args.report
+        .write_with_output(&mut report, &args.output, |p| write_soup(p, &soup))
 }

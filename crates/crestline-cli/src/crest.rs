@@ -4,13 +4,13 @@
 use std::path::PathBuf;
 
 use crestline::crest_lines::{crest_lines, iso_gaussian_lines, parabolic_lines};
-use crestline::io::{is_volume_path, read_volume};
+use crestline::io::read_volume;
 use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
-use crestline::{Error, Result};
+use crestline::Result;
 
 use super::load::report_with_progress;
-use super::outputs::{check_paths, OutputSet};
-use super::surface::default_sigma;
+use super::outputs::check_paths;
+use super::surface::{default_sigma, naming, require_image};
 use super::ReportArg;
 
 /// Which lines to trace.
@@ -73,13 +73,7 @@ pub struct CrestArgs {
 
 /// Trace the lines and write them.
 pub fn run(args: &CrestArgs) -> Result<()> {
-    if !is_volume_path(&args.volume) {
-        return Err(Error::File {
-            path: args.volume.clone(),
-            message: "crest-lines needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)"
-                .into(),
-        });
-    }
+    require_image(&args.volume, "crest-lines")?;
     LineFormat::from_path(&args.output)?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
@@ -93,13 +87,9 @@ pub fn run(args: &CrestArgs) -> Result<()> {
         LineFamily::Parabolic => parabolic_lines(&volume, args.level, sigma),
         LineFamily::Gauss(j) => iso_gaussian_lines(&volume, args.level, sigma, j),
     };
-    let traced = report.stage("marching lines", trace).map_err(|e| match e {
-        Error::Argument(message) => Error::File {
-            path: args.volume.clone(),
-            message,
-        },
-        other => other.in_file(&args.volume),
-    })?;
+    let traced = report
+        .stage("marching lines", trace)
+        .map_err(|e| naming(e, &args.volume))?;
     let mut lines = FeatureLines::new(args.volume.display().to_string());
     lines.lines = traced;
     report.count("traced", lines.len());
@@ -114,12 +104,6 @@ pub fn run(args: &CrestArgs) -> Result<()> {
             "no line is as long and strong as asked; try a lower --min-length or --min-strength",
         );
     }
-    let mut files = OutputSet::default();
-    report.stage("write", || {
-        files.write(&args.output, |p| write_lines(p, &lines))
-    })?;
-    if let Some(path) = &args.report.report {
-        files.write(path, |p| report.write(p))?;
-    }
-    files.commit()
+    args.report
+        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
 }

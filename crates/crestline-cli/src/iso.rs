@@ -4,13 +4,13 @@
 use std::path::PathBuf;
 
 use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
-use crestline::io::{is_volume_path, write_soup};
+use crestline::io::write_soup;
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::{Error, Result};
 
 use super::load::{report_with_progress, StrictArg};
-use super::outputs::{check_paths, OutputSet};
-use super::surface::{load_surface, VolumeArgs};
+use super::outputs::check_paths;
+use super::surface::{load_surface, require_image, VolumeArgs};
 use super::ReportArg;
 
 /// Arguments of `crestline iso`.
@@ -34,12 +34,7 @@ pub struct IsoArgs {
 
 /// Extract the isosurface and write it (with curvature to PLY).
 pub fn run(args: &IsoArgs) -> Result<()> {
-    if !is_volume_path(&args.volume) {
-        return Err(Error::File {
-            path: args.volume.clone(),
-            message: "iso needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)".into(),
-        });
-    }
+    require_image(&args.volume, "iso")?;
     let with_curvature = has_extension(&args.output, "ply");
     if !with_curvature && !has_extension(&args.output, "obj") && !has_extension(&args.output, "vtk")
     {
@@ -62,23 +57,18 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     let mesh = &surface.mesh;
     report.count("euler_characteristic", mesh.euler_characteristic());
     report.count("boundary_loops", mesh.boundary_loops().len());
-    let mut files = OutputSet::default();
-    if with_curvature {
-        let field = report.stage("curvature", || {
-            estimate_curvature(mesh, &*surface.estimator)
-        })?;
-        report.stage("write", || {
-            files.write(&args.output, |p| write_curvature_ply(p, mesh, &field))
-        })?;
-    } else {
-        report.stage("write", || {
-            files.write(&args.output, |p| write_soup(p, &soup(mesh)))
-        })?;
-    }
-    if let Some(path) = &args.report.report {
-        files.write(path, |p| report.write(p))?;
-    }
-    files.commit()
+    let field = with_curvature
+        .then(|| {
+            report.stage("curvature", || {
+                estimate_curvature(mesh, &*surface.estimator)
+            })
+        })
+        .transpose()?;
+    args.report
+        .write_with_output(&mut report, &args.output, |p| match &field {
+            Some(field) => write_curvature_ply(p, mesh, field),
+            None => write_soup(p, &soup(mesh)),
+        })
 }
 
 /// The mesh's positions and triangles.

@@ -71,6 +71,23 @@ impl ReportArg {
     pub fn output(&self) -> Option<Role<'_>> {
         self.report.as_deref().map(|path| ("--report", path))
     }
+
+    /// Write the command's one output file at `output` (the stage `write`) and then
+    /// the report if asked for, both under temporary names renamed together at the
+    /// end.
+    pub fn write_with_output(
+        &self,
+        report: &mut report::Report,
+        output: &std::path::Path,
+        write: impl FnOnce(&std::path::Path) -> crestline::Result<()>,
+    ) -> crestline::Result<()> {
+        let mut files = outputs::OutputSet::default();
+        report.stage("write", || files.write(output, write))?;
+        if let Some(path) = &self.report {
+            files.write(path, |p| report.write(p))?;
+        }
+        files.commit()
+    }
 }
 
 /// Size the global thread pool every parallel stage (and the sparse solver) runs

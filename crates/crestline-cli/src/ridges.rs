@@ -11,7 +11,7 @@ use crestline::{Error, Result};
 
 use super::failure::explain;
 use super::load::{report_with_progress, StrictArg};
-use super::outputs::{check_paths, OutputSet, Role};
+use super::outputs::{check_paths, Role};
 use super::surface::{load_surface, Surface, VolumeArgs};
 use super::ReportArg;
 
@@ -191,12 +191,6 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
     let mut report = report_with_progress("ridges", &args.mesh);
     let surface = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let lines = trace_loaded(&surface, &args.mesh, &args.tracer, &mut report)?;
-    let mut files = OutputSet::default();
-    report.stage("write", || {
-        files.write(&args.output, |p| write_lines(p, &lines))
-    })?;
-    if let Some(path) = &args.report.report {
-        files.write(path, |p| report.write(p))?;
-    }
-    files.commit()
+    args.report
+        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
 }

@@ -167,8 +167,21 @@ pub fn default_sigma(volume: &Volume) -> f64 {
     volume.spacing().into_iter().fold(0.0, f64::max)
 }
 
-/// `err` naming the image it is about.
-fn naming(err: Error, path: &Path) -> Error {
+/// An error unless `path` names a 3D image; `command` is the one that needs it.
+pub fn require_image(path: &Path, command: &str) -> Result<()> {
+    if is_volume_path(path) {
+        Ok(())
+    } else {
+        Err(argument(
+            path,
+            &format!("{command} needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)"),
+        ))
+    }
+}
+
+/// `err` naming the image it is about (its argument errors too: a level or σ
+/// that does not fit the image).
+pub fn naming(err: Error, path: &Path) -> Error {
     match err {
         Error::Argument(message) => argument(path, &message),
         other => other.in_file(path),
