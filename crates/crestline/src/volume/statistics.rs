@@ -54,10 +54,11 @@ impl ValueSummary {
             .iter()
             .map(|&p| (p, percentile(&histogram, p, range.min, width)))
             .collect();
+        let (min, max) = range.bounds();
         ValueSummary {
             non_finite: samples.len() - range.count,
-            min: range.min_or_nan(),
-            max: range.max_or_nan(),
+            min,
+            max,
             mean: range.sum / range.count as f64,
             percentiles,
             otsu: otsu(&histogram, range.min, width),
@@ -110,19 +111,12 @@ impl Range {
         }
     }
 
-    fn min_or_nan(&self) -> f64 {
+    /// `(min, max)`, or NaNs when no sample was counted.
+    fn bounds(&self) -> (f64, f64) {
         if self.count == 0 {
-            f64::NAN
+            (f64::NAN, f64::NAN)
         } else {
-            self.min
-        }
-    }
-
-    fn max_or_nan(&self) -> f64 {
-        if self.count == 0 {
-            f64::NAN
-        } else {
-            self.max
+            (self.min, self.max)
         }
     }
 }

@@ -290,17 +290,17 @@ mod tests {
         }
     }
 
+    /// (b − a) × (c − a).
+    fn triangle_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> crate::Vector {
+        let [a, b, c] = [a, b, c].map(crate::Vector::from);
+        (b - a).cross(&(c - a))
+    }
+
     #[test]
     fn face_cycles_run_counter_clockwise_seen_from_outside() {
         for face in 0..6 {
             let [a, b, c, _] = face_cycle(face).map(corner_point);
-            let u: [f64; 3] = std::array::from_fn(|i| b[i] - a[i]);
-            let v: [f64; 3] = std::array::from_fn(|i| c[i] - a[i]);
-            let normal = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
+            let normal = triangle_normal(a, b, c);
             let (axis, side) = (face / 2, face % 2);
             let outward = if side == 1 { 1.0 } else { -1.0 };
             assert_eq!(normal[axis], outward, "face {face}");
@@ -329,13 +329,7 @@ mod tests {
             let polygons: Vec<&[u8]> = table.polygons(1 << corner, 0).iter().collect();
             assert_eq!(polygons.len(), 1);
             let [a, b, c] = [0, 1, 2].map(|k| edge_midpoint(polygons[0][k]));
-            let u: [f64; 3] = std::array::from_fn(|i| b[i] - a[i]);
-            let v: [f64; 3] = std::array::from_fn(|i| c[i] - a[i]);
-            let normal = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
+            let normal = triangle_normal(a, b, c);
             // The normal points from the inside corner toward the cell centre.
             let p = corner_point(corner);
             let to_centre: f64 = (0..3).map(|i| normal[i] * (0.5 - p[i])).sum();
