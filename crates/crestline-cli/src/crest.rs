@@ -3,9 +3,10 @@
 
 use std::path::PathBuf;
 
-use crestline::crest_lines::{crest_lines, iso_gaussian_lines, parabolic_lines};
+use crestline::crest_lines::{trace, LineFamily, LineTracing};
 use crestline::io::read_volume;
 use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
+use crestline::volume::Sweep;
 use crestline::Result;
 
 use super::load::report_with_progress;
@@ -13,33 +14,17 @@ use super::outputs::check_paths;
 use super::surface::{default_sigma, naming, require_image};
 use super::ReportArg;
 
-/// Which lines to trace.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum LineFamily {
-    /// Ridges (maxima of k_max where k_max > |k_min|: convex crests, gyri) and
-    /// valleys (the mirror case: concave crests, sulci).
-    #[default]
-    Crest,
-    /// Parabolic lines, where the Gaussian curvature is zero.
-    Parabolic,
-    /// Iso-Gaussian curves, where the Gaussian curvature is this value.
-    Gauss(f64),
-}
-
-impl std::str::FromStr for LineFamily {
-    type Err = String;
-
-    fn from_str(text: &str) -> std::result::Result<LineFamily, String> {
-        match text {
-            "crest" => Ok(LineFamily::Crest),
-            "parabolic" => Ok(LineFamily::Parabolic),
-            _ => text
-                .strip_prefix("gauss=")
-                .and_then(|j| j.parse::<f64>().ok())
-                .filter(|j| j.is_finite())
-                .map(LineFamily::Gauss)
-                .ok_or_else(|| format!("'{text}' is not crest, parabolic or gauss=J (J a number)")),
-        }
+/// The `--kind` argument: crest, parabolic or gauss=J.
+fn parse_family(text: &str) -> std::result::Result<LineFamily, String> {
+    match text {
+        "crest" => Ok(LineFamily::Crest),
+        "parabolic" => Ok(LineFamily::Parabolic),
+        _ => text
+            .strip_prefix("gauss=")
+            .and_then(|j| j.parse::<f64>().ok())
+            .filter(|j| j.is_finite())
+            .map(LineFamily::Gauss)
+            .ok_or_else(|| format!("'{text}' is not crest, parabolic or gauss=J (J a number)")),
     }
 }
 
@@ -59,8 +44,21 @@ pub struct CrestArgs {
     pub output: PathBuf,
     /// Which lines: crest (ridges and valleys), parabolic (K = 0) or gauss=J (the
     /// iso-Gaussian curves K = J, J in world units⁻²).
-    #[arg(long, default_value = "crest", value_name = "crest|parabolic|gauss=J")]
+    #[arg(
+        long,
+        default_value = "crest",
+        value_name = "crest|parabolic|gauss=J",
+        value_parser = parse_family
+    )]
     pub kind: LineFamily,
+    /// The randomized Marching Lines: follow only the lines through N cells drawn
+    /// at random on the isosurface; the longest lines come first, at a fraction of
+    /// the cost. Default: every cell, every line.
+    #[arg(long, value_name = "N")]
+    pub seeds: Option<usize>,
+    /// The seed of the random draw of --seeds (the same seed, the same lines).
+    #[arg(long, default_value_t = 1, value_name = "S", requires = "seeds")]
+    pub rng_seed: u64,
     /// Keep lines at least this long, in world units (mm); default three voxels.
     #[arg(long, value_name = "L")]
     pub min_length: Option<f64>,
@@ -82,13 +80,16 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     let mut report = report_with_progress("crest-lines", &args.volume);
     let volume = report.stage("read", || read_volume(&args.volume))?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
-    let trace = || match args.kind {
-        LineFamily::Crest => crest_lines(&volume, args.level, sigma),
-        LineFamily::Parabolic => parabolic_lines(&volume, args.level, sigma),
-        LineFamily::Gauss(j) => iso_gaussian_lines(&volume, args.level, sigma, j),
+    let tracing = LineTracing {
+        family: args.kind,
+        sweep: args.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
+            count,
+            rng_seed: args.rng_seed,
+        }),
+        ..LineTracing::new(args.level, sigma)
     };
     let traced = report
-        .stage("marching lines", trace)
+        .stage("marching lines", || trace(&volume, &tracing))
         .map_err(|e| naming(e, &args.volume))?;
     let mut lines = FeatureLines::new(args.volume.display().to_string());
     lines.lines = traced;

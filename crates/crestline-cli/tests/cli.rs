@@ -821,6 +821,82 @@ fn iso_at_a_level_outside_the_values_says_so() {
     assert!(!surface.exists());
 }
 
+/// The lines of a crest-lines JSON file: kind, length and points.
+fn crest_json(path: &std::path::Path) -> Vec<(String, f64, Vec<[f64; 3]>)> {
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    let line = |l: &serde_json::Value| {
+        let points: Vec<[f64; 3]> = l["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| [0, 1, 2].map(|i| p[i].as_f64().unwrap()))
+            .collect();
+        let mut length: f64 = points
+            .windows(2)
+            .map(|w| {
+                (0..3)
+                    .map(|i| (w[1][i] - w[0][i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .sum();
+        if l["closed"].as_bool().unwrap() {
+            let (a, b) = (points[0], points[points.len() - 1]);
+            length += (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+        }
+        (l["kind"].as_str().unwrap().to_string(), length, points)
+    };
+    json["lines"].as_array().unwrap().iter().map(line).collect()
+}
+
+#[test]
+fn seeded_crest_lines_of_the_brain_are_its_long_lines_longest_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let path = dir.path().join(name);
+        let mut args = vec![
+            "crest-lines",
+            MNI,
+            "--level",
+            "60",
+            "-o",
+            path.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let out = crestline(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        crest_json(&path)
+    };
+    let every = run("every.json", &[]);
+    let seeded = run("seeded.json", &["--seeds", "60", "--rng-seed", "3"]);
+    assert!(!seeded.is_empty() && seeded.len() * 20 < every.len());
+    let first_points: std::collections::HashSet<[u64; 3]> = every
+        .iter()
+        .flat_map(|(_, _, points)| points.iter().map(|p| p.map(f64::to_bits)))
+        .collect();
+    for kind in ["ridge", "valley"] {
+        let lengths: Vec<f64> = seeded.iter().filter(|l| l.0 == kind).map(|l| l.1).collect();
+        assert!(
+            lengths.windows(2).all(|w| w[0] >= w[1]),
+            "{kind}s not longest first"
+        );
+        // A line is hit with a probability that grows with its length: the longest
+        // seeded line is among the longest tenth of all lines.
+        let mut all: Vec<f64> = every.iter().filter(|l| l.0 == kind).map(|l| l.1).collect();
+        all.sort_by(f64::total_cmp);
+        let tenth = all[all.len() * 9 / 10];
+        assert!(
+            lengths[0] > tenth,
+            "{kind}: the longest seeded line {} is shorter than 10% of all lines ({tenth})",
+            lengths[0]
+        );
+    }
+    // Every seeded line is a line of the full sweep, point for point.
+    assert!(seeded.iter().all(|(_, _, points)| points
+        .iter()
+        .all(|p| first_points.contains(&p.map(f64::to_bits)))));
+}
+
 #[test]
 fn crest_lines_of_the_brain_are_gyri_and_sulci() {
     let dir = tempfile::tempdir().unwrap();

@@ -26,18 +26,20 @@
 //!   ([`crate::volume::marching_lines()`]) and are unoriented. Their strength is the
 //!   integral of the curvature magnitude along them (dimensionless).
 //! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
-//!   curvature `K = k_max k_min` at 0, a field with a global sign.
+//!   curvature `K = k_max k_min` at 0, a field with a global sign; iso-Gaussian
+//!   curves ([`iso_gaussian_lines`]) those at another value.
+//! - The curvature is computed only at the corners of the cells the isosurface
+//!   crosses (the others cannot carry a line), on first use; the randomized variant
+//!   ([`Sweep::Seeds`]) computes it only around the lines it follows.
 
-use rayon::prelude::*;
+use std::sync::OnceLock;
 
 use crate::differential::IsoCurvature;
 use crate::lines::{LineKind, Polyline};
-use crate::volume::marching_lines::{
-    bi_iso_lines, cell_corners, marching_lines, BiIsoLine, SecondField,
-};
+use crate::volume::marching_lines::{cell_corners, BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Partial, Volume};
-use crate::{Point, Result, Vector};
+use crate::{Error, Point, Result, Vector};
 
 /// Curvature of the isosurface through one grid point, stored compactly.
 #[derive(Clone, Copy, Debug)]
@@ -61,54 +63,48 @@ impl Frame {
         }
     }
 
-    /// The curvature magnitude that measures a line of kind `kind`: `|k_max|` for a
-    /// ridge, `|k_min|` for a valley, the larger of the two otherwise.
-    fn magnitude(&self, kind: LineKind) -> f64 {
-        let [k_max, k_min] = self.k.map(|k| f64::from(k).abs());
-        match kind {
-            LineKind::Ridge => k_max,
-            LineKind::Valley => k_min,
-            _ => k_max.max(k_min),
-        }
-    }
-
     /// Direction `which` (0: `t_max`, 1: `t_min`).
     fn direction(&self, which: usize) -> Vector {
         Vector::from(self.t[which].map(f64::from))
     }
 }
 
-/// The curvature at every grid point of a volume, `None` where undefined.
-struct Curvatures {
+/// The curvature of the isosurface through each grid point of a volume, computed
+/// on first use (only the corners of the cells a line passes matter), `None` where
+/// undefined.
+struct Curvatures<'d> {
+    derivatives: &'d Derivatives,
     dims: [usize; 3],
-    frames: Vec<Option<Frame>>,
+    frames: Vec<OnceLock<Option<Frame>>>,
     /// `∂index/∂world`, turning gradients along index axes into world gradients.
     world_to_grid: nalgebra::Matrix3<f64>,
 }
 
-impl Curvatures {
-    fn new(derivatives: &Derivatives, volume: &Volume) -> Curvatures {
-        let [nx, ny, nz] = volume.dims();
-        let frames = (0..nx * ny * nz)
-            .into_par_iter()
-            .map(|at| {
-                let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
-                let curvature = derivatives.jet(index)?.isosurface_curvature()?;
-                let frame = Frame::new(&curvature);
-                let finite = frame.k.iter().chain(&frame.e).all(|v| v.is_finite());
-                finite.then_some(frame)
-            })
-            .collect();
+impl<'d> Curvatures<'d> {
+    fn new(derivatives: &'d Derivatives, volume: &Volume) -> Curvatures<'d> {
         Curvatures {
+            derivatives,
             dims: volume.dims(),
-            frames,
+            frames: (0..volume.len()).map(|_| OnceLock::new()).collect(),
             world_to_grid: *volume.world_to_grid(),
         }
     }
 
+    /// The frame at the grid point of linear index `at`.
+    fn frame(&self, at: usize) -> Option<Frame> {
+        *self.frames[at].get_or_init(|| {
+            let [nx, ny, _] = self.dims;
+            let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
+            let curvature = self.derivatives.jet(index)?.isosurface_curvature()?;
+            let frame = Frame::new(&curvature);
+            let finite = frame.k.iter().chain(&frame.e).all(|v| v.is_finite());
+            finite.then_some(frame)
+        })
+    }
+
     /// The frames at the 8 corners of `cell`, or `None` if one is undefined.
     fn corners(&self, cell: [usize; 3]) -> Option<[Frame; 8]> {
-        let frames = cell_corners(self.dims, cell).map(|at| self.frames[at]);
+        let frames = cell_corners(self.dims, cell).map(|at| self.frame(at));
         frames
             .iter()
             .all(Option::is_some)
@@ -120,7 +116,7 @@ impl Curvatures {
 /// Lines, oriented per cell: `e_max` for ridges (maxima of `k_max` along `t_max`),
 /// `e_min` for valleys (minima of `k_min` along `t_min`).
 struct Extremality<'a> {
-    curvatures: &'a Curvatures,
+    curvatures: &'a Curvatures<'a>,
     /// [`LineKind::Ridge`] or [`LineKind::Valley`].
     kind: LineKind,
 }
@@ -193,122 +189,202 @@ impl SecondField for Extremality<'_> {
     }
 }
 
-/// The image smoothed by a Gaussian of standard deviation `sigma` (world units),
-/// and the curvature of its isosurfaces at every grid point.
-fn smoothed_curvatures(volume: &Volume, sigma: f64) -> Result<(Volume, Curvatures)> {
-    let derivatives = Derivatives::new(volume, sigma, 3)?;
+/// The Gaussian curvature `K = k_max k_min` of the isosurfaces, as the second field
+/// of the Marching Lines.
+struct GaussianCurvature<'a> {
+    curvatures: &'a Curvatures<'a>,
+}
+
+impl SecondField for GaussianCurvature<'_> {
+    fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
+        let frames = self.curvatures.corners(cell)?;
+        Some(frames.map(|f| f64::from(f.k[0]) * f64::from(f.k[1])))
+    }
+}
+
+/// Which lines of an isosurface to trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum LineFamily {
+    /// Crest lines: ridges (maxima of `k_max` along `t_max` where `k_max > |k_min|`:
+    /// convex crests, gyri) and valleys (the mirror case: concave crests, sulci).
+    #[default]
+    Crest,
+    /// Parabolic lines, where the Gaussian curvature is zero.
+    Parabolic,
+    /// Iso-Gaussian curves, where the Gaussian curvature is this value (world
+    /// units⁻²).
+    Gauss(f64),
+}
+
+/// What [`trace`] traces, and how.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineTracing {
+    /// The isosurface level `I`; inside is `f ≥ I`.
+    pub level: f64,
+    /// The standard deviation of the Gaussian smoothing, in world units.
+    pub sigma: f64,
+    /// Which lines.
+    pub family: LineFamily,
+    /// Every cell, or the randomized variant from seed cells.
+    pub sweep: Sweep,
+}
+
+impl LineTracing {
+    /// The crest lines of the isosurface `level` of the image smoothed by `sigma`,
+    /// visiting every cell.
+    pub fn new(level: f64, sigma: f64) -> LineTracing {
+        LineTracing {
+            level,
+            sigma,
+            family: LineFamily::Crest,
+            sweep: Sweep::Every,
+        }
+    }
+}
+
+/// The lines of `tracing.family` on the isosurface `f = level` of `volume`
+/// smoothed by a Gaussian of standard deviation `sigma` (Thirion & Gourdon 1993 §5;
+/// see the [module documentation](self)), as polylines in world coordinates with
+/// the curvatures `k_max` and `k_min` at each point (named values).
+///
+/// - [`LineFamily::Crest`]: unoriented lines of kind [`LineKind::Ridge`] and
+///   [`LineKind::Valley`], with the integral of `|k_max|` (ridges) or `|k_min|`
+///   (valleys) along them as strength.
+/// - [`LineFamily::Parabolic`] and [`LineFamily::Gauss`]: the bi-iso-lines of the
+///   Gaussian curvature `K = k_max k_min` at 0 or `J`, of kind
+///   [`LineKind::Parabolic`] (`J = 0`) or [`LineKind::Gauss`], oriented by the
+///   bi-iso-line convention (`K ≥ J` on the left seen from `f < level`), with the
+///   integral of the larger curvature magnitude as strength. `K` is undefined (and
+///   the lines end) where the gradient vanishes.
+///
+/// With [`Sweep::Seeds`] only the lines through the seed cells are traced, longest
+/// first (ridges and valleys each from the same number of seeds).
+///
+/// Errors as [`Derivatives::new`] (σ, direction matrix) and
+/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions),
+/// and for a non-finite `J`.
+pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
+    if let LineFamily::Gauss(j) = tracing.family {
+        if !j.is_finite() {
+            return Err(Error::Argument(format!(
+                "the Gaussian curvature {j} of the iso-Gaussian curves is not finite"
+            )));
+        }
+    }
+    let derivatives = Derivatives::new(volume, tracing.sigma, 3)?;
     let smoothed = derivatives
         .grid(Partial::new([0, 0, 0])?)
         .expect("order 0 is computed");
     let smoothed = volume.with_samples(smoothed.to_vec())?;
-    Ok((smoothed, Curvatures::new(&derivatives, volume)))
+    let curvatures = Curvatures::new(&derivatives, volume);
+    let (level, sweep) = (tracing.level, tracing.sweep);
+    let polylines = |lines: Vec<BiIsoLine>, kind| -> Vec<Polyline> {
+        let polyline = |line| polyline(line, kind, &curvatures, volume);
+        lines.iter().map(polyline).collect()
+    };
+    let gauss = match tracing.family {
+        LineFamily::Crest => {
+            let mut crests = Vec::new();
+            for kind in [LineKind::Ridge, LineKind::Valley] {
+                let field = Extremality {
+                    curvatures: &curvatures,
+                    kind,
+                };
+                crests.extend(polylines(sweep.lines(&smoothed, level, &field, 0.0)?, kind));
+            }
+            return Ok(crests);
+        }
+        LineFamily::Parabolic => 0.0,
+        LineFamily::Gauss(j) => j,
+    };
+    let kind = if gauss == 0.0 {
+        LineKind::Parabolic
+    } else {
+        LineKind::Gauss
+    };
+    let field = GaussianCurvature {
+        curvatures: &curvatures,
+    };
+    Ok(polylines(
+        sweep.lines(&smoothed, level, &field, gauss)?,
+        kind,
+    ))
 }
 
 /// The crest lines (ridges, then valleys) of the isosurface `f = level` of
-/// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units
-/// (Thirion & Gourdon 1993 §5; see the [module documentation](self)), as
-/// unoriented polylines of kind [`LineKind::Ridge`] and [`LineKind::Valley`] in
-/// world coordinates, with the integral of `|k_max|` (ridges) or `|k_min|`
-/// (valleys) along them as strength.
-///
-/// Errors as [`Derivatives::new`] (σ, direction matrix) and
-/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions).
+/// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units,
+/// every cell visited: [`trace`] with [`LineTracing::new`].
 pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
-    let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
-    let mut polylines = Vec::new();
-    for kind in [LineKind::Ridge, LineKind::Valley] {
-        let field = Extremality {
-            curvatures: &curvatures,
-            kind,
-        };
-        let lines = marching_lines(&smoothed, level, &field, 0.0)?;
-        let polyline = |line| polyline(line, kind, &curvatures, volume);
-        polylines.extend(lines.iter().map(polyline));
-    }
-    Ok(polylines)
+    trace(volume, &LineTracing::new(level, sigma))
 }
 
-/// The parabolic lines of the isosurface `f = level` of `volume` smoothed by a
-/// Gaussian of standard deviation `sigma` in world units: the bi-iso-lines of the
-/// Gaussian curvature `K = k_max k_min` at `K = 0` (Thirion & Gourdon 1993 §5),
-/// oriented by the bi-iso-line convention (`K ≥ 0` on the left seen from
-/// `f < level`), of kind [`LineKind::Parabolic`], with the integral of the larger
-/// curvature magnitude along them as strength. `K` is undefined (and the lines
-/// end) where the gradient vanishes.
-///
-/// Errors as [`crest_lines`].
+/// The parabolic lines (`K = 0`) of the isosurface `f = level` of `volume`
+/// smoothed by `sigma`: [`trace`] with [`LineFamily::Parabolic`].
 pub fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
     iso_gaussian_lines(volume, level, sigma, 0.0)
 }
 
-/// The iso-Gaussian curves `K = gauss` of the isosurface `f = level` (Thirion &
-/// Gourdon 1993 §5), as [`parabolic_lines`] (which are the case `gauss = 0`) but of
-/// kind [`LineKind::Contour`] for `gauss ≠ 0`. `gauss` has the units of a
-/// curvature squared (world units⁻²).
-///
-/// Errors as [`crest_lines`], and for a non-finite `gauss`.
+/// The iso-Gaussian curves `K = gauss` of the isosurface `f = level` of `volume`
+/// smoothed by `sigma`: [`trace`] with [`LineFamily::Gauss`] (of kind
+/// [`LineKind::Parabolic`] for `gauss = 0`). `gauss` has the units of a curvature
+/// squared (world units⁻²).
 pub fn iso_gaussian_lines(
     volume: &Volume,
     level: f64,
     sigma: f64,
     gauss: f64,
 ) -> Result<Vec<Polyline>> {
-    let (smoothed, curvatures) = smoothed_curvatures(volume, sigma)?;
-    let values: Vec<f32> = curvatures
-        .frames
-        .iter()
-        .map(|frame| frame.map_or(f32::NAN, |f| f.k[0] * f.k[1]))
-        .collect();
-    let lines = bi_iso_lines(&smoothed, level, &values, gauss)?;
-    let kind = if gauss == 0.0 {
-        LineKind::Parabolic
-    } else {
-        LineKind::Contour
+    let tracing = LineTracing {
+        family: LineFamily::Gauss(gauss),
+        ..LineTracing::new(level, sigma)
     };
-    let polyline = |line| polyline(line, kind, &curvatures, volume);
-    Ok(lines.iter().map(polyline).collect())
+    trace(volume, &tracing)
 }
 
-/// A line as a [`Polyline`] of kind `kind`, its strength the integral along it of
-/// the curvature magnitude [`Frame::magnitude`] (trapezoid rule, interpolated
-/// trilinearly).
+/// A line as a [`Polyline`] of kind `kind`, with `k_max` and `k_min` at each point
+/// (interpolated trilinearly; 0 next to a corner where they are undefined) and its
+/// strength the integral along it (trapezoid rule) of the curvature magnitude that
+/// measures the kind: `|k_max|` for a ridge, `|k_min|` for a valley, the larger of
+/// the two otherwise.
 fn polyline(
     line: &BiIsoLine,
     kind: LineKind,
     curvatures: &Curvatures,
     volume: &Volume,
 ) -> Polyline {
-    let k: Vec<f64> = line
+    let k: Vec<[f64; 2]> = line
         .points
         .iter()
-        .map(|p| interpolated(curvatures, volume, p, |f| f.magnitude(kind)))
+        .map(|p| interpolated(curvatures, volume, p))
         .collect();
+    let magnitude = |[k_max, k_min]: [f64; 2]| match kind {
+        LineKind::Ridge => k_max.abs(),
+        LineKind::Valley => k_min.abs(),
+        _ => k_max.abs().max(k_min.abs()),
+    };
     let n = line.points.len();
     let pieces = if line.closed { n } else { n.saturating_sub(1) };
     let strength = (0..pieces)
         .map(|i| {
             let j = (i + 1) % n;
-            0.5 * (k[i] + k[j]) * (line.points[j] - line.points[i]).norm()
+            0.5 * (magnitude(k[i]) + magnitude(k[j])) * (line.points[j] - line.points[i]).norm()
         })
         .sum();
     Polyline::new(kind, line.closed, strength, line.points.clone())
+        .with_values("k_max", k.iter().map(|k| k[0]).collect())
+        .with_values("k_min", k.iter().map(|k| k[1]).collect())
 }
 
-/// `value` of the frames at world point `p`, interpolated trilinearly in its cell
-/// (0 if a corner is undefined).
-fn interpolated(
-    curvatures: &Curvatures,
-    volume: &Volume,
-    p: &Point,
-    value: impl Fn(&Frame) -> f64,
-) -> f64 {
+/// `k_max`, `k_min` at world point `p`, interpolated trilinearly in its cell (0 if
+/// a corner is undefined).
+fn interpolated(curvatures: &Curvatures, volume: &Volume, p: &Point) -> [f64; 2] {
     let index = volume.world_to_index(p);
     let dims = curvatures.dims;
     let cell: [usize; 3] =
         std::array::from_fn(|a| (index[a].floor().max(0.0) as usize).min(dims[a] - 2));
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
     let weights = weights(local);
-    curvatures.corners(cell).map_or(0.0, |frames| {
-        (0..8).map(|c| value(&frames[c]) * weights[c]).sum()
+    curvatures.corners(cell).map_or([0.0; 2], |frames| {
+        [0, 1].map(|n| (0..8).map(|c| f64::from(frames[c].k[n]) * weights[c]).sum())
     })
 }

@@ -109,7 +109,8 @@ fn kinds_have_stable_names_and_codes() {
             "contour",
             "border",
             "crease",
-            "suggestive"
+            "suggestive",
+            "gauss"
         ]
     );
     for (code, kind) in LineKind::ALL.iter().enumerate() {

@@ -6,9 +6,13 @@
 
 use std::f64::consts::PI;
 
-use crestline::crest_lines::{crest_lines, iso_gaussian_lines, parabolic_lines};
+use crestline::crest_lines::{
+    crest_lines, iso_gaussian_lines, parabolic_lines, trace, LineFamily, LineTracing,
+};
 use crestline::lines::LineKind;
-use crestline::volume::{bi_iso_lines, BiIsoLine, Volume};
+use crestline::volume::{
+    bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField, Sweep, Volume,
+};
 use crestline::Point;
 use nalgebra::Matrix3;
 
@@ -390,7 +394,16 @@ fn the_iso_gaussian_curves_of_a_torus_are_circles_of_one_latitude() {
     assert_eq!(lines.len(), 2);
     for line in &lines {
         assert!(line.closed);
-        assert_eq!(line.kind, LineKind::Contour);
+        assert_eq!(line.kind, LineKind::Gauss);
+        // The curvatures each point carries give K = J there.
+        let (k_max, k_min) = (&line.values["k_max"], &line.values["k_min"]);
+        assert_eq!(k_max.len(), line.points.len());
+        let worst = k_max
+            .iter()
+            .zip(k_min)
+            .map(|(a, b)| (a * b - gauss).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 0.1 * gauss, "K differs from J by {worst}");
         let n = line.points.len() as f64;
         let r = line.points.iter().map(|p| p.x.hypot(p.y)).sum::<f64>() / n;
         let z = line.points.iter().map(|p| p.z.abs()).sum::<f64>() / n;
@@ -458,4 +471,95 @@ fn bi_iso_lines_of_random_fields_end_only_at_the_border_and_cross_each_face_once
         lines_seen > 20,
         "{lines_seen} lines: the fields are too tame to test anything"
     );
+}
+
+/// The points of a line as a set of keys, for comparing lines whatever their start
+/// and direction.
+fn key_set(line: &BiIsoLine) -> std::collections::BTreeSet<[u64; 2]> {
+    line.keys.iter().copied().collect()
+}
+
+#[test]
+fn seeded_lines_are_whole_lines_of_the_full_sweep_longest_first() {
+    let dims = [22, 20, 18];
+    let mut longest_found = 0;
+    for seed in 1..=6 {
+        let f = centred(dims, random_smooth(seed));
+        let g_volume = centred(dims, random_smooth(seed + 100));
+        let g = SampledField::new(&f, g_volume.samples()).unwrap();
+        let every = bi_iso_lines(&f, 0.0, g_volume.samples(), 0.0).unwrap();
+        let seeded = seeded_marching_lines(&f, 0.0, &g, 0.0, 150, seed).unwrap();
+        assert!(!seeded.is_empty(), "seed {seed}: 150 seeds found nothing");
+        for line in &seeded {
+            let twin = every.iter().find(|l| key_set(l) == key_set(line));
+            let twin = twin.unwrap_or_else(|| panic!("seed {seed}: a line not in the full sweep"));
+            assert_eq!(twin.closed, line.closed);
+            assert_eq!(twin.points.len(), line.points.len());
+            assert!((length(twin) - length(line)).abs() < 1e-9);
+        }
+        let lengths: Vec<f64> = seeded.iter().map(length).collect();
+        assert!(
+            lengths.windows(2).all(|w| w[0] >= w[1]),
+            "not longest first"
+        );
+        let distinct: std::collections::BTreeSet<_> = seeded.iter().map(key_set).collect();
+        assert_eq!(
+            distinct.len(),
+            seeded.len(),
+            "seed {seed}: a line found twice"
+        );
+        let longest = every.iter().map(length).fold(0.0, f64::max);
+        longest_found += usize::from(lengths[0] == longest);
+        // The same seed draws the same cells.
+        assert_eq!(
+            seeded,
+            seeded_marching_lines(&f, 0.0, &g, 0.0, 150, seed).unwrap()
+        );
+    }
+    // A line is found with a probability that grows with its length: the longest
+    // line of the full sweep is among the first found in most fields.
+    assert!(
+        longest_found >= 5,
+        "the longest line found in {longest_found} of 6 fields"
+    );
+}
+
+#[test]
+fn a_few_seeds_find_the_crest_of_an_ellipsoid() {
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));
+    let volume = centred([48, 38, 30], ellipsoid);
+    let tracing = LineTracing {
+        sweep: Sweep::Seeds {
+            count: 100,
+            rng_seed: 7,
+        },
+        ..LineTracing::new(-1.0, 1.5)
+    };
+    let seeded = trace(&volume, &tracing).unwrap();
+    let every = crest_lines(&volume, -1.0, 1.5).unwrap();
+    // The single ridge loop, point for point (from another start).
+    assert_eq!((seeded.len(), every.len()), (1, 1));
+    let (line, full) = (&seeded[0], &every[0]);
+    assert_eq!((line.kind, line.closed), (full.kind, full.closed));
+    assert_eq!(line.points.len(), full.points.len());
+    assert!(line.points.iter().all(|p| full.points.contains(p)));
+    assert!((line.strength - full.strength).abs() < 1e-9 * full.strength);
+    // Each point carries the curvatures of the isosurface; on the ridge k_max is the
+    // larger in magnitude, as the kind says.
+    assert!(line.values["k_max"]
+        .iter()
+        .zip(&line.values["k_min"])
+        .all(|(k_max, k_min)| *k_max > k_min.abs()));
+}
+
+#[test]
+fn a_non_finite_gaussian_curvature_is_an_error() {
+    let volume = centred([8, 8, 8], ball(2.5));
+    let tracing = LineTracing {
+        family: LineFamily::Gauss(f64::NAN),
+        ..LineTracing::new(0.0, 1.0)
+    };
+    let error = trace(&volume, &tracing).unwrap_err().to_string();
+    assert!(error.contains("not finite"), "{error}");
 }

@@ -96,6 +96,7 @@ impl Default for Style {
             LineKind::Border => stroke("#474747", 1.3),
             LineKind::Crease => stroke("#5d4030", 1.2),
             LineKind::Suggestive => stroke("#8c8c8c", 0.9),
+            LineKind::Gauss => stroke("#b9770e", 1.2),
         });
         Style {
             background: Some("#ffffff".to_string()),

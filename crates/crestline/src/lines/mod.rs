@@ -78,11 +78,14 @@ pub enum LineKind {
     /// Code 10: a suggestive contour seen from a camera, where the radial curvature
     /// is zero and increasing towards the viewer (DeCarlo et al. 2003).
     Suggestive,
+    /// Code 11: an iso-Gaussian curve of an isosurface, where its Gaussian curvature
+    /// has a given nonzero value (Thirion & Gourdon 1993).
+    Gauss,
 }
 
 impl LineKind {
     /// Every kind, in the order of their codes.
-    pub const ALL: [LineKind; 11] = [
+    pub const ALL: [LineKind; 12] = [
         LineKind::Ridge,
         LineKind::Valley,
         LineKind::Ascending,
@@ -94,6 +97,7 @@ impl LineKind {
         LineKind::Border,
         LineKind::Crease,
         LineKind::Suggestive,
+        LineKind::Gauss,
     ];
 
     /// The lowercase name, as written in JSON and in file comments.
@@ -110,6 +114,7 @@ impl LineKind {
             LineKind::Border => "border",
             LineKind::Crease => "crease",
             LineKind::Suggestive => "suggestive",
+            LineKind::Gauss => "gauss",
         }
     }
 

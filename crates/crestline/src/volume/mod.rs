@@ -34,7 +34,10 @@ pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial, Smoothing};
 pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub use jet::{Jet, ThirdOrder};
-pub use marching_lines::{bi_iso_lines, marching_lines, BiIsoLine, SampledField, SecondField};
+pub use marching_lines::{
+    bi_iso_lines, marching_lines, seeded_marching_lines, BiIsoLine, SampledField, SecondField,
+    Sweep,
+};
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
 use crate::{Error, Point, Result, Vector};

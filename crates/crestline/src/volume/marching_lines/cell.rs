@@ -119,7 +119,7 @@ fn cell_segments(cell: &Cell, level: f64, g_level: f64) -> Vec<[Labelled; 2]> {
 }
 
 /// Whether the isosurface crosses a cell with these corner values of `f`.
-fn crossed(f: &[f64; 8], level: f64) -> bool {
+pub(super) fn crossed(f: &[f64; 8], level: f64) -> bool {
     let inside = f.iter().filter(|&&v| v >= level).count();
     inside != 0 && inside != 8
 }
@@ -128,7 +128,7 @@ fn crossed(f: &[f64; 8], level: f64) -> bool {
 /// each running with `g ≥ J` on its left seen from `f < I` (reversed on a
 /// mirrored grid, where the polygons' winding in index space is reversed in the
 /// world).
-fn push_cell(
+pub(super) fn push_cell(
     volume: &Volume,
     (level, g_level): (f64, f64),
     field: &impl SecondField,

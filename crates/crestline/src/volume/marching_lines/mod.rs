@@ -37,9 +37,13 @@
 //!
 //! Points are in world coordinates. Cells are processed in parallel over slabs of
 //! z layers of fixed size, so the result does not depend on the number of threads.
+//!
+//! The randomized variant of the paper ([`seeded_marching_lines`]) visits only the
+//! cells of the lines through a few random seed cells, longest lines first.
 
 mod cell;
 mod chain;
+mod seeded;
 
 use rayon::prelude::*;
 
@@ -47,6 +51,8 @@ use crate::volume::isosurface::cell::corner_offset;
 use crate::volume::isosurface::check_input;
 use crate::volume::Volume;
 use crate::{Error, Point, Result};
+
+pub use seeded::seeded_marching_lines;
 
 /// Names a point of a bi-iso-line: the polygon edge of the isosurface it lies on,
 /// as the keys `3·point + axis` of the two grid edges that carry the edge's ends,
@@ -167,12 +173,7 @@ pub fn marching_lines(
     field: &impl SecondField,
     g_level: f64,
 ) -> Result<Vec<BiIsoLine>> {
-    check_input(volume, level)?;
-    if !g_level.is_finite() {
-        return Err(Error::Argument(format!(
-            "the level {g_level} of the second field is not finite"
-        )));
-    }
+    check_levels(volume, level, g_level)?;
     let layers = volume.dims()[2] - 1;
     let slabs: Vec<Vec<Segment>> = (0..layers)
         .into_par_iter()
@@ -183,4 +184,52 @@ pub fn marching_lines(
         })
         .collect();
     Ok(chain::chain(&slabs.concat()))
+}
+
+/// Which cells the Marching Lines visit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sweep {
+    /// Every cell ([`marching_lines`]): every line, in a deterministic order.
+    #[default]
+    Every,
+    /// `count` cells drawn at random among those the isosurface crosses, with a
+    /// generator seeded by `rng_seed`, and the lines through them followed from
+    /// cell to cell ([`seeded_marching_lines`]): the longer lines, longest first.
+    Seeds {
+        /// How many cells to draw.
+        count: usize,
+        /// The seed of the random generator (the same seed gives the same lines).
+        rng_seed: u64,
+    },
+}
+
+impl Sweep {
+    /// The lines of `f = level` and `g = g_level` ([`marching_lines`] arguments)
+    /// found by this sweep.
+    pub fn lines(
+        self,
+        volume: &Volume,
+        level: f64,
+        field: &impl SecondField,
+        g_level: f64,
+    ) -> Result<Vec<BiIsoLine>> {
+        match self {
+            Sweep::Every => marching_lines(volume, level, field, g_level),
+            Sweep::Seeds { count, rng_seed } => {
+                seeded_marching_lines(volume, level, field, g_level, count, rng_seed)
+            }
+        }
+    }
+}
+
+/// The checks of [`marching_lines`]: the volume and `level` as for an isosurface,
+/// and a finite `g_level`.
+fn check_levels(volume: &Volume, level: f64, g_level: f64) -> Result<()> {
+    check_input(volume, level)?;
+    if !g_level.is_finite() {
+        return Err(Error::Argument(format!(
+            "the level {g_level} of the second field is not finite"
+        )));
+    }
+    Ok(())
 }
