@@ -1,18 +1,19 @@
 //! `crestline crest-lines`: crest lines (and parabolic lines) of the isosurfaces of
 //! a 3D image, by the Marching Lines algorithm (Thirion & Gourdon 1993).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crestline::crest_lines::{trace, LineFamily, LineTracing};
 use crestline::io::read_volume;
 use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
-use crestline::volume::Sweep;
+use crestline::volume::{Sweep, Volume};
 use crestline::Result;
 
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::surface::{default_sigma, naming, require_image};
 use super::ReportArg;
+use crate::report::Report;
 
 /// The `--kind` argument: crest, parabolic or gauss=J.
 fn parse_family(text: &str) -> std::result::Result<LineFamily, String> {
@@ -88,23 +89,39 @@ pub fn run(args: &CrestArgs) -> Result<()> {
         }),
         ..LineTracing::new(args.level, sigma)
     };
+    let filters = (args.min_length, args.min_strength);
+    let lines = trace_image_lines(&volume, &args.volume, &tracing, filters, &mut report)?;
+    args.report
+        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
+}
+
+/// The lines `tracing` asks for in `volume` (read from `path`), at least
+/// `min_length` long (default three voxels) and `min_strength` strong, with the
+/// stage "marching lines" and the counts in `report`, and a warning if none is
+/// left.
+pub fn trace_image_lines(
+    volume: &Volume,
+    path: &Path,
+    tracing: &LineTracing,
+    (min_length, min_strength): (Option<f64>, f64),
+    report: &mut Report,
+) -> Result<FeatureLines> {
     let traced = report
-        .stage("marching lines", || trace(&volume, &tracing))
-        .map_err(|e| naming(e, &args.volume))?;
-    let mut lines = FeatureLines::new(args.volume.display().to_string());
+        .stage("marching lines", || trace(volume, tracing))
+        .map_err(|e| naming(e, path))?;
+    let mut lines = FeatureLines::new(path.display().to_string());
     lines.lines = traced;
     report.count("traced", lines.len());
     lines.filter(&MinLength(
-        args.min_length.unwrap_or(3.0 * default_sigma(&volume)),
+        min_length.unwrap_or(3.0 * default_sigma(volume)),
     ));
-    lines.filter(&MinStrength(args.min_strength));
+    lines.filter(&MinStrength(min_strength));
     report.count("lines", lines.len());
     if lines.is_empty() {
         super::warn(
-            &args.volume,
+            path,
             "no line is as long and strong as asked; try a lower --min-length or --min-strength",
         );
     }
-    args.report
-        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
+    Ok(lines)
 }

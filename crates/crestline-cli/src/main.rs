@@ -9,6 +9,7 @@ mod draw;
 mod failure;
 mod info;
 mod iso;
+mod landmarks;
 mod load;
 mod morse;
 mod outputs;
@@ -51,6 +52,9 @@ enum Command {
     CrestLines(crest::CrestArgs),
     /// Trace ridge and valley lines (extremality tracing, Hildebrandt et al. 2005).
     Ridges(ridges::RidgesArgs),
+    /// Anatomical landmarks from crest lines (extremal points, curvature maxima, line ends)
+    /// as 3D Slicer markups, JSON or CSV.
+    Landmarks(Box<landmarks::LandmarksArgs>),
     /// Draw feature lines and silhouettes with hidden lines removed, as SVG (and PNG).
     // Boxed: its arguments are by far the largest.
     Draw(Box<draw::DrawArgs>),
@@ -119,6 +123,7 @@ fn main() -> ExitCode {
         Command::Iso(args) => iso::run(&args),
         Command::Crease(args) => crease::run(&args),
         Command::CrestLines(args) => crest::run(&args),
+        Command::Landmarks(args) => landmarks::run(&args),
         Command::Ridges(args) => ridges::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),

@@ -96,6 +96,16 @@ pub fn load_surface(
     })
 }
 
+/// `--level`, which the image at `path` needs.
+pub fn required_level(path: &Path, args: &VolumeArgs) -> Result<f64> {
+    args.level.ok_or_else(|| {
+        argument(
+            path,
+            "a 3D image needs --level I for its isosurface (`crestline info` on the image suggests one)",
+        )
+    })
+}
+
 /// The isosurface of the image at `path` and its curvature, with the stages
 /// `read`, `smoothing` and `isosurface` in `report`.
 fn image_surface(
@@ -104,12 +114,7 @@ fn image_surface(
     estimator: Estimator,
     report: &mut Report,
 ) -> Result<Surface> {
-    let level = args.level.ok_or_else(|| {
-        argument(
-            path,
-            "a 3D image needs --level I for its isosurface (`crestline info` on the image suggests one)",
-        )
-    })?;
+    let level = required_level(path, args)?;
     let mut volume = report.stage("read", || read_volume(path))?;
     replace_non_finite(path, &mut volume)?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));

@@ -821,6 +821,85 @@ fn iso_at_a_level_outside_the_values_says_so() {
     assert!(!surface.exists());
 }
 
+#[test]
+fn landmarks_of_the_brain_land_on_it_in_slicer_coordinates() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, slicer) = (
+        dir.path().join("brain.json"),
+        dir.path().join("brain.mrk.json"),
+    );
+    for path in [&json, &slicer] {
+        let out = crestline(&[
+            "landmarks",
+            MNI,
+            "--level",
+            "60",
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(json["space"], "RAS");
+    let points = json["points"].as_array().unwrap();
+    let count = |kind: &str| points.iter().filter(|p| p["kind"] == kind).count();
+    assert!(count("extremal") > 100 && count("curvature_maximum") > 100 && count("end") > 100);
+    // The same points in the Slicer file, in LPS: x and y negated.
+    let slicer: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&slicer).unwrap()).unwrap();
+    let fiducials = slicer["markups"][0]["controlPoints"].as_array().unwrap();
+    assert_eq!(fiducials.len(), points.len());
+    for (lps, ras) in fiducials.iter().zip(points) {
+        let [x, y, z] = [0, 1, 2].map(|i| ras["position"][i].as_f64().unwrap());
+        assert_eq!(lps["position"], serde_json::json!([-x, -y, z]));
+        // On the brain: within the template's world box (RAS).
+        assert!(
+            (-98.0..=98.0).contains(&x)
+                && (-134.0..=98.0).contains(&y)
+                && (-72.0..=116.0).contains(&z)
+        );
+    }
+    let curves = slicer["markups"].as_array().unwrap().len() - 1;
+    assert_eq!(curves, json["lines"].as_array().unwrap().len());
+}
+
+#[test]
+fn landmarks_of_a_mesh_need_a_known_format_and_sane_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_path = dir.path().join("bunny.csv");
+    let out = crestline(&[
+        "landmarks",
+        "meshes/bunny.obj",
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    assert!(text.starts_with("id,kind,x,y,z,curvature,line\n") && text.lines().count() > 50);
+    let bad = crestline(&[
+        "landmarks",
+        "meshes/bunny.obj",
+        "-o",
+        dir.path().join("b.txt").to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success() && stderr(&bad).contains(".mrk.json"));
+    let bad = crestline(&[
+        "landmarks",
+        "meshes/bunny.obj",
+        "--radius",
+        "0",
+        "-o",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(
+        !bad.status.success() && stderr(&bad).contains("finite and positive"),
+        "{}",
+        stderr(&bad)
+    );
+    // The failed run left the earlier output as it was.
+    assert_eq!(std::fs::read_to_string(&out_path).unwrap(), text);
+}
+
 /// The lines of a crest-lines JSON file: kind, length and points.
 fn crest_json(path: &std::path::Path) -> Vec<(String, f64, Vec<[f64; 3]>)> {
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();

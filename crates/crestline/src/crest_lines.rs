@@ -35,6 +35,7 @@
 use std::sync::OnceLock;
 
 use crate::differential::IsoCurvature;
+use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::{LineKind, Polyline};
 use crate::volume::marching_lines::{cell_corners, BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
@@ -341,22 +342,46 @@ pub fn iso_gaussian_lines(
     trace(volume, &tracing)
 }
 
-/// A line as a [`Polyline`] of kind `kind`, with `k_max` and `k_min` at each point
-/// (interpolated trilinearly; 0 next to a corner where they are undefined) and its
-/// strength the integral along it (trapezoid rule) of the curvature magnitude that
-/// measures the kind: `|k_max|` for a ridge, `|k_min|` for a valley, the larger of
-/// the two otherwise.
+/// A line as a [`Polyline`] of kind `kind`, with at each point `k_max` and `k_min`
+/// (interpolated trilinearly; 0 next to a corner where they are undefined) and
+/// `e_max`, `e_min` read along the line with the principal directions' signs
+/// carried from point to point ([`along_line`]: only their signs along the line
+/// mean something; the zero crossings of the other extremality on a crest line
+/// are Thirion's extremal points). Its strength is the integral along it
+/// (trapezoid rule) of the curvature magnitude that measures the kind: `|k_max|`
+/// for a ridge, `|k_min|` for a valley, the larger of the two otherwise.
 fn polyline(
     line: &BiIsoLine,
     kind: LineKind,
     curvatures: &Curvatures,
     volume: &Volume,
 ) -> Polyline {
-    let k: Vec<[f64; 2]> = line
+    let corners: Vec<Option<([Frame; 8], [f64; 8])>> = line
         .points
         .iter()
-        .map(|p| interpolated(curvatures, volume, p))
+        .map(|p| corner_frames(curvatures, volume, p))
         .collect();
+    let k: Vec<[f64; 2]> = corners
+        .iter()
+        .map(|corners| {
+            corners.map_or([0.0; 2], |(frames, weights)| {
+                [0, 1].map(|n| (0..8).map(|c| f64::from(frames[c].k[n]) * weights[c]).sum())
+            })
+        })
+        .collect();
+    let extremality = |n: usize| {
+        along_line(corners.iter().map(|corners| {
+            corners.map_or(Vec::new(), |(frames, weights)| {
+                (0..8)
+                    .map(|c| DirectedSample {
+                        weight: weights[c],
+                        value: f64::from(frames[c].e[n]),
+                        direction: frames[c].direction(n),
+                    })
+                    .collect()
+            })
+        }))
+    };
     let magnitude = |[k_max, k_min]: [f64; 2]| match kind {
         LineKind::Ridge => k_max.abs(),
         LineKind::Valley => k_min.abs(),
@@ -373,18 +398,21 @@ fn polyline(
     Polyline::new(kind, line.closed, strength, line.points.clone())
         .with_values("k_max", k.iter().map(|k| k[0]).collect())
         .with_values("k_min", k.iter().map(|k| k[1]).collect())
+        .with_values("e_max", extremality(0))
+        .with_values("e_min", extremality(1))
 }
 
-/// `k_max`, `k_min` at world point `p`, interpolated trilinearly in its cell (0 if
-/// a corner is undefined).
-fn interpolated(curvatures: &Curvatures, volume: &Volume, p: &Point) -> [f64; 2] {
+/// The frames at the corners of the cell holding world point `p` and their
+/// trilinear weights at `p`, `None` if a corner is undefined.
+fn corner_frames(
+    curvatures: &Curvatures,
+    volume: &Volume,
+    p: &Point,
+) -> Option<([Frame; 8], [f64; 8])> {
     let index = volume.world_to_index(p);
     let dims = curvatures.dims;
     let cell: [usize; 3] =
         std::array::from_fn(|a| (index[a].floor().max(0.0) as usize).min(dims[a] - 2));
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
-    let weights = weights(local);
-    curvatures.corners(cell).map_or([0.0; 2], |frames| {
-        [0, 1].map(|n| (0..8).map(|c| f64::from(frames[c].k[n]) * weights[c]).sum())
-    })
+    Some((curvatures.corners(cell)?, weights(local)))
 }

@@ -23,6 +23,7 @@ mod indexing;
 mod json;
 mod location;
 mod obj;
+pub mod oriented;
 mod pipeline;
 mod ply;
 pub mod surface_fair;

@@ -27,6 +27,14 @@ impl Principal {
         }
     }
 
+    /// The name of this field's extremality as a per-point value of a line.
+    pub fn extremality_name(self) -> &'static str {
+        match self {
+            Principal::Max => "e_max",
+            Principal::Min => "e_min",
+        }
+    }
+
     /// The (sign-ambiguous) directions of this field.
     pub fn directions(self, field: &CurvatureField) -> &[Vector] {
         match self {

@@ -39,11 +39,12 @@ use crate::curvature::{estimate_curvature, CurvatureEstimator, CurvatureField, S
 use crate::linalg::Solver;
 use crate::lines::chain::chain;
 use crate::lines::fair::fair_polyline;
+use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::zero_set::LinePoint;
 use crate::lines::{
     FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation, SurfaceWithCurvature,
 };
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, VertexId};
 use crate::progress::{stage, try_stage, Observer, Silent};
 use crate::{Error, Result};
 
@@ -258,9 +259,11 @@ impl ExtremalityTracer {
             self.smooth_extremalities(smoother, field, &mut values)
         })?;
         let mut lines = FeatureLines::new(String::new());
-        for (&which, values) in fields.iter().zip(values) {
-            for line in self.trace_field(work, field, which, values, input, observer) {
-                lines.push(line);
+        for (&which, field_values) in fields.iter().zip(&values) {
+            let traced =
+                self.trace_field(work, field, which, field_values.clone(), input, observer);
+            for line in traced {
+                lines.push(with_extremalities(line, work, field, fields, &values));
             }
         }
         if let Some(fairing) = self.fairing {
@@ -402,6 +405,36 @@ impl ExtremalityTracer {
             })
             .collect()
     }
+}
+
+/// The line with the smoothed extremality of every field traced (`e_max`,
+/// `e_min`) at its points, read along it with the principal direction's sign
+/// carried from point to point ([`along_line`]): only their signs along the line
+/// are meaningful, and the zero crossings of the other field's extremality on a
+/// crest line are Thirion's extremal points.
+fn with_extremalities(
+    line: Polyline,
+    work: &Mesh,
+    field: &CurvatureField,
+    fields: &[Principal],
+    values: &[Vec<f64>],
+) -> Polyline {
+    fields
+        .iter()
+        .zip(values)
+        .fold(line, |line, (&which, values)| {
+            let directions = which.directions(field);
+            let samples = line.locations.iter().map(|at| {
+                let sample = |(v, weight): (VertexId, f64)| DirectedSample {
+                    weight,
+                    value: values[v.idx()],
+                    direction: directions[v.idx()],
+                };
+                at.weights(work).into_iter().map(sample).collect::<Vec<_>>()
+            });
+            let along = along_line(samples);
+            line.with_values(which.extremality_name(), along)
+        })
 }
 
 /// The number of interior vertices flagged unreliable in `field` (boundary vertices

@@ -1,0 +1,216 @@
+//! Landmark files: JSON (this crate's own, read back by [`read_landmarks`]), CSV
+//! of the point landmarks, and 3D Slicer markups (`.mrk.json`, markups schema
+//! v1.0.3: one `Fiducial` markup of the point landmarks and one `Curve` markup per
+//! line, in Slicer's LPS coordinates).
+
+use std::io::Write;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+use super::{Landmarks, LineLandmark};
+use crate::atomic::write_atomically;
+use crate::{Error, Point, Result};
+
+/// The `format` of this crate's landmark JSON files.
+pub const FORMAT: &str = "crestline-landmarks/1";
+
+/// The schema URL that 3D Slicer writes into markups files.
+pub const SLICER_SCHEMA: &str = "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#";
+
+/// The world frame of the positions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Space {
+    /// x to the right, y to the front (anterior), z up: the NIfTI world.
+    #[serde(rename = "RAS")]
+    Ras,
+    /// x to the left, y to the back (posterior), z up: DICOM, ITK, NRRD and
+    /// 3D Slicer's files.
+    #[serde(rename = "LPS")]
+    Lps,
+}
+
+impl Space {
+    /// The position `p` of this frame in LPS.
+    pub fn to_lps(self, p: &Point) -> Point {
+        match self {
+            Space::Ras => Point::new(-p.x, -p.y, p.z),
+            Space::Lps => *p,
+        }
+    }
+}
+
+/// A landmark file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LandmarkFormat {
+    /// `.json`: every landmark and line with its descriptors.
+    Json,
+    /// `.csv`: the point landmarks, one per row.
+    Csv,
+    /// `.mrk.json`: 3D Slicer markups.
+    Slicer,
+}
+
+impl LandmarkFormat {
+    /// The format named by the extension of `path`; an [`Error::Argument`] for
+    /// another extension.
+    pub fn from_path(path: &Path) -> Result<LandmarkFormat> {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if name.ends_with(".mrk.json") {
+            Ok(LandmarkFormat::Slicer)
+        } else if name.ends_with(".json") {
+            Ok(LandmarkFormat::Json)
+        } else if name.ends_with(".csv") {
+            Ok(LandmarkFormat::Csv)
+        } else {
+            Err(Error::Argument(format!(
+                "{}: landmark files end in .mrk.json (3D Slicer), .json or .csv",
+                path.display()
+            )))
+        }
+    }
+}
+
+/// This crate's landmark JSON document.
+#[derive(Serialize, Deserialize)]
+struct Document {
+    format: String,
+    space: Space,
+    #[serde(flatten)]
+    landmarks: Landmarks,
+}
+
+/// Write `landmarks`, whose positions are in `space`, to `path` in `format` (see
+/// [`LandmarkFormat::from_path`]), atomically: on an error `path` is untouched.
+pub fn write_landmarks(
+    path: &Path,
+    format: LandmarkFormat,
+    landmarks: &Landmarks,
+    space: Space,
+) -> Result<()> {
+    match format {
+        LandmarkFormat::Json => {
+            let document = Document {
+                format: FORMAT.to_string(),
+                space,
+                landmarks: landmarks.clone(),
+            };
+            write_atomically(path, |w| {
+                serde_json::to_writer(&mut *w, &document)?;
+                writeln!(w)
+            })
+        }
+        LandmarkFormat::Csv => write_atomically(path, |w| write_csv(w, landmarks)),
+        LandmarkFormat::Slicer => {
+            let document = slicer_markups(landmarks, space);
+            write_atomically(path, |w| {
+                serde_json::to_writer_pretty(&mut *w, &document)?;
+                writeln!(w)
+            })
+        }
+    }
+}
+
+/// Read a landmark JSON file written by [`write_landmarks`]: the landmarks and the
+/// space of their positions. Malformed files are an [`Error::File`] naming `path`.
+pub fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let malformed = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let document: Document = serde_json::from_str(&text)
+        .map_err(|e| malformed(format!("not a {FORMAT} JSON file: {e}")))?;
+    if document.format != FORMAT {
+        return Err(malformed(format!(
+            "the format is '{}', not {FORMAT}",
+            document.format
+        )));
+    }
+    Ok((document.landmarks, document.space))
+}
+
+/// The point landmarks as CSV: `id,kind,x,y,z,curvature,line`.
+fn write_csv(w: &mut impl Write, landmarks: &Landmarks) -> std::io::Result<()> {
+    writeln!(w, "id,kind,x,y,z,curvature,line")?;
+    for p in &landmarks.points {
+        let [x, y, z] = [p.position.x, p.position.y, p.position.z];
+        let (id, kind, k, line) = (p.id, p.kind.name(), p.curvature, p.line);
+        writeln!(w, "{id},{kind},{x},{y},{z},{k},{line}")?;
+    }
+    Ok(())
+}
+
+/// The markups document: a `Fiducial` markup of the point landmarks, then one
+/// `Curve` per line, positions in LPS millimetres.
+fn slicer_markups(landmarks: &Landmarks, space: Space) -> Value {
+    let position = |p: &Point| {
+        let p = space.to_lps(p);
+        json!([p.x, p.y, p.z])
+    };
+    let point = |id: usize, label: String, description: String, p: &Point| {
+        json!({
+            "id": id.to_string(),
+            "label": label,
+            "description": description,
+            "position": position(p),
+            "positionStatus": "defined",
+        })
+    };
+    let fiducials: Vec<Value> = landmarks
+        .points
+        .iter()
+        .map(|p| {
+            let label = format!("{}-{}", p.kind.name(), p.id);
+            let description = format!("line {}, curvature {}", p.line, p.curvature);
+            point(p.id, label, description, &p.position)
+        })
+        .collect();
+    let mut markups = vec![markup("Fiducial", "landmarks", fiducials)];
+    markups.extend(landmarks.lines.iter().map(|line| curve(line, &point)));
+    json!({ "@schema": SLICER_SCHEMA, "markups": markups })
+}
+
+/// One markup of `kind` named `name` with `control_points`.
+fn markup(kind: &str, name: &str, control_points: Vec<Value>) -> Value {
+    json!({
+        "type": kind,
+        "name": name,
+        "coordinateSystem": "LPS",
+        "coordinateUnits": "mm",
+        "locked": true,
+        "controlPoints": control_points,
+    })
+}
+
+/// A line as a `Curve` (`ClosedCurve` for a loop) markup named by kind and id,
+/// with its descriptors in the description of its first point.
+fn curve(line: &LineLandmark, point: &impl Fn(usize, String, String, &Point) -> Value) -> Value {
+    let name = format!("{}-{}", line.kind.name(), line.id);
+    let description = format!(
+        "length {}, mean curvature {}, strength {}, {}",
+        line.length,
+        line.mean_curvature,
+        line.strength,
+        if line.convex { "convex" } else { "concave" }
+    );
+    let points = line
+        .points
+        .iter()
+        .enumerate()
+        .map(|(n, p)| {
+            let text = if n == 0 {
+                description.clone()
+            } else {
+                String::new()
+            };
+            point(n + 1, format!("{name}-{}", n + 1), text, p)
+        })
+        .collect();
+    let kind = if line.closed { "ClosedCurve" } else { "Curve" };
+    markup(kind, &name, points)
+}
