@@ -2,6 +2,11 @@
 
     python3 tools/plot_lines.py MESH.obj LINES.json OUT.png [--view AZIMUTH ELEVATION]
 
+LINES.json is a lines file (`crestline ridges`, `crestline crest-lines`) or a
+landmarks file (`crestline landmarks -o L.json`), whose point landmarks are drawn
+as markers: extremal points as black dots, curvature maxima as orange triangles,
+line ends as small grey squares.
+
 The mesh (OBJ with `v`/`f` records, or any format crestline reads if converted to
 OBJ first) is drawn as flat-shaded grey triangles, sorted back to front; ridges are
 drawn in red, valleys in blue, other kinds in black. Line points hidden behind the
@@ -19,6 +24,11 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 COLOURS = {"ridge": "#c0392b", "valley": "#2e5fb8"}
+MARKERS = {
+    "extremal": dict(marker="o", color="black", s=18),
+    "curvature_maximum": dict(marker="^", color="#e67e22", s=22),
+    "end": dict(marker="s", color="#7f7f7f", s=6),
+}
 
 
 def read_obj(path):
@@ -69,7 +79,8 @@ def main():
 
     fig, ax = plt.subplots(figsize=(args.size, args.size))
     ax.add_collection(PolyCollection(triangles[visible][order][:, :, :2], facecolors=np.repeat(shade[:, None], 3, axis=1), edgecolors="none"))
-    lines = json.load(open(args.lines))["lines"]
+    document = json.load(open(args.lines))
+    lines = document["lines"]
     for kind in sorted({line["kind"] for line in lines}):
         paths = []
         for line in (l for l in lines if l["kind"] == kind):
@@ -78,6 +89,11 @@ def main():
                 points = np.vstack([points, points[:1]])
             paths.append(points[:, :2])
         ax.add_collection(LineCollection(paths, colors=COLOURS.get(kind, "black"), linewidths=1.2, label=kind))
+    for kind, style in MARKERS.items():
+        points = [p["position"] for p in document.get("points", []) if p["kind"] == kind]
+        if points:
+            xy = np.array(points) @ rotation.T
+            ax.scatter(xy[:, 0], xy[:, 1], zorder=3, label=kind.replace("_", " "), **style)
     ax.autoscale()
     ax.set_aspect("equal")
     ax.axis("off")
