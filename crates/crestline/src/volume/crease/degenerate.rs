@@ -3,7 +3,9 @@
 //! 2010, §3.2 and §4.3).
 //!
 //! Only faces crossed an odd number of times are searched: a ridge that enters a
-//! face either leaves it or ends there. The search minimises (λ2 − λ3)² / ‖H‖²_F
+//! face either leaves it or ends there (faces odd only because a crossing is
+//! weaker than the strength are where the surface meets the side constraint, and
+//! are not searched). The search minimises (λ2 − λ3)² / ‖H‖²_F
 //! over the face by gradient descent with Armijo steps from several seeds. Where no
 //! point is found, an edge crossing was probably missed: the face's edges are
 //! searched again with a higher similarity threshold θ (eq. 6) and, if the face is
@@ -35,6 +37,10 @@ const MAX_HALVINGS: usize = 30;
 /// The sufficient decrease of an Armijo step, as a fraction of the decrease the
 /// gradient predicts.
 const ARMIJO: f64 = 1e-4;
+
+/// A descent stalls, and fails, when a step lowers the objective by less than this
+/// fraction: it is caught in a local minimum above the tolerance.
+const STALL: f64 = 1e-3;
 
 /// The longest step, in face widths.
 const LONGEST_STEP: f64 = 0.25;
@@ -92,7 +98,7 @@ pub fn degenerate_points(
     candidates.dedup();
     let mut odd: Vec<u64> = candidates
         .into_par_iter()
-        .filter(|&f| count(&redone, f) % 2 == 1)
+        .filter(|&f| count(&redone, f) % 2 == 1 && odd_at_any_strength(field, &grid, f, options))
         .collect();
     let mut located: HashMap<u64, Option<(Point, f64)>> = search(field, &grid, &odd);
     for theta in RAISED_THETAS {
@@ -124,7 +130,9 @@ pub fn degenerate_points(
         affected.dedup();
         let affected_set: HashSet<u64> = affected.iter().copied().collect();
         odd.retain(|f| !affected_set.contains(f));
-        odd.extend(affected.into_iter().filter(|&f| count(&redone, f) % 2 == 1));
+        odd.extend(affected.into_iter().filter(|&f| {
+            count(&redone, f) % 2 == 1 && odd_at_any_strength(field, &grid, f, &raised)
+        }));
         odd.sort_unstable();
         let unsearched: Vec<u64> = odd
             .iter()
@@ -146,6 +154,29 @@ pub fn degenerate_points(
         })
         .collect();
     (merge(crossings, redone), points)
+}
+
+/// Whether `face` is crossed an odd number of times counting the crossings of any
+/// strength. A face crossed an odd number of times only because a crossing is
+/// weaker than the strength is where the surface reaches the side constraint, not
+/// a degenerate line: it is not searched, and its cells' polygons stay open there.
+fn odd_at_any_strength(
+    field: &CreaseField,
+    grid: &Grid,
+    face: u64,
+    options: &CrossingOptions,
+) -> bool {
+    let any = CrossingOptions {
+        strength: f64::NEG_INFINITY,
+        ..*options
+    };
+    let (low, axis) = grid.unkey(face);
+    let count: usize = grid
+        .face_edges(low, axis)
+        .iter()
+        .map(|&(e, _)| crossings_on_edge(field, e, &any).len())
+        .sum();
+    count % 2 == 1
 }
 
 /// The crossings with those of the `redone` edges replaced, sorted by edge and t.
@@ -185,7 +216,7 @@ fn fallback(field: &CreaseField, grid: &Grid, face: u64) -> DegeneratePoint {
     DegeneratePoint {
         face,
         position: patch.position([0.5, 0.5]),
-        lambda3: eigenvalues(&patch.hessian([0.5, 0.5]))[2],
+        lambda3: gap_and_lambda3(&patch.hessian([0.5, 0.5])).1,
         found: false,
     }
 }
@@ -233,9 +264,7 @@ impl<'f> FacePatch<'f> {
     /// invariant to the scale of f, at most 2.
     fn objective(&self, x: [f64; 2]) -> f64 {
         let h = self.hessian(x);
-        let norm = h.norm_squared();
-        let [_, l2, l3] = eigenvalues(&h);
-        let value = (l2 - l3).powi(2) / norm;
+        let value = gap_and_lambda3(&h).0.powi(2) / h.norm_squared();
         if value.is_finite() {
             value
         } else {
@@ -257,16 +286,18 @@ impl<'f> FacePatch<'f> {
     fn locate(&self) -> Option<(Point, f64)> {
         SEEDS.iter().find_map(|&seed| {
             let x = self.descend(seed)?;
-            let lambda3 = eigenvalues(&self.hessian(x))[2];
+            let lambda3 = gap_and_lambda3(&self.hessian(x)).1;
             (lambda3 < 0.0).then(|| (self.position(x), lambda3))
         })
     }
 
     /// Gradient descent with Armijo backtracking from `x`: the point where the
     /// objective drops below the tolerance, `None` if the descent leaves the face
-    /// or stalls above it.
+    /// or stalls above it (a step that gains less than [`STALL`]).
     fn descend(&self, mut x: [f64; 2]) -> Option<[f64; 2]> {
         let mut value = self.objective(x);
+        // The first trial length of a step, in face widths: twice the last one.
+        let mut length = LONGEST_STEP;
         for _ in 0..MAX_STEPS {
             if value < TOLERANCE {
                 return Some(x);
@@ -276,19 +307,20 @@ impl<'f> FacePatch<'f> {
             if !(slope > 0.0 && slope.is_finite()) {
                 return None;
             }
-            let mut step = LONGEST_STEP / slope.sqrt();
+            let mut step = length / slope.sqrt();
             let mut accepted = None;
             for _ in 0..MAX_HALVINGS {
                 let trial = [x[0] - step * g[0], x[1] - step * g[1]];
                 let trial_value = self.objective(trial);
                 if trial_value <= value - ARMIJO * step * slope {
                     accepted = Some((trial, trial_value));
+                    length = (2.0 * step * slope.sqrt()).min(LONGEST_STEP);
                     break;
                 }
                 step *= 0.5;
             }
             let (next, next_value) = accepted?;
-            if !on_face(next) {
+            if !on_face(next) || next_value > (1.0 - STALL) * value {
                 return None;
             }
             (x, value) = (next, next_value);
@@ -302,10 +334,90 @@ fn on_face(x: [f64; 2]) -> bool {
     x.iter().all(|&c| (-1e-9..=1.0 + 1e-9).contains(&c))
 }
 
-/// The eigenvalues λ1 ≥ λ2 ≥ λ3 of the symmetric `h`.
-fn eigenvalues(h: &Matrix3<f64>) -> [f64; 3] {
-    let values = h.symmetric_eigenvalues();
-    let mut sorted = [values[0], values[1], values[2]];
-    sorted.sort_by(|a, b| b.total_cmp(a));
-    sorted
+/// λ2 − λ3 and λ3 of the symmetric `h`, in closed form: with q = tr h / 3, p the
+/// root mean square of the eigenvalues of h − qI over √2, and cos 3φ = det((h −
+/// qI)/p) / 2 (φ ∈ [0, π/3]), λ3 = q + 2p cos(φ + 2π/3) and λ2 − λ3 = 2√3 p sin φ,
+/// which is smooth where λ2 = λ3.
+fn gap_and_lambda3(h: &Matrix3<f64>) -> (f64, f64) {
+    let q = h.trace() / 3.0;
+    let shifted = h - Matrix3::identity() * q;
+    let p = (shifted.norm_squared() / 6.0).sqrt();
+    // p = 0 (or NaN): a multiple of the identity, all eigenvalues q.
+    if p.is_nan() || p <= 0.0 {
+        return (0.0, q);
+    }
+    let r = ((shifted / p).determinant() / 2.0).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let third = 2.0 * std::f64::consts::FRAC_PI_3;
+    (
+        2.0 * 3f64.sqrt() * p * phi.sin(),
+        q + 2.0 * p * (phi + third).cos(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::crease::Eigenframe;
+
+    #[test]
+    fn closed_form_gap_and_lambda3_match_the_eigen_decomposition() {
+        let matrices = [
+            Matrix3::new(-3.0, 1.0, 0.5, 1.0, -1.0, 0.2, 0.5, 0.2, -2.0),
+            Matrix3::from_diagonal(&Vector::new(0.0, -2.0, -2.0)),
+            Matrix3::from_diagonal(&Vector::new(-2.0, -2.0, 1.0)),
+            Matrix3::new(0.1, -0.4, 0.3, -0.4, 2.0, 0.0, 0.3, 0.0, -0.7),
+        ];
+        for h in matrices {
+            let frame = Eigenframe::of(&h);
+            let (gap, lambda3) = gap_and_lambda3(&h);
+            assert!((gap - frame.gap()).abs() < 1e-7, "{h} {gap}");
+            assert!(
+                (lambda3 - frame.eigenvalues[2]).abs() < 1e-7,
+                "{h} {lambda3}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_descent_finds_the_degenerate_point_of_a_linear_hessian_field() {
+        // H = −4I + [[s − 0.3, t − 0.6, 0], [t − 0.6, 0.3 − s, 0], [0, 0, 3]] is
+        // degenerate (λ2 = λ3 = −4) only at (s, t) = (0.3, 0.6).
+        let base = Matrix3::from_diagonal(&Vector::new(-4.0, -4.0, -1.0));
+        let hessian = |s: f64, t: f64| {
+            base + Matrix3::new(s - 0.3, t - 0.6, 0.0, t - 0.6, 0.3 - s, 0.0, 0.0, 0.0, 0.0)
+        };
+        let volume = crate::volume::Volume::new(
+            [2, 2, 2],
+            [1.0; 3],
+            [0.0; 3],
+            Matrix3::identity(),
+            vec![0.0; 8],
+        )
+        .unwrap();
+        let derivatives = crate::volume::Derivatives::cubic_spline(&volume, 2).unwrap();
+        let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+        let patch = FacePatch {
+            field: &field,
+            low: Vector::zeros(),
+            axes: (0, 1),
+            corners: [
+                hessian(0.0, 0.0),
+                hessian(1.0, 0.0),
+                hessian(1.0, 1.0),
+                hessian(0.0, 1.0),
+            ],
+        };
+        let (point, lambda3) = patch.locate().expect("a degenerate point");
+        assert!((point - Point::new(0.3, 0.6, 0.0)).norm() < 1e-3, "{point}");
+        assert!((lambda3 + 4.0).abs() < 1e-3);
+        // Without a degenerate point on the face, none is found.
+        let far = FacePatch {
+            corners: patch
+                .corners
+                .map(|c| c + Matrix3::new(2.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, 0.0)),
+            ..patch
+        };
+        assert!(far.locate().is_none());
+    }
 }

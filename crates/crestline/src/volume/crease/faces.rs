@@ -2,6 +2,9 @@
 //! §4.5): among the pairings whose segments do not cross (2D line-line test), the
 //! one that agrees best with the normals.
 
+use std::sync::OnceLock;
+
+use super::edges::MAX_CROSSINGS_PER_EDGE;
 use super::points::Points;
 use crate::Vector;
 
@@ -38,7 +41,7 @@ pub(crate) fn face_segments(
             .copied()
             .collect();
         let spoke = [centre, partner].map(|id| points.in_face(id, axis));
-        for matching in non_crossing_matchings(rest.len()) {
+        for matching in cyclic_matchings(rest.len()).iter() {
             let mut pairs: Vec<[usize; 2]> =
                 matching.iter().map(|&[a, b]| [rest[a], rest[b]]).collect();
             let crosses = pairs.iter().any(|&[p, q]| {
@@ -61,7 +64,7 @@ pub(crate) fn face_segments(
 /// cyclic order.
 fn best_cyclic_matching(around: &[usize], cost: &dyn Fn(&[[usize; 2]]) -> f64) -> Vec<[usize; 2]> {
     let mut best = (f64::INFINITY, Vec::new());
-    for matching in non_crossing_matchings(around.len()) {
+    for matching in cyclic_matchings(around.len()).iter() {
         let pairs: Vec<[usize; 2]> = matching
             .iter()
             .map(|&[a, b]| [around[a], around[b]])
@@ -84,6 +87,21 @@ fn pair_cost(p: usize, q: usize, axis: usize, points: &Points) -> f64 {
     };
     let d = points.position[q] - points.position[p];
     d.dot(&in_face(&points.normal[p])).abs() + d.dot(&in_face(&points.normal[q])).abs()
+}
+
+/// The largest number of points whose matchings are tabulated: four edges of
+/// [`MAX_CROSSINGS_PER_EDGE`] crossings.
+const TABULATED: usize = 4 * MAX_CROSSINGS_PER_EDGE;
+
+/// Every perfect matching of `n` points in cyclic order without crossing pairs,
+/// tabulated once for up to [`TABULATED`] points.
+fn cyclic_matchings(n: usize) -> std::borrow::Cow<'static, [Vec<[usize; 2]>]> {
+    static TABLE: OnceLock<Vec<Vec<Vec<[usize; 2]>>>> = OnceLock::new();
+    let table = TABLE.get_or_init(|| (0..=TABULATED).map(non_crossing_matchings).collect());
+    match table.get(n) {
+        Some(all) => std::borrow::Cow::Borrowed(all.as_slice()),
+        None => std::borrow::Cow::Owned(non_crossing_matchings(n)),
+    }
 }
 
 /// Every perfect matching of `n` points in cyclic order without crossing pairs.
