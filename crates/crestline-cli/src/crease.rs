@@ -18,7 +18,8 @@ use super::ReportArg;
 pub struct CreaseArgs {
     /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
     pub volume: PathBuf,
-    /// Output surface: .ply (with the vertex property strength = −λ3), .obj or .vtk.
+    /// Output surface: .ply (with the vertex properties strength = −λ3 and degenerate,
+    /// 1 on the degenerate lines where the surface ends), .obj or .vtk.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// Valley surfaces (ridges of −f) instead of ridge surfaces.

@@ -78,6 +78,26 @@ pub fn edge_crossings(field: &CreaseField, options: &CrossingOptions) -> Vec<Edg
         .collect()
 }
 
+/// The crossings of the grid edge `key` (`3 · point + axis`, as in
+/// [`EdgeCrossing::edge`]) with `options`, by increasing t: none for an edge that
+/// leaves the grid.
+pub(crate) fn crossings_on_edge(
+    field: &CreaseField,
+    key: u64,
+    options: &CrossingOptions,
+) -> Vec<EdgeCrossing> {
+    let [nx, ny, nz] = field.dims();
+    let (point, axis) = ((key / 3) as usize, (key % 3) as usize);
+    let start = [point % nx, (point / nx) % ny, point / (nx * ny)];
+    let mut end = start;
+    end[axis] += 1;
+    let mut found = Vec::new();
+    if end[0] < nx && end[1] < ny && end[2] < nz {
+        edge(start, end, axis, field, options, &mut found);
+    }
+    found
+}
+
 /// The crossings of the grid edge from sample `start` to `end` along `axis`.
 fn edge(
     start: [usize; 3],

@@ -149,6 +149,16 @@ impl CreaseField {
         self.origin + self.grid_to_world * Vector::from(index.map(|v| v as f64))
     }
 
+    /// The world position of the fractional grid coordinates `u`.
+    pub(crate) fn position_at_grid(&self, u: &Vector) -> Point {
+        self.origin + self.grid_to_world * u
+    }
+
+    /// The fractional grid coordinates of world `point`.
+    pub(crate) fn to_grid(&self, point: &Point) -> Vector {
+        self.world_to_grid * (point - self.origin)
+    }
+
     /// Gradient and Hessian at world `point`, interpolated trilinearly between the
     /// grid points (the eigenframe computed there); `None` outside the grid.
     pub fn sample_at(&self, point: &Point) -> Option<Sample> {

@@ -4,21 +4,27 @@
 //!
 //! A ridge surface is where g·e3 = 0 and λ3 < 0 (λ1 ≥ λ2 ≥ λ3 the Hessian's
 //! eigenvalues, e3 the eigenvector of λ3); valleys are ridges of −f. The building
-//! blocks so far: the transformed tensor T and h = T g − g at a point
-//! ([`Eigenframe`]), derivatives stored at the grid points ([`CreaseField`]), the
-//! crossings of h with the grid edges ([`edge_crossings`]) and the surface of their
-//! per-face pairings and per-cell polygons ([`crease_surface`]). Degenerate points
-//! (where a crease ends) are not located yet: faces crossed an odd number of times
-//! leave the surface open there.
+//! blocks: the transformed tensor T and h = T g − g at a point ([`Eigenframe`]),
+//! derivatives stored at the grid points ([`CreaseField`]), the crossings of h with
+//! the grid edges ([`edge_crossings`]), the degenerate points (λ2 = λ3) on the
+//! faces crossed an odd number of times, where a crease ends
+//! ([`degenerate_points`]), and the surface of their per-face pairings and per-cell
+//! polygons ([`crease_surface`]), whose boundary follows the degenerate lines.
 
+mod cells;
+mod degenerate;
 mod edges;
+mod faces;
 mod field;
+mod grid;
+mod points;
 mod surface;
 mod tensor;
 
+pub use degenerate::{degenerate_points, DegeneratePoint};
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
 pub use field::{CreaseField, Sample};
-pub use surface::{crease_surface, STRENGTH};
+pub use surface::{crease_surface, crease_surface_with, Stage, DEGENERATE, STRENGTH};
 pub use tensor::{similarity, Eigenframe};
 
 /// The default ε of the tensor T, as a fraction of the range of the Hessian's

@@ -1,51 +1,111 @@
-//! Crease surfaces from the edge crossings: per face, the crossings are paired into
-//! segments; per cell, the segments of its six faces are chained into polygons and
-//! triangulated (Schultz, Theisel and Seidel 2010, §4.4–4.5; DESIGN.md, "Crease
-//! surfaces").
-//!
-//! Faces crossed an odd number of times hold a degenerate point, where the surface
-//! ends; such faces are left unpaired for now, so the surface is open there.
+//! Crease surfaces from the edge crossings and the degenerate points: per face, the
+//! points are paired into segments; per cell, the segments of its six faces and the
+//! pairs of its degenerate points close into polygons, which are triangulated
+//! (Schultz, Theisel and Seidel 2010, §4.3–4.5; DESIGN.md, "Crease surfaces").
 
 use std::collections::HashMap;
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use super::edges::{edge_crossings, CrossingOptions, EdgeCrossing};
+use super::cells::{cell_polygons, CellInput};
+use super::degenerate::degenerate_points;
+use super::edges::{edge_crossings, CrossingOptions};
 use super::field::CreaseField;
+use super::grid::{EdgeIndex, Grid};
+use super::points::Points;
 use crate::mesh::{ScalarProperty, TriangleSoup};
 use crate::{Point, Vector};
 
 /// The name of the per-vertex ridge strength −λ3 in the surface's soup.
 pub const STRENGTH: &str = "strength";
 
+/// The name of the per-vertex mark of degenerate points in the surface's soup: 1 at
+/// the points where λ2 = λ3 (on the degenerate lines where the surface ends), 0
+/// elsewhere. A boundary edge whose two ends are marked lies on a degenerate line.
+/// Fallback points (faces crossed an odd number of times where no degenerate point
+/// was found) are 0.
+pub const DEGENERATE: &str = "degenerate";
+
+/// The stages of [`crease_surface_with`], in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// The crossings of the grid edges ([`super::edge_crossings`]).
+    Crossings,
+    /// The degenerate points of the faces crossed an odd number of times, with
+    /// their edges searched again at raised θ.
+    DegeneratePoints,
+    /// The normals at every point.
+    Normals,
+    /// The pairing per face and per cell, the triangulation, the component filter.
+    Triangulation,
+}
+
+impl Stage {
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Crossings => "crossings",
+            Stage::DegeneratePoints => "degenerate points",
+            Stage::Normals => "normals",
+            Stage::Triangulation => "pairing and triangulation",
+        }
+    }
+}
+
 /// The crease surface of `field` with `options`: triangles that need not be
 /// consistently orientable, with the ridge strength −λ3 of each vertex as the
-/// vertex scalar [`STRENGTH`]. Connected pieces of fewer than `min_component`
-/// triangles are dropped.
+/// vertex scalar [`STRENGTH`] and the mark of degenerate points as [`DEGENERATE`].
+/// Connected pieces of fewer than `min_component` triangles are dropped.
 pub fn crease_surface(
     field: &CreaseField,
     options: &CrossingOptions,
     min_component: usize,
 ) -> TriangleSoup {
+    crease_surface_with(field, options, min_component, |_, _| {})
+}
+
+/// [`crease_surface`], telling `observe` the time each [`Stage`] took.
+pub fn crease_surface_with(
+    field: &CreaseField,
+    options: &CrossingOptions,
+    min_component: usize,
+    mut observe: impl FnMut(Stage, Duration),
+) -> TriangleSoup {
+    let mut timed = |stage: Stage, started: Instant| observe(stage, started.elapsed());
+    let started = Instant::now();
     let crossings = edge_crossings(field, options);
-    let normals: Vec<Vector> = crossings
-        .par_iter()
-        .map(|c| field.normal_at(&c.position, options.epsilon))
-        .collect();
+    timed(Stage::Crossings, started);
+    let started = Instant::now();
+    let (crossings, degenerate) = degenerate_points(field, options, crossings);
+    timed(Stage::DegeneratePoints, started);
+    let started = Instant::now();
+    let points = Points::new(field, options.epsilon, &crossings, &degenerate);
+    timed(Stage::Normals, started);
+    let started = Instant::now();
+    let grid = Grid { dims: field.dims() };
     let index = EdgeIndex::new(&crossings);
-    let [nx, ny, nz] = field.dims();
-    let cells: Vec<[usize; 3]> = index
-        .touched_cells(field.dims())
-        .into_iter()
-        .filter(|c| c[0] + 1 < nx && c[1] + 1 < ny && c[2] + 1 < nz)
+    let on_face: HashMap<u64, usize> = degenerate
+        .iter()
+        .enumerate()
+        .map(|(n, d)| (d.face, crossings.len() + n))
         .collect();
-    let polygons: Vec<Vec<Vec<usize>>> = cells
+    let input = CellInput {
+        grid,
+        index: &index,
+        points: &points,
+        degenerate: &on_face,
+    };
+    let polygons: Vec<Vec<Vec<usize>>> = index
+        .touched_cells(&grid)
         .par_iter()
-        .map(|&cell| cell_polygons(cell, field, &index, &crossings, &normals))
+        .map(|&cell| cell_polygons(cell, &input))
         .collect();
-    let (positions, triangles, strength) = triangulate(&crossings, polygons.into_iter().flatten());
-    let triangles = large_components(triangles, positions.len(), min_component);
-    compact(positions, triangles, strength)
+    let mesh = triangulate(&points, polygons.into_iter().flatten());
+    let triangles = large_components(mesh.triangles, mesh.positions.len(), min_component);
+    let soup = compact(Mesh { triangles, ..mesh });
+    timed(Stage::Triangulation, started);
+    soup
 }
 
 /// The triangles of the connected pieces (sharing vertices) of at least `min`
@@ -69,217 +129,24 @@ fn large_components(triangles: Vec<[u32; 3]>, vertices: usize, min: usize) -> Ve
         .collect()
 }
 
-/// The crossings of each grid edge, by edge key.
-struct EdgeIndex {
-    /// Edge key → the range of its crossings in the (edge-sorted) list.
-    ranges: HashMap<u64, (usize, usize)>,
-}
-
-impl EdgeIndex {
-    fn new(crossings: &[EdgeCrossing]) -> EdgeIndex {
-        let mut ranges = HashMap::new();
-        for (n, c) in crossings.iter().enumerate() {
-            ranges
-                .entry(c.edge)
-                .and_modify(|r: &mut (usize, usize)| r.1 = n + 1)
-                .or_insert((n, n + 1));
-        }
-        EdgeIndex { ranges }
-    }
-
-    /// The ids of the crossings on `edge`, by increasing t.
-    fn on(&self, edge: u64) -> std::ops::Range<usize> {
-        self.ranges.get(&edge).map_or(0..0, |&(a, b)| a..b)
-    }
-
-    /// The cells (lowest corners) around every crossed edge, sorted, deduplicated.
-    fn touched_cells(&self, [nx, ny, _]: [usize; 3]) -> Vec<[usize; 3]> {
-        let mut cells: Vec<[usize; 3]> = Vec::new();
-        for &edge in self.ranges.keys() {
-            let (point, axis) = ((edge / 3) as usize, (edge % 3) as usize);
-            let p = [point % nx, (point / nx) % ny, point / (nx * ny)];
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let mut cell = p;
-                if (du == 1 && cell[u] == 0) || (dv == 1 && cell[v] == 0) {
-                    continue;
-                }
-                cell[u] -= du;
-                cell[v] -= dv;
-                cells.push(cell);
-            }
-        }
-        cells.sort_unstable_by_key(|c| [c[2], c[1], c[0]]);
-        cells.dedup();
-        cells
-    }
-}
-
-/// The corners (offsets) of face `axis`/`side` of a cell in cyclic order.
-fn face_corners(axis: usize, side: usize) -> [[usize; 3]; 4] {
-    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-    [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(du, dv)| {
-        let mut c = [0; 3];
-        c[axis] = side;
-        c[u] = du;
-        c[v] = dv;
-        c
-    })
-}
-
-/// The crossings around a face of the cell at `cell`, in cyclic order.
-fn face_crossings(
-    cell: [usize; 3],
-    (axis, side): (usize, usize),
-    field: &CreaseField,
-    index: &EdgeIndex,
-) -> Vec<usize> {
-    let corners =
-        face_corners(axis, side).map(|o| [cell[0] + o[0], cell[1] + o[1], cell[2] + o[2]]);
-    let mut around = Vec::new();
-    for k in 0..4 {
-        let (a, b) = (corners[k], corners[(k + 1) % 4]);
-        let forward = a <= b;
-        let low = if forward { a } else { b };
-        let edge_axis = (0..3).find(|&x| a[x] != b[x]).expect("adjacent corners");
-        let key = 3 * field.linear_index(low) as u64 + edge_axis as u64;
-        let ids: Vec<usize> = index.on(key).collect();
-        if forward {
-            around.extend(ids);
-        } else {
-            around.extend(ids.into_iter().rev());
-        }
-    }
-    around
-}
-
-/// The segments of one face: its crossings paired without crossings, minimising
-/// Σ |(q − p)·n_p| + |(q − p)·n_q| with the normals projected into the face. Odd
-/// counts (a degenerate point on the face) give no segment.
-fn face_segments(
-    around: &[usize],
-    axis: usize,
-    crossings: &[EdgeCrossing],
-    normals: &[Vector],
-) -> Vec<[usize; 2]> {
-    if around.len() % 2 == 1 {
-        return Vec::new();
-    }
-    let in_face = |n: &Vector| {
-        let mut n = *n;
-        n[axis] = 0.0;
-        n
-    };
-    let cost = |p: usize, q: usize| {
-        let d = crossings[q].position - crossings[p].position;
-        d.dot(&in_face(&normals[p])).abs() + d.dot(&in_face(&normals[q])).abs()
-    };
-    let mut best = (f64::INFINITY, Vec::new());
-    for matching in non_crossing_matchings(around.len()) {
-        let total: f64 = matching
-            .iter()
-            .map(|&[a, b]| cost(around[a], around[b]))
-            .sum();
-        if total < best.0 {
-            best = (total, matching);
-        }
-    }
-    best.1
-        .into_iter()
-        .map(|[a, b]| [around[a], around[b]])
-        .collect()
-}
-
-/// Every perfect matching of `n` points in cyclic order without crossing pairs.
-fn non_crossing_matchings(n: usize) -> Vec<Vec<[usize; 2]>> {
-    fn within(lo: usize, hi: usize) -> Vec<Vec<[usize; 2]>> {
-        if lo >= hi {
-            return vec![Vec::new()];
-        }
-        let mut all = Vec::new();
-        // `lo` pairs with a point at odd distance, splitting the rest in two.
-        for partner in (lo + 1..hi).step_by(2) {
-            for inner in within(lo + 1, partner) {
-                for outer in within(partner + 1, hi) {
-                    let mut m = vec![[lo, partner]];
-                    m.extend(inner.iter().copied());
-                    m.extend(outer.iter().copied());
-                    all.push(m);
-                }
-            }
-        }
-        all
-    }
-    within(0, n)
-}
-
-/// The closed polygons of one cell: the segments of its six faces chained by their
-/// shared crossings. Chains that do not close (next to a degenerate point) are
-/// dropped.
-fn cell_polygons(
-    cell: [usize; 3],
-    field: &CreaseField,
-    index: &EdgeIndex,
-    crossings: &[EdgeCrossing],
-    normals: &[Vector],
-) -> Vec<Vec<usize>> {
-    let mut neighbours: HashMap<usize, Vec<usize>> = HashMap::new();
-    for axis in 0..3 {
-        for side in 0..2 {
-            let around = face_crossings(cell, (axis, side), field, index);
-            for [p, q] in face_segments(&around, axis, crossings, normals) {
-                neighbours.entry(p).or_default().push(q);
-                neighbours.entry(q).or_default().push(p);
-            }
-        }
-    }
-    let mut starts: Vec<usize> = neighbours.keys().copied().collect();
-    starts.sort_unstable();
-    let mut used = std::collections::HashSet::new();
-    let mut polygons = Vec::new();
-    for start in starts {
-        if used.contains(&start) {
-            continue;
-        }
-        if let Some(cycle) = walk(start, &neighbours) {
-            used.extend(cycle.iter().copied());
-            polygons.push(cycle);
-        } else {
-            used.insert(start);
-        }
-    }
-    polygons
-}
-
-/// The cycle through `start` in a graph of degree-2 vertices, or `None` if the
-/// walk meets a vertex of another degree.
-fn walk(start: usize, neighbours: &HashMap<usize, Vec<usize>>) -> Option<Vec<usize>> {
-    let mut cycle = vec![start];
-    let (mut previous, mut current) = (start, *neighbours.get(&start)?.first()?);
-    while current != start {
-        let next = neighbours.get(&current)?;
-        if next.len() != 2 || cycle.len() > neighbours.len() {
-            return None;
-        }
-        cycle.push(current);
-        let following = if next[0] == previous {
-            next[1]
-        } else {
-            next[0]
-        };
-        (previous, current) = (current, following);
-    }
-    (cycle.len() >= 3 && neighbours[&start].len() == 2).then_some(cycle)
+/// Vertices (with their scalars) and triangles before compaction.
+struct Mesh {
+    positions: Vec<Point>,
+    strength: Vec<f64>,
+    degenerate: Vec<f64>,
+    triangles: Vec<[u32; 3]>,
 }
 
 /// Triangles of the polygons: triangles as they are, quadrilaterals split along
 /// their shorter diagonal, larger polygons fanned around their barycentre.
-fn triangulate(
-    crossings: &[EdgeCrossing],
-    polygons: impl Iterator<Item = Vec<usize>>,
-) -> (Vec<Point>, Vec<[u32; 3]>, Vec<f64>) {
-    let mut positions: Vec<Point> = crossings.iter().map(|c| c.position).collect();
-    let mut strength: Vec<f64> = crossings.iter().map(|c| -c.lambda3).collect();
+fn triangulate(points: &Points, polygons: impl Iterator<Item = Vec<usize>>) -> Mesh {
+    let mut positions = points.position.clone();
+    let mut strength = points.strength.clone();
+    let mut degenerate: Vec<f64> = points
+        .degenerate
+        .iter()
+        .map(|&d| f64::from(u8::from(d)))
+        .collect();
     let mut triangles = Vec::new();
     for polygon in polygons {
         let ids: Vec<u32> = polygon.iter().map(|&i| i as u32).collect();
@@ -301,40 +168,48 @@ fn triangulate(
                 let c = positions.len() as u32;
                 positions.push(centre);
                 strength.push(polygon.iter().map(|&i| strength[i]).sum::<f64>() / n as f64);
+                degenerate.push(0.0);
                 for k in 0..n {
                     triangles.push([ids[k], ids[(k + 1) % n], c]);
                 }
             }
         }
     }
-    (positions, triangles, strength)
+    Mesh {
+        positions,
+        strength,
+        degenerate,
+        triangles,
+    }
 }
 
-/// The surface without the vertices no triangle uses (crossings whose polygon did
-/// not close, pieces dropped for their size), with the strength as a vertex scalar.
-fn compact(
-    positions: Vec<Point>,
-    mut triangles: Vec<[u32; 3]>,
-    strength: Vec<f64>,
-) -> TriangleSoup {
+/// The surface without the vertices no triangle uses (points whose polygon did not
+/// close, pieces dropped for their size), with the vertex scalars [`STRENGTH`] and
+/// [`DEGENERATE`].
+fn compact(mesh: Mesh) -> TriangleSoup {
+    let Mesh {
+        positions,
+        strength,
+        degenerate,
+        mut triangles,
+    } = mesh;
     let mut new_id = vec![u32::MAX; positions.len()];
-    let mut kept_positions = Vec::new();
-    let mut kept_strength = Vec::new();
+    let mut kept = Vec::new();
     for corner in triangles.iter_mut().flatten() {
         let old = *corner as usize;
         if new_id[old] == u32::MAX {
-            new_id[old] = kept_positions.len() as u32;
-            kept_positions.push(positions[old]);
-            kept_strength.push(strength[old]);
+            new_id[old] = kept.len() as u32;
+            kept.push(old);
         }
         *corner = new_id[old];
     }
+    let scalar = |name: &str, values: &[f64]| ScalarProperty {
+        name: name.to_string(),
+        values: kept.iter().map(|&i| values[i]).collect(),
+    };
     TriangleSoup {
-        positions: kept_positions,
+        positions: kept.iter().map(|&i| positions[i]).collect(),
+        vertex_scalars: vec![scalar(STRENGTH, &strength), scalar(DEGENERATE, &degenerate)],
         triangles,
-        vertex_scalars: vec![ScalarProperty {
-            name: STRENGTH.to_string(),
-            values: kept_strength,
-        }],
     }
 }
