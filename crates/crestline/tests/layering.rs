@@ -24,6 +24,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("ridges", 6),
     ("morse", 6),
     ("crest_lines", 6),
+    ("register", 6),
     ("draw", 7),
 ];
 
