@@ -35,7 +35,7 @@ use icp::{trimmed_icp, Alignment, Schedule, Target};
 use initial::{hypotheses, principal_frame};
 
 pub use fit::best_rigid_fit;
-pub use output::write_transform;
+pub use output::{write_transform, TransformFormat};
 pub use transform::{rotation_angle, RigidTransform};
 
 /// The points of one scan to register.

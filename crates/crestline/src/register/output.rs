@@ -41,15 +41,44 @@ struct Document {
     iterations: usize,
 }
 
+/// The file formats of [`write_transform`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransformFormat {
+    /// `.json`: the moving → fixed transform in RAS, with the fit's figures.
+    Json,
+    /// `.tfm`: ITK's text transform, fixed → moving in LPS.
+    Itk,
+}
+
+impl TransformFormat {
+    /// The format given by the extension of `path` (case-insensitive); another
+    /// extension is an [`Error::File`] listing the supported ones.
+    pub fn from_path(path: &Path) -> Result<TransformFormat> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        match extension.as_str() {
+            "json" => Ok(TransformFormat::Json),
+            "tfm" => Ok(TransformFormat::Itk),
+            _ => Err(Error::File {
+                path: path.to_path_buf(),
+                message: format!(
+                    "unknown transform format {extension:?}; supported extensions: .json, .tfm"
+                ),
+            }),
+        }
+    }
+}
+
 /// Write `registration` to `path`, in the format of its extension
-/// (case-insensitive): `.json` (the moving → fixed transform in RAS, with the fit's
-/// figures) or `.tfm` (ITK's text transform, fixed → moving in LPS; see the
-/// [module](self) documentation). Written under a temporary name and renamed on
-/// success.
+/// ([`TransformFormat::from_path`]; see the [module](self) documentation for the
+/// conventions of each). Written under a temporary name and renamed on success.
 ///
 /// Errors: [`Error::File`] for another extension or a failed write,
 /// [`Error::Argument`] for a transform with a non-finite entry.
 pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
+    let format = TransformFormat::from_path(path)?;
     let transform = &registration.transform;
     if !transform.to_matrix4().iter().all(|x| x.is_finite()) {
         return Err(Error::Argument(format!(
@@ -57,21 +86,9 @@ pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
             transform.to_matrix4()
         )));
     }
-    let extension = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    let text = match extension.as_str() {
-        "json" => json_text(registration)?,
-        "tfm" => itk_text(transform),
-        _ => {
-            return Err(Error::File {
-                path: path.to_path_buf(),
-                message: format!(
-                    "unknown transform format {extension:?}; supported extensions: .json, .tfm"
-                ),
-            })
-        }
+    let text = match format {
+        TransformFormat::Json => json_text(registration)?,
+        TransformFormat::Itk => itk_text(transform),
     };
     write_atomically(path, |w| w.write_all(text.as_bytes()))
 }
