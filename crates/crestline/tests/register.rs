@@ -173,6 +173,21 @@ fn a_large_motion_of_space_curves_is_recovered() {
 }
 
 #[test]
+fn a_half_turn_is_found_from_the_principal_axes() {
+    let fixed = sampled_curves(0.0);
+    let size = diagonal(&fixed);
+    let truth = motion([-0.3, 0.8, 1.0], 150.0, Vector::new(0.2, 0.1, -0.3) * size);
+    let moving = moved(&sampled_curves(0.5), &truth.inverse());
+    recover(
+        "curves, 150°",
+        &line_set(fixed),
+        &line_set(moving),
+        &truth,
+        (0.5, 0.01 * size),
+    );
+}
+
+#[test]
 fn a_motion_is_recovered_with_a_missing_chunk_and_outliers() {
     let fixed = curves();
     let size = diagonal(&fixed);
@@ -210,7 +225,7 @@ fn a_motion_is_recovered_with_a_missing_chunk_and_outliers() {
 }
 
 #[test]
-fn key_points_lead_the_coarse_stage() {
+fn key_points_in_the_coarse_stage_keep_the_motion_found() {
     let fixed = curves();
     let size = diagonal(&fixed);
     let truth = curve_motion(size);
@@ -286,12 +301,15 @@ fn ridge_lines_of_a_moved_mesh_register_onto_the_original() {
         median_gap / size
     );
     assert!(median_gap < 1e-3 * size);
+    let limits = (0.5, 0.01 * size);
+    let fixed = line_set(fixed);
+    recover("bunny", &fixed, &line_set(moving.clone()), &truth, limits);
     recover(
-        "bunny",
-        &line_set(fixed),
-        &line_set(moving),
+        "bunny, 20% cut, 10% outliers",
+        &fixed,
+        &line_set(damaged(&moving)),
         &truth,
-        (0.5, 0.01 * size),
+        limits,
     );
 }
 
