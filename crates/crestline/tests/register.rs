@@ -209,6 +209,9 @@ fn a_motion_is_recovered_with_a_missing_chunk_and_outliers() {
         "matched {}",
         found.matched_share
     );
+    // Deterministic: the same input gives the same transform, bit for bit.
+    let again = register(&fixed, &moving, &RegistrationOptions::default()).unwrap();
+    assert_eq!(again, found);
     let back = recover(
         "curves back, 20% cut, 10% outliers",
         &moving,
@@ -240,6 +243,22 @@ fn key_points_in_the_coarse_stage_keep_the_motion_found() {
     };
     recover(
         "curves with key points",
+        &fixed_set,
+        &moving_set,
+        &truth,
+        (0.5, 0.01 * size),
+    );
+    // Key points that all coincide cannot fix a rotation and are not used.
+    let fixed_set = PointSet {
+        key_points: vec![keys[0]; 4],
+        ..fixed_set
+    };
+    let moving_set = PointSet {
+        key_points: vec![truth.inverse().apply(&keys[0]); 4],
+        ..moving_set
+    };
+    recover(
+        "curves with coincident key points",
         &fixed_set,
         &moving_set,
         &truth,

@@ -8,7 +8,7 @@
 //!    principal axes;
 //! 2. each guess refined by a few iterations of trimmed ICP ([`icp`]) on an evenly
 //!    strided sample of the moving line points, on the key points first when both
-//!    sets have at least three; the guess with the lowest trimmed objective wins;
+//!    sets have at least three not on one line; the guess with the lowest trimmed objective wins;
 //! 3. trimmed ICP on all moving line points from there to convergence.
 //!
 //! Robustness to outliers and partial overlap is by trimming (Chetverikov et al.
@@ -44,7 +44,7 @@ pub struct PointSet {
     /// Points of its crest lines (at least three, not all on one line).
     pub line_points: Vec<Point>,
     /// Extremal points or other landmarks; may be empty. Used for the coarse stage
-    /// when both sets have at least three.
+    /// when both sets have at least three, not all on one line.
     pub key_points: Vec<Point>,
 }
 
@@ -155,7 +155,7 @@ pub fn register(
     );
     let target = Target::new(&fixed.line_points);
     let sample = strided_sample(&moving.line_points, options.coarse_points);
-    let keys = (fixed.key_points.len() >= 3 && moving.key_points.len() >= 3)
+    let keys = (usable_key_points(fixed) && usable_key_points(moving))
         .then(|| (Target::new(&fixed.key_points), moving.key_points.as_slice()));
     let coarse = options.schedule(options.coarse_iterations);
     let candidates = hypotheses(&frames.0, &frames.1)
@@ -210,6 +210,12 @@ fn check_set(set: &PointSet, what: &str) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether the key points of `set` can lead the coarse stage: at least three, not
+/// all on one line (which would leave the rotation about it to chance).
+fn usable_key_points(set: &PointSet) -> bool {
+    set.key_points.len() >= 3 && principal_frame(&set.key_points, "key").is_ok()
 }
 
 /// Every `⌈n / at_most⌉`-th point of `points`, at most `at_most` of them.
