@@ -8,7 +8,8 @@
 //!    principal axes;
 //! 2. each guess refined by a few iterations of trimmed ICP ([`icp`]) on an evenly
 //!    strided sample of the moving line points, on the key points first when both
-//!    sets have at least three not on one line; the guess with the lowest trimmed objective wins;
+//!    sets have at least three not on one line; the guess with the lowest trimmed
+//!    objective wins;
 //! 3. trimmed ICP on all moving line points from there to convergence.
 //!
 //! Robustness to outliers and partial overlap is by trimming (Chetverikov et al.
@@ -16,8 +17,8 @@
 //! fitted, ξ chosen automatically as the minimizer of `e(ξ) / ξ³` (e the mean squared
 //! distance of the kept pairs) over `ξ ≥` [`RegistrationOptions::min_overlap`].
 //! Closest points come from a k-d tree over the fixed points; each step is the
-//! least-squares fit of [`fit::best_rigid_fit`] (Kabsch 1976, Umeyama
-//! 1991). Everything is deterministic: no random sampling, ties broken by order.
+//! least-squares fit of [`fit::best_rigid_fit`] (Kabsch 1976, Umeyama 1991).
+//! Everything is deterministic: no random sampling, ties broken by order.
 //!
 //! [`write_transform`] saves the result as JSON or as an ITK/3D Slicer transform
 //! file.
