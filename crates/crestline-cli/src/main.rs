@@ -14,6 +14,7 @@ mod load;
 mod morse;
 mod outputs;
 mod plot;
+mod register;
 mod report;
 mod ridges;
 mod surface;
@@ -60,6 +61,8 @@ enum Command {
     Draw(Box<draw::DrawArgs>),
     /// Feature lines from the Morse-Smale complex of a curvature indicator (Sahner et al. 2008).
     Morse(morse::MorseCommand),
+    /// Find the rigid motion taking one scan's feature lines onto another's (trimmed ICP).
+    Register(register::RegisterArgs),
 }
 
 /// Options every computing command accepts.
@@ -127,6 +130,7 @@ fn main() -> ExitCode {
         Command::Ridges(args) => ridges::run(&args),
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),
+        Command::Register(args) => register::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1014,3 +1014,105 @@ fn crest_lines_of_the_brain_are_gyri_and_sulci() {
         }
     }
 }
+
+/// `p` turned by `degrees` about the unit `axis` (Rodrigues' formula), then shifted
+/// by `shift`.
+fn rigidly_moved(p: [f64; 3], axis: [f64; 3], degrees: f64, shift: [f64; 3]) -> [f64; 3] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    let dot: f64 = (0..3).map(|i| axis[i] * p[i]).sum();
+    let cross = [
+        axis[1] * p[2] - axis[2] * p[1],
+        axis[2] * p[0] - axis[0] * p[2],
+        axis[0] * p[1] - axis[1] * p[0],
+    ];
+    std::array::from_fn(|i| p[i] * cos + cross[i] * sin + axis[i] * dot * (1.0 - cos) + shift[i])
+}
+
+#[test]
+fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = std::fs::read_to_string(root.join("meshes/bunny.obj")).unwrap();
+    // The moving mesh is the bunny under the inverse motion: its lines, moved by
+    // (axis, 30°, shift), land on the bunny's. Inverse: −30° about the axis, after
+    // undoing the shift.
+    let norm = (0.3f64 * 0.3 + 1.0 + 0.5 * 0.5).sqrt();
+    let axis = [0.3 / norm, -1.0 / norm, 0.5 / norm];
+    let shift = [0.04, -0.03, 0.05];
+    let moved: String = text
+        .lines()
+        .map(|line| match line.strip_prefix("v ") {
+            Some(rest) => {
+                let v: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|x| x.parse().unwrap())
+                    .collect();
+                let back = [v[0] - shift[0], v[1] - shift[1], v[2] - shift[2]];
+                let p = rigidly_moved(back, axis, -30.0, [0.0; 3]);
+                format!("v {} {} {}\n", p[0], p[1], p[2])
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    let moved_obj = dir.path().join("moved.obj");
+    std::fs::write(&moved_obj, moved).unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    for (mesh, lines) in [
+        ("meshes/bunny.obj".to_string(), path("fixed.json")),
+        (moved_obj.to_str().unwrap().to_string(), path("moving.json")),
+    ] {
+        let run = crestline(&["ridges", &mesh, "-o", &lines]);
+        assert!(run.status.success(), "{}", stderr(&run));
+    }
+    let run = crestline(&[
+        "register",
+        &path("fixed.json"),
+        &path("moving.json"),
+        "-o",
+        &path("t.json"),
+        "--report",
+        &path("r.json"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let said = String::from_utf8_lossy(&run.stdout).into_owned();
+    assert!(said.contains("rotation 30.000°"), "{said}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path("t.json")).unwrap()).unwrap();
+    assert_eq!(json["coordinate_system"], "RAS");
+    // The matrix applied to a point of the moving scan gives the point moved.
+    let point = [0.01, 0.12, -0.02];
+    let expected = rigidly_moved(point, axis, 30.0, shift);
+    for row in 0..3 {
+        let m = |c: usize| json["matrix"][row][c].as_f64().unwrap();
+        let mapped = m(0) * point[0] + m(1) * point[1] + m(2) * point[2] + m(3);
+        assert!(
+            (mapped - expected[row]).abs() < 1e-6,
+            "{mapped} vs {expected:?}"
+        );
+    }
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path("r.json")).unwrap()).unwrap();
+    assert_eq!(report["command"], "register");
+    assert!(report["counts"]["matched_share"].as_f64().unwrap() > 0.9);
+    let run = crestline(&[
+        "register",
+        &path("fixed.json"),
+        &path("moving.json"),
+        "-o",
+        &path("t.tfm"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let tfm = std::fs::read_to_string(path("t.tfm")).unwrap();
+    assert!(
+        tfm.starts_with("#Insight Transform File V1.0\n#Transform 0\n"),
+        "{tfm}"
+    );
+    let bad = crestline(&[
+        "register",
+        &path("fixed.json"),
+        &path("moving.json"),
+        "-o",
+        &path("t.mat"),
+    ]);
+    assert_one_line_error(&bad, &path("t.mat"), ".json, .tfm");
+}

@@ -40,6 +40,7 @@ pub mod mesh;
 pub mod morse;
 mod named;
 pub mod progress;
+pub mod register;
 pub mod ridges;
 pub mod volume;
 

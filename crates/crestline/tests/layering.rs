@@ -25,6 +25,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("morse", 6),
     ("crest_lines", 6),
     ("landmarks", 6),
+    ("register", 6),
     ("draw", 7),
 ];
 
