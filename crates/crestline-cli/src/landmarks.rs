@@ -103,13 +103,20 @@ fn image_crest_lines(args: &LandmarksArgs, report: &mut Report) -> Result<(Featu
     Ok((lines, voxel))
 }
 
+/// The frame `--space` names.
+pub fn space_of(arg: SpaceArg) -> Space {
+    match arg {
+        SpaceArg::Ras => Space::Ras,
+        SpaceArg::Lps => Space::Lps,
+    }
+}
+
 /// `--space`, or the frame the input's format implies.
 fn input_space(args: &LandmarksArgs) -> Space {
     let name = args.input.to_string_lossy().to_lowercase();
     let nifti = name.ends_with(".nii") || name.ends_with(".nii.gz");
     match args.space {
-        Some(SpaceArg::Ras) => Space::Ras,
-        Some(SpaceArg::Lps) => Space::Lps,
+        Some(space) => space_of(space),
         None if nifti => Space::Ras,
         None => Space::Lps,
     }

@@ -4,12 +4,15 @@
 
 use std::path::{Path, PathBuf};
 
+use crestline::landmarks::export::FORMAT as LANDMARKS;
+use crestline::landmarks::{read_landmarks, LandmarkKind, Space};
 use crestline::lines::read_json;
 use crestline::register::{
     register, write_transform, PointSet, Registration, RegistrationOptions, TransformFormat,
 };
-use crestline::Result;
+use crestline::{Error, Result};
 
+use super::landmarks::{space_of, SpaceArg};
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::ReportArg;
@@ -17,9 +20,12 @@ use super::ReportArg;
 /// Arguments of `crestline register`.
 #[derive(clap::Args, Debug)]
 pub struct RegisterArgs {
-    /// Lines of the fixed scan (.json as written by `ridges` or `crest-lines`).
+    /// Lines or landmarks of the fixed scan (.json as written by `ridges`,
+    /// `crest-lines` or `landmarks`).
     pub fixed: PathBuf,
-    /// Lines of the moving scan (.json), to be moved onto the fixed ones.
+    /// Lines or landmarks of the moving scan (.json), to be moved onto the fixed
+    /// ones. With landmark files on both sides their extremal points lead the
+    /// coarse alignment.
     pub moving: PathBuf,
     /// The transform: .json (moving → fixed, RAS) or .tfm (ITK/3D Slicer: fixed →
     /// moving, LPS).
@@ -31,19 +37,45 @@ pub struct RegisterArgs {
     /// At most this many ICP iterations after the coarse stage.
     #[arg(long, value_name = "N", default_value_t = RegistrationOptions::default().max_iterations)]
     pub max_iterations: usize,
+    /// The frame of the points of line files (landmark files state their own):
+    /// ras (NIfTI images) or lps (DICOM, NRRD and MetaImage images, 3D Slicer's
+    /// models). Points are registered in RAS.
+    #[arg(long, value_enum, default_value = "ras")]
+    pub space: SpaceArg,
     #[command(flatten)]
     pub report: ReportArg,
 }
 
-/// The points of every line of a `crestline-lines/1` file.
-fn line_points(path: &Path) -> Result<PointSet> {
+/// The `format` key of a JSON file, read before the file itself.
+#[derive(serde::Deserialize)]
+struct FormatOnly {
+    format: Option<String>,
+}
+
+/// The points to register of a `crestline-lines/1` file (every line point, in
+/// `space`) or of a landmarks file (every line point, and the extremal points as
+/// key points, in the file's space), in RAS.
+fn point_set(path: &Path, space: Space) -> Result<PointSet> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let format = serde_json::from_str::<FormatOnly>(&text)
+        .ok()
+        .and_then(|f| f.format);
+    if format.as_deref() == Some(LANDMARKS) {
+        let (landmarks, space) = read_landmarks(path)?;
+        let line_points = landmarks.lines.iter().flat_map(|line| &line.points);
+        let extremal = landmarks
+            .points
+            .iter()
+            .filter(|p| p.kind == LandmarkKind::Extremal);
+        return Ok(PointSet {
+            line_points: line_points.map(|p| space.to_ras(p)).collect(),
+            key_points: extremal.map(|p| space.to_ras(&p.position)).collect(),
+        });
+    }
     let lines = read_json(path)?;
-    let line_points = lines
-        .iter()
-        .flat_map(|line| line.points.iter().copied())
-        .collect();
+    let line_points = lines.iter().flat_map(|line| &line.points);
     Ok(PointSet {
-        line_points,
+        line_points: line_points.map(|p| space.to_ras(p)).collect(),
         key_points: Vec::new(),
     })
 }
@@ -86,8 +118,9 @@ pub fn run(args: &RegisterArgs) -> Result<()> {
         &outputs,
     )?;
     let mut report = report_with_progress("register", &args.moving);
-    let fixed = report.stage("read fixed", || line_points(&args.fixed))?;
-    let moving = report.stage("read moving", || line_points(&args.moving))?;
+    let space = space_of(args.space);
+    let fixed = report.stage("read fixed", || point_set(&args.fixed, space))?;
+    let moving = report.stage("read moving", || point_set(&args.moving, space))?;
     let registration = report.stage("registration", || register(&fixed, &moving, &options))?;
     report.count("fixed_points", fixed.line_points.len());
     report.count("moving_points", moving.line_points.len());

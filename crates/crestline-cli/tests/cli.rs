@@ -1115,4 +1115,34 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         &path("t.mat"),
     ]);
     assert_one_line_error(&bad, &path("t.mat"), ".json, .tfm");
+    // Landmark files: the extremal points lead, the lines follow; the same motion.
+    for (mesh, landmarks) in [
+        ("meshes/bunny.obj".to_string(), path("fixed.mrk.json")),
+        (
+            moved_obj.to_str().unwrap().to_string(),
+            path("moving.mrk.json"),
+        ),
+    ] {
+        let json = landmarks.replace(".mrk.json", ".landmarks.json");
+        let run = crestline(&["landmarks", &mesh, "-o", &json, "--space", "ras"]);
+        assert!(run.status.success(), "{}", stderr(&run));
+    }
+    let run = crestline(&[
+        "register",
+        &path("fixed.landmarks.json"),
+        &path("moving.landmarks.json"),
+        "-o",
+        &path("l.json"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path("l.json")).unwrap()).unwrap();
+    for row in 0..3 {
+        let m = |c: usize| json["matrix"][row][c].as_f64().unwrap();
+        let mapped = m(0) * point[0] + m(1) * point[1] + m(2) * point[2] + m(3);
+        assert!(
+            (mapped - expected[row]).abs() < 1e-6,
+            "landmarks: {mapped} vs {expected:?}"
+        );
+    }
 }

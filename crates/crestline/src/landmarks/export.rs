@@ -39,6 +39,14 @@ impl Space {
             Space::Lps => *p,
         }
     }
+
+    /// The position `p` of this frame in RAS.
+    pub fn to_ras(self, p: &Point) -> Point {
+        match self {
+            Space::Ras => *p,
+            Space::Lps => Point::new(-p.x, -p.y, p.z),
+        }
+    }
 }
 
 /// A landmark file format.

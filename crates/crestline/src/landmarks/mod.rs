@@ -24,7 +24,7 @@
 //! Every line gets a descriptor: length, mean curvature (by arc length), strength
 //! and whether it is convex (a ridge) or concave (a valley).
 
-mod export;
+pub mod export;
 
 pub use export::{read_landmarks, write_landmarks, LandmarkFormat, Space};
 

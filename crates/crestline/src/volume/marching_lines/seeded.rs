@@ -23,8 +23,11 @@ use crate::Result;
 
 /// The lines through `seeds` cells drawn at random (by a generator seeded with
 /// `rng_seed`, so the result is reproducible) among the cells the isosurface
-/// `f = level` crosses, for the second field `field` at `g_level` (see the
-/// [module documentation](self)), longest first.
+/// `f = level` crosses, for the second field `field` at `g_level`, longest first:
+/// the randomized Marching Lines (Thirion & Gourdon 1993, §5). Seeds are drawn
+/// uniformly among the crossed cells, so a line is found with a probability that
+/// grows with the number of cells it crosses; every line found is a line of
+/// [`marching_lines`](super::marching_lines()), point for point.
 ///
 /// Errors as [`marching_lines`](super::marching_lines()).
 pub fn seeded_marching_lines(
