@@ -1146,3 +1146,63 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         );
     }
 }
+
+/// A NRRD image (float samples, raw, attached) of a spherical shell of radius
+/// `radius` and width `width` on a unit grid of `n³` samples.
+fn shell_nrrd(path: &std::path::Path, n: usize, radius: f64, width: f64) {
+    let c = (n - 1) as f64 / 2.0;
+    let mut bytes = format!(
+        "NRRD0004\ntype: float\ndimension: 3\nsizes: {n} {n} {n}\nspacings: 1 1 1\nencoding: raw\nendian: little\n\n"
+    )
+    .into_bytes();
+    for i in 0..n * n * n {
+        let [x, y, z] = [i % n, (i / n) % n, i / (n * n)].map(|a| a as f64 - c);
+        let r = (x * x + y * y + z * z).sqrt();
+        let value = (-((r - radius) / width).powi(2)).exp() as f32;
+        bytes.extend(value.to_le_bytes());
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+#[test]
+fn crease_writes_the_ridge_surface_with_its_strength_and_degenerate_marks() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("shell.nrrd");
+    shell_nrrd(&image, 32, 10.0, 3.0);
+    let surface = dir.path().join("shell.ply");
+    let out = crestline(&[
+        "crease",
+        image.to_str().unwrap(),
+        "--sigma",
+        "0",
+        "-o",
+        surface.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let ply = std::fs::read(&surface).unwrap();
+    let header_end = ply.windows(10).position(|w| w == b"end_header").unwrap();
+    let header = String::from_utf8_lossy(&ply[..header_end]);
+    assert!(
+        header.contains("strength") && header.contains("degenerate"),
+        "{header}"
+    );
+    let vertices: usize = header
+        .lines()
+        .find_map(|l| l.strip_prefix("element vertex "))
+        .unwrap()
+        .parse()
+        .unwrap();
+    // The sphere of radius 10 with vertices about a voxel apart.
+    assert!(vertices > 1000, "{vertices} vertices");
+    let bad = crestline(&[
+        "crease",
+        image.to_str().unwrap(),
+        "--strength",
+        "2",
+        "-o",
+        surface.to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    // The failed run left the surface as it was.
+    assert_eq!(std::fs::read(&surface).unwrap(), ply);
+}

@@ -359,3 +359,61 @@ fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
     assert_eq!(figures.non_manifold_edges, 0);
     assert_eq!(figures.crowded_vertices, 0);
 }
+
+#[test]
+fn the_surface_is_trimmed_along_the_strength_level() {
+    use crestline::volume::crease::{crease_surface, STRENGTH};
+    let n = 40;
+    let volume = crossing_sheets(n, 60f64.to_radians(), 2.5, 15.0);
+    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
+    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    // Strong enough that the sheets' fading ends (along y) are cut off.
+    let mut options = field.default_options();
+    options.strength *= 4.0;
+    let soup = crease_surface(&field, &options, 0);
+    let strength = &soup
+        .vertex_scalars
+        .iter()
+        .find(|s| s.name == STRENGTH)
+        .unwrap()
+        .values;
+    let weakest = strength.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(
+        weakest >= options.strength * (1.0 - 1e-9),
+        "a vertex at {weakest}"
+    );
+    // The border runs along −λ3 = s, through the points cut on the triangles'
+    // edges, not along the cells dropped where the sheet gets weak.
+    let mut degree = vec![0usize; soup.positions.len()];
+    for (&(a, b), &count) in &edge_counts(&soup) {
+        if count == 1 {
+            degree[a as usize] += 1;
+            degree[b as usize] += 1;
+        }
+    }
+    let inner = |v: usize| {
+        let p = soup.positions[v];
+        [p.x, p.y, p.z]
+            .iter()
+            .all(|&x| x > 2.0 && x < (n - 3) as f64)
+    };
+    let border: Vec<usize> = (0..soup.positions.len())
+        .filter(|&v| degree[v] > 0 && inner(v))
+        .collect();
+    let on_level = border
+        .iter()
+        .filter(|&&v| (strength[v] - options.strength).abs() <= 1e-9 * options.strength)
+        .count();
+    let figures = topology(&soup);
+    eprintln!(
+        "trimmed sheets: {} triangles, {} border vertices inside the volume, {on_level} on the level; {} non-manifold edges, {} crowded vertices",
+        soup.triangles.len(),
+        border.len(),
+        figures.non_manifold_edges,
+        figures.crowded_vertices
+    );
+    assert!(border.len() > 50, "{} border vertices", border.len());
+    assert!(on_level as f64 >= 0.8 * border.len() as f64);
+    assert_eq!(figures.non_manifold_edges, 0);
+    assert_eq!(figures.crowded_vertices, 0);
+}

@@ -8,12 +8,14 @@ use crate::mesh::{Mesh, VertexId};
 use crate::{Error, Result};
 
 /// The borders of `mesh`: every boundary loop as a closed [`LineKind::Border`] line
-/// through its vertices, in the order of the loop. A closed mesh has none. A line's
-/// strength is its length in mean edge lengths.
+/// through its vertices, in the order of the loop. A closed mesh has none. A loop
+/// of two vertices (a slit, where a mesh was cut open along an edge to make it
+/// orientable) encloses nothing and is left out. A line's strength is its length in
+/// mean edge lengths.
 pub fn borders(mesh: &Mesh) -> FeatureLines {
     let h = mesh.mean_edge_length();
     let mut lines = FeatureLines::new(String::new());
-    for boundary in mesh.boundary_loops() {
+    for boundary in mesh.boundary_loops().into_iter().filter(|b| b.len() >= 3) {
         let vertices = boundary.iter().map(|&b| mesh.source(b)).collect();
         lines.push(vertex_line(mesh, LineKind::Border, true, vertices, h));
     }

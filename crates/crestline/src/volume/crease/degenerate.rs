@@ -2,10 +2,11 @@
 //! crease surface ends, passes through a grid face (Schultz, Theisel and Seidel
 //! 2010, §3.2 and §4.3).
 //!
-//! Only faces crossed an odd number of times are searched: a ridge that enters a
-//! face either leaves it or ends there (faces odd only because a crossing is
-//! weaker than the strength are where the surface meets the side constraint, and
-//! are not searched). The search minimises (λ2 − λ3)² / ‖H‖²_F
+//! Only faces of strong cells crossed an odd number of times (by crossings of any
+//! strength) are searched, and only those with a corner as strong as the strength:
+//! elsewhere on the face −λ3 stays below it, and whatever point the face gets is
+//! trimmed away. A ridge that enters a face either leaves it or ends there. The
+//! search minimises (λ2 − λ3)² / ‖H‖²_F
 //! over the face by gradient descent with Armijo steps from several seeds. Where no
 //! point is found, an edge crossing was probably missed: the face's edges are
 //! searched again with a higher similarity threshold θ (eq. 6) and, if the face is
@@ -20,6 +21,7 @@ use rayon::prelude::*;
 use super::edges::{crossings_on_edge, CrossingOptions, EdgeCrossing};
 use super::field::CreaseField;
 use super::grid::{in_face_axes, EdgeIndex, Grid};
+use super::strong::StrongCells;
 use crate::{Point, Vector};
 
 /// The raised thresholds θ of the passes over faces with no degenerate point.
@@ -59,7 +61,7 @@ const SEEDS: [[f64; 2]; 5] = [
 
 /// The point where a crease ends on a face crossed an odd number of times.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DegeneratePoint {
+pub(crate) struct DegeneratePoint {
     /// The face: `3 · lowest corner + normal axis` (linear index of the corner).
     pub face: u64,
     /// The world position.
@@ -70,14 +72,15 @@ pub struct DegeneratePoint {
     pub found: bool,
 }
 
-/// The degenerate points of the faces crossed an odd number of times, and the
-/// crossings updated on the edges searched again with a raised θ (still sorted by
-/// edge, then t). Every face that stays crossed an odd number of times gets one
-/// point, found or fallback, sorted by face key.
-pub fn degenerate_points(
+/// The degenerate points of the faces of `strong` cells crossed an odd number of
+/// times, and the crossings updated on the edges searched again with a raised θ
+/// (still sorted by edge, then t). Every such face that stays crossed an odd number
+/// of times gets one point, found or fallback, sorted by face key.
+pub(crate) fn degenerate_points(
     field: &CreaseField,
     options: &CrossingOptions,
     crossings: Vec<EdgeCrossing>,
+    strong: &StrongCells,
 ) -> (Vec<EdgeCrossing>, Vec<DegeneratePoint>) {
     let grid = Grid { dims: field.dims() };
     let index = EdgeIndex::new(&crossings);
@@ -98,9 +101,13 @@ pub fn degenerate_points(
     candidates.dedup();
     let mut odd: Vec<u64> = candidates
         .into_par_iter()
-        .filter(|&f| count(&redone, f) % 2 == 1 && odd_at_any_strength(field, &grid, f, options))
+        .filter(|&f| strong.face(f) && count(&redone, f) % 2 == 1)
         .collect();
-    let mut located: HashMap<u64, Option<(Point, f64)>> = search(field, &grid, &odd);
+    let searched = |faces: &[u64]| -> Vec<u64> {
+        let strong_corner = faces.iter().copied().filter(|&f| strong.face_corner(f));
+        strong_corner.collect()
+    };
+    let mut located: HashMap<u64, Option<(Point, f64)>> = search(field, &grid, &searched(&odd));
     for theta in RAISED_THETAS {
         let failed: Vec<u64> = odd
             .iter()
@@ -130,16 +137,18 @@ pub fn degenerate_points(
         affected.dedup();
         let affected_set: HashSet<u64> = affected.iter().copied().collect();
         odd.retain(|f| !affected_set.contains(f));
-        odd.extend(affected.into_iter().filter(|&f| {
-            count(&redone, f) % 2 == 1 && odd_at_any_strength(field, &grid, f, &raised)
-        }));
+        odd.extend(
+            affected
+                .into_iter()
+                .filter(|&f| strong.face(f) && count(&redone, f) % 2 == 1),
+        );
         odd.sort_unstable();
         let unsearched: Vec<u64> = odd
             .iter()
             .copied()
             .filter(|f| !located.contains_key(f))
             .collect();
-        located.extend(search(field, &grid, &unsearched));
+        located.extend(search(field, &grid, &searched(&unsearched)));
     }
     let points = odd
         .iter()
@@ -154,29 +163,6 @@ pub fn degenerate_points(
         })
         .collect();
     (merge(crossings, redone), points)
-}
-
-/// Whether `face` is crossed an odd number of times counting the crossings of any
-/// strength. A face crossed an odd number of times only because a crossing is
-/// weaker than the strength is where the surface reaches the side constraint, not
-/// a degenerate line: it is not searched, and its cells' polygons stay open there.
-fn odd_at_any_strength(
-    field: &CreaseField,
-    grid: &Grid,
-    face: u64,
-    options: &CrossingOptions,
-) -> bool {
-    let any = CrossingOptions {
-        strength: f64::NEG_INFINITY,
-        ..*options
-    };
-    let (low, axis) = grid.unkey(face);
-    let count: usize = grid
-        .face_edges(low, axis)
-        .iter()
-        .map(|&(e, _)| crossings_on_edge(field, e, &any).len())
-        .sum();
-    count % 2 == 1
 }
 
 /// The crossings with those of the `redone` edges replaced, sorted by edge and t.

@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use super::field::{CreaseField, Sample};
+use super::strong::StrongCells;
 use super::tensor::similarity;
 use crate::{Point, Vector};
 
@@ -41,8 +42,9 @@ pub struct CrossingOptions {
     pub epsilon: f64,
     /// Sub-edges are bisected while their ends' tensors are less similar than this.
     pub theta: f64,
-    /// The least ridge strength −λ3 of a crossing (the side constraint λ3 < 0 with
-    /// a margin).
+    /// The least ridge strength −λ3 kept (the side constraint λ3 < 0 with a
+    /// margin): [`edge_crossings`] keeps crossings this strong, and
+    /// [`crease_surface`](super::crease_surface) trims its surface along −λ3 = s.
     pub strength: f64,
 }
 
@@ -54,6 +56,19 @@ pub struct CrossingOptions {
 /// ends (λ2 − λ3 < ε): around a rotationally symmetric ridge h is tiny there with a
 /// random sign.
 pub fn edge_crossings(field: &CreaseField, options: &CrossingOptions) -> Vec<EdgeCrossing> {
+    let strong = StrongCells::new(field, options.strength);
+    let mut crossings = crossings_in_strong_cells(field, options, &strong);
+    crossings.retain(|c| -c.lambda3 >= options.strength);
+    crossings
+}
+
+/// The crossings of every edge of the strong cells ([`StrongCells`]) where λ3 < 0,
+/// as [`edge_crossings`] finds them but of any strength.
+pub(crate) fn crossings_in_strong_cells(
+    field: &CreaseField,
+    options: &CrossingOptions,
+    strong: &StrongCells,
+) -> Vec<EdgeCrossing> {
     let [nx, ny, nz] = field.dims();
     (0..nz)
         .into_par_iter()
@@ -62,13 +77,9 @@ pub fn edge_crossings(field: &CreaseField, options: &CrossingOptions) -> Vec<Edg
             for j in 0..ny {
                 for i in 0..nx {
                     for axis in 0..3 {
-                        let end = [
-                            i + usize::from(axis == 0),
-                            j + usize::from(axis == 1),
-                            k + usize::from(axis == 2),
-                        ];
-                        if end[0] < nx && end[1] < ny && end[2] < nz {
-                            edge([i, j, k], end, axis, field, options, &mut found);
+                        let key = 3 * field.linear_index([i, j, k]) as u64 + axis as u64;
+                        if strong.edge(key) {
+                            found.extend(crossings_on_edge(field, key, options));
                         }
                     }
                 }
@@ -112,9 +123,9 @@ fn edge(
         return;
     }
     // λ3 is concave in the Hessian, so along the edge −λ3 stays below the larger of
-    // its end values: an edge too weak at both ends has no strong enough crossing.
-    let strongest = -a.frame.eigenvalues[2].min(b.frame.eigenvalues[2]);
-    if strongest < options.strength {
+    // its end values: an edge with λ3 ≥ 0 at both ends meets the side constraint
+    // nowhere.
+    if a.frame.eigenvalues[2].min(b.frame.eigenvalues[2]) >= 0.0 {
         return;
     }
     let mut ts = Vec::new();
@@ -126,10 +137,8 @@ fn edge(
     };
     search.split(0.0, &a, 1.0, &b, &mut ts);
     let point = field.linear_index(start) as u64;
-    let strong = ts
-        .into_iter()
-        .filter(|&(_, lambda3)| -lambda3 >= options.strength);
-    for (t, lambda3) in strong.take(MAX_CROSSINGS_PER_EDGE) {
+    let ridge = ts.into_iter().filter(|&(_, lambda3)| lambda3 < 0.0);
+    for (t, lambda3) in ridge.take(MAX_CROSSINGS_PER_EDGE) {
         let position = field.position(start) + (field.position(end) - field.position(start)) * t;
         found.push(EdgeCrossing {
             edge: 3 * point + axis as u64,

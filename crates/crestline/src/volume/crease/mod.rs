@@ -7,8 +7,7 @@
 //! blocks: the transformed tensor T and h = T g − g at a point ([`Eigenframe`]),
 //! derivatives stored at the grid points ([`CreaseField`]), the crossings of h with
 //! the grid edges ([`edge_crossings`]), the degenerate points (λ2 = λ3) on the
-//! faces crossed an odd number of times, where a crease ends
-//! ([`degenerate_points`]), and the surface of their per-face pairings and per-cell
+//! faces crossed an odd number of times, where a crease ends, and the surface of their per-face pairings and per-cell
 //! polygons ([`crease_surface`]), whose boundary follows the degenerate lines.
 
 mod cells;
@@ -18,10 +17,11 @@ mod faces;
 mod field;
 mod grid;
 mod points;
+mod strong;
 mod surface;
 mod tensor;
+mod trim;
 
-pub use degenerate::{degenerate_points, DegeneratePoint};
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
 pub use field::{CreaseField, Sample};
 pub use surface::{crease_surface, crease_surface_with, Stage, DEGENERATE, STRENGTH};

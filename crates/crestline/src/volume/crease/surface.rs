@@ -2,6 +2,8 @@
 //! points are paired into segments; per cell, the segments of its six faces and the
 //! pairs of its degenerate points close into polygons, which are triangulated
 //! (Schultz, Theisel and Seidel 2010, §4.3–4.5; DESIGN.md, "Crease surfaces").
+//! Only the cells with a corner as strong as the strength are built, from
+//! crossings of any strength, and the surface is then trimmed along −λ3 = s.
 
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
@@ -10,10 +12,12 @@ use rayon::prelude::*;
 
 use super::cells::{cell_polygons, CellInput};
 use super::degenerate::degenerate_points;
-use super::edges::{edge_crossings, CrossingOptions};
+use super::edges::{crossings_in_strong_cells, CrossingOptions};
 use super::field::CreaseField;
 use super::grid::{EdgeIndex, Grid};
 use super::points::Points;
+use super::strong::StrongCells;
+use super::trim::trimmed;
 use crate::mesh::{ScalarProperty, TriangleSoup};
 use crate::{Point, Vector};
 
@@ -37,7 +41,8 @@ pub enum Stage {
     DegeneratePoints,
     /// The normals at every point.
     Normals,
-    /// The pairing per face and per cell, the triangulation, the component filter.
+    /// The pairing per face and per cell, the triangulation, the trimming to the
+    /// strength and the component filter.
     Triangulation,
 }
 
@@ -55,8 +60,9 @@ impl Stage {
 
 /// The crease surface of `field` with `options`: triangles that need not be
 /// consistently orientable, with the ridge strength −λ3 of each vertex as the
-/// vertex scalar [`STRENGTH`] and the mark of degenerate points as [`DEGENERATE`].
-/// Connected pieces of fewer than `min_component` triangles are dropped.
+/// vertex scalar [`STRENGTH`] and the mark of degenerate points as [`DEGENERATE`],
+/// where −λ3 is at least `options.strength` (trimmed along that level). Connected
+/// pieces of fewer than `min_component` triangles are dropped.
 pub fn crease_surface(
     field: &CreaseField,
     options: &CrossingOptions,
@@ -74,10 +80,11 @@ pub fn crease_surface_with(
 ) -> TriangleSoup {
     let mut timed = |stage: Stage, started: Instant| observe(stage, started.elapsed());
     let started = Instant::now();
-    let crossings = edge_crossings(field, options);
+    let strong = StrongCells::new(field, options.strength);
+    let crossings = crossings_in_strong_cells(field, options, &strong);
     timed(Stage::Crossings, started);
     let started = Instant::now();
-    let (crossings, degenerate) = degenerate_points(field, options, crossings);
+    let (crossings, degenerate) = degenerate_points(field, options, crossings, &strong);
     timed(Stage::DegeneratePoints, started);
     let started = Instant::now();
     let points = Points::new(field, options.epsilon, &crossings, &degenerate);
@@ -99,9 +106,13 @@ pub fn crease_surface_with(
     let polygons: Vec<Vec<Vec<usize>>> = index
         .touched_cells(&grid)
         .par_iter()
+        .filter(|&&cell| strong.cell(cell))
         .map(|&cell| cell_polygons(cell, &input))
         .collect();
-    let mesh = triangulate(&points, polygons.into_iter().flatten());
+    let mesh = trimmed(
+        triangulate(&points, polygons.into_iter().flatten()),
+        options.strength,
+    );
     let triangles = large_components(mesh.triangles, mesh.positions.len(), min_component);
     let soup = compact(Mesh { triangles, ..mesh });
     timed(Stage::Triangulation, started);
@@ -130,11 +141,11 @@ fn large_components(triangles: Vec<[u32; 3]>, vertices: usize, min: usize) -> Ve
 }
 
 /// Vertices (with their scalars) and triangles before compaction.
-struct Mesh {
-    positions: Vec<Point>,
-    strength: Vec<f64>,
-    degenerate: Vec<f64>,
-    triangles: Vec<[u32; 3]>,
+pub(super) struct Mesh {
+    pub positions: Vec<Point>,
+    pub strength: Vec<f64>,
+    pub degenerate: Vec<f64>,
+    pub triangles: Vec<[u32; 3]>,
 }
 
 /// Triangles of the polygons: triangles as they are, quadrilaterals split along
