@@ -330,13 +330,21 @@ fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
     assert_eq!(on_line, inner.len());
 }
 
+/// The samples per axis of [`sheets_field`].
+const SHEETS: usize = 40;
+
+/// The ridge field of two sheets crossing at 60° on a grid of `SHEETS`³ samples,
+/// reconstructed by the cubic B-spline.
+fn sheets_field() -> CreaseField {
+    let volume = crossing_sheets(SHEETS, 60f64.to_radians(), 2.5, 15.0);
+    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
+    CreaseField::new(&volume, &derivatives, true).unwrap()
+}
+
 #[test]
 fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
     use crestline::volume::crease::crease_surface;
-    let n = 40;
-    let volume = crossing_sheets(n, 60f64.to_radians(), 2.5, 15.0);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let (n, field) = (SHEETS, sheets_field());
     let soup = crease_surface(&field, &field.default_options(), 0);
     let figures = topology(&soup);
     eprintln!(
@@ -363,10 +371,7 @@ fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
 #[test]
 fn the_surface_is_trimmed_along_the_strength_level() {
     use crestline::volume::crease::{crease_surface, STRENGTH};
-    let n = 40;
-    let volume = crossing_sheets(n, 60f64.to_radians(), 2.5, 15.0);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let (n, field) = (SHEETS, sheets_field());
     // Strong enough that the sheets' fading ends (along y) are cut off.
     let mut options = field.default_options();
     options.strength *= 4.0;
