@@ -55,8 +55,8 @@ pub struct CrestArgs {
     /// The randomized Marching Lines: follow only the lines through N cells drawn
     /// at random on the isosurface; the longest lines come first, at a fraction of
     /// the cost. Default: every cell, every line.
-    #[arg(long, value_name = "N")]
-    pub seeds: Option<usize>,
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub seeds: Option<u64>,
     /// The seed of the random draw of --seeds (the same seed, the same lines).
     #[arg(long, default_value_t = 1, value_name = "S", requires = "seeds")]
     pub rng_seed: u64,
@@ -84,7 +84,7 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     let tracing = LineTracing {
         family: args.kind,
         sweep: args.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
-            count,
+            count: count as usize,
             rng_seed: args.rng_seed,
         }),
         ..LineTracing::new(args.level, sigma)

@@ -80,6 +80,21 @@ fn point_set(path: &Path, space: Space) -> Result<PointSet> {
     })
 }
 
+/// [`point_set`], with an error naming `path` if it holds too few line points.
+fn enough_points(path: &Path, space: Space) -> Result<PointSet> {
+    let set = point_set(path, space)?;
+    if set.line_points.len() < 3 {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "{} line points; registration needs at least 3 (no lines were found in that scan?)",
+                set.line_points.len()
+            ),
+        });
+    }
+    Ok(set)
+}
+
 /// One line summing up `registration` for the terminal.
 fn summary(registration: &Registration, moving_points: usize) -> String {
     let t = registration.transform.translation;
@@ -119,8 +134,8 @@ pub fn run(args: &RegisterArgs) -> Result<()> {
     )?;
     let mut report = report_with_progress("register", &args.moving);
     let space = space_of(args.space);
-    let fixed = report.stage("read fixed", || point_set(&args.fixed, space))?;
-    let moving = report.stage("read moving", || point_set(&args.moving, space))?;
+    let fixed = report.stage("read fixed", || enough_points(&args.fixed, space))?;
+    let moving = report.stage("read moving", || enough_points(&args.moving, space))?;
     let registration = report.stage("registration", || register(&fixed, &moving, &options))?;
     report.count("fixed_points", fixed.line_points.len());
     report.count("moving_points", moving.line_points.len());
