@@ -3,14 +3,14 @@
 
 use std::path::PathBuf;
 
-use crestline::io::{read_volume, write_soup};
+use crestline::io::write_soup;
 use crestline::volume::crease::{crease_surface, CreaseField, DEFAULT_STRENGTH_FRACTION};
 use crestline::volume::Derivatives;
 use crestline::{Error, Result};
 
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::surface::{naming, require_image};
+use super::surface::{naming, read_image, require_image};
 use super::ReportArg;
 
 /// Arguments of `crestline crease`.
@@ -59,7 +59,7 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crease", &args.volume);
     let in_file = |e| naming(e, &args.volume);
-    let volume = report.stage("read", || read_volume(&args.volume))?;
+    let volume = read_image(&args.volume, &mut report)?;
     let derivatives = report
         .stage("reconstruction", || {
             if args.sigma == 0.0 {

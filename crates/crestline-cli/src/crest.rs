@@ -4,14 +4,13 @@
 use std::path::{Path, PathBuf};
 
 use crestline::crest_lines::{trace, LineFamily, LineTracing};
-use crestline::io::read_volume;
 use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
 use crestline::volume::{Sweep, Volume};
 use crestline::Result;
 
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::surface::{default_sigma, naming, require_image};
+use super::surface::{default_sigma, naming, read_image, require_image};
 use super::ReportArg;
 use crate::report::Report;
 
@@ -79,7 +78,7 @@ pub fn run(args: &CrestArgs) -> Result<()> {
         .collect();
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crest-lines", &args.volume);
-    let volume = report.stage("read", || read_volume(&args.volume))?;
+    let volume = read_image(&args.volume, &mut report)?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
     let tracing = LineTracing {
         family: args.kind,

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crestline::crest_lines::LineTracing;
-use crestline::io::{is_volume_path, read_volume};
+use crestline::io::is_volume_path;
 use crestline::landmarks::{landmarks, write_landmarks, LandmarkFormat, LandmarkOptions, Space};
 use crestline::lines::FeatureLines;
 use crestline::Result;
@@ -15,7 +15,7 @@ use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::report::Report;
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
-use super::surface::{default_sigma, required_level};
+use super::surface::{default_sigma, read_image, required_level};
 use super::ReportArg;
 
 /// The frame of the input's coordinates.
@@ -95,7 +95,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
 fn image_crest_lines(args: &LandmarksArgs, report: &mut Report) -> Result<(FeatureLines, f64)> {
     let path: &Path = &args.input;
     let level = required_level(path, &args.tracer.volume)?;
-    let volume = report.stage("read", || read_volume(path))?;
+    let volume = read_image(path, report)?;
     let voxel = default_sigma(&volume);
     let sigma = args.tracer.volume.sigma.unwrap_or(voxel);
     let tracing = LineTracing::new(level, sigma);

@@ -115,8 +115,7 @@ fn image_surface(
     report: &mut Report,
 ) -> Result<Surface> {
     let level = required_level(path, args)?;
-    let mut volume = report.stage("read", || read_volume(path))?;
-    replace_non_finite(path, &mut volume)?;
+    let volume = read_image(path, report)?;
     let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
     report.section("sigma", sigma);
     report.section("level", level);
@@ -144,6 +143,14 @@ fn image_surface(
             sigma,
         }),
     })
+}
+
+/// The 3D image at `path` (the stage `read`), its non-finite samples set to the
+/// background with a warning ([`replace_non_finite`]).
+pub fn read_image(path: &Path, report: &mut Report) -> Result<Volume> {
+    let mut volume = report.stage("read", || read_volume(path))?;
+    replace_non_finite(path, &mut volume)?;
+    Ok(volume)
 }
 
 /// Set non-finite samples (NaN outside the mask of a resampled scan, say) to the

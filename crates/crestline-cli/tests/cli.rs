@@ -1206,3 +1206,47 @@ fn crease_writes_the_ridge_surface_with_its_strength_and_degenerate_marks() {
     // The failed run left the surface as it was.
     assert_eq!(std::fs::read(&surface).unwrap(), ply);
 }
+
+#[test]
+fn image_commands_set_non_finite_samples_to_the_background_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("shell.nrrd");
+    shell_nrrd(&image, 32, 10.0, 3.0);
+    // A NaN in the corner, as outside the mask of a resampled scan.
+    let mut bytes = std::fs::read(&image).unwrap();
+    let data = bytes.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    bytes[data..data + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    std::fs::write(&image, bytes).unwrap();
+    let surface = dir.path().join("shell.ply");
+    let lines = dir.path().join("lines.json");
+    let runs = [
+        vec![
+            "crease",
+            image.to_str().unwrap(),
+            "--sigma",
+            "0",
+            "-o",
+            surface.to_str().unwrap(),
+        ],
+        vec![
+            "crest-lines",
+            image.to_str().unwrap(),
+            "--level",
+            "0.5",
+            "--kind",
+            "parabolic",
+            "-o",
+            lines.to_str().unwrap(),
+        ],
+    ];
+    for args in runs {
+        let out = crestline(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(
+            stderr(&out).contains("1 samples are not finite"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert!(surface.exists() && lines.exists());
+}
