@@ -7,12 +7,13 @@
 use std::path::Path;
 
 use crestline::curvature::{estimate_curvature, CurvatureField, Estimator};
-use crestline::lines::{FeatureLines, LineExtractor, Polyline};
+use crestline::lines::{FeatureLines, LineExtractor, Polyline, SurfaceWithValues};
 use crestline::mesh::{Mesh, RepairReport, TriangleSoup};
+use crestline::morse::{MorseSmale, Simplification};
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Point, Vector};
 use numpy::ndarray::{Array1, Array2, ArrayView2};
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
@@ -165,6 +166,39 @@ fn ridges<'py>(
     lines.iter().map(|line| line_dict(py, line)).collect()
 }
 
+/// Feature lines as 1-cells of a simplified Morse-Smale complex (Sahner et al.
+/// 2008) of the curvedness, or of `values` (one per vertex) when given, as dicts
+/// like [`ridges`]'.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, estimator, keep_saddles, values=None))]
+fn morse<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    estimator: &str,
+    keep_saddles: usize,
+    values: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let estimator: Estimator = estimator.parse().map_err(raised)?;
+    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
+    let complex = MorseSmale {
+        estimator: estimator.build(),
+        simplification: Simplification::KeepSaddles(keep_saddles),
+        ..MorseSmale::default()
+    };
+    let values: Option<Vec<f64>> = values.map(|v| v.as_array().to_vec());
+    let lines: FeatureLines = py
+        .detach(|| match &values {
+            Some(values) => complex.extract(&SurfaceWithValues {
+                mesh: &mesh,
+                values,
+            }),
+            None => complex.extract(&mesh),
+        })
+        .map_err(raised)?;
+    lines.iter().map(|line| line_dict(py, line)).collect()
+}
+
 /// One line as a dict.
 fn line_dict<'py>(py: Python<'py>, line: &Polyline) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
@@ -190,5 +224,6 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(curvature, m)?)?;
     m.add_function(wrap_pyfunction!(ridges, m)?)?;
+    m.add_function(wrap_pyfunction!(morse, m)?)?;
     Ok(())
 }

@@ -90,6 +90,22 @@ def test_ridges_of_the_bunny_are_lines_with_per_point_values():
     assert min(line["strength"] for line in strong) >= 10.0
 
 
+def test_morse_lines_follow_the_given_values():
+    vertices, faces, _ = crestline.read_mesh(BUNNY)
+    lines = crestline.morse(vertices, faces, keep_saddles=20)
+    assert 0 < len(lines) <= 2 * 20
+    assert {line["kind"] for line in lines} == {"ascending"}
+    # With the height as the values, the lines climb to its maxima: the indicator
+    # they carry is the height of their points.
+    height = vertices[:, 1]
+    climbing = crestline.morse(vertices, faces, values=height, keep_saddles=5)
+    assert climbing
+    for line in climbing:
+        assert np.abs(line["values"]["indicator"] - line["points"][:, 1]).max() < 1e-9
+    with pytest.raises(ValueError, match=r"values: expected shape"):
+        crestline.morse(vertices, faces, values=height[:-1])
+
+
 def test_objects_with_vertices_and_faces_are_accepted():
     class Mesh:  # the shape of a trimesh.Trimesh
         def __init__(self, vertices, faces):

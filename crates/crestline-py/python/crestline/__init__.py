@@ -18,7 +18,7 @@ import numpy as np
 from . import _crestline
 from ._crestline import Error
 
-__all__ = ["Error", "read_mesh", "curvature", "ridges"]
+__all__ = ["Error", "read_mesh", "curvature", "ridges", "morse"]
 
 ESTIMATORS = ("shape-operator", "jet-fit")
 
@@ -97,3 +97,24 @@ def ridges(vertices, faces=None, estimator="shape-operator", smooth_steps=3, smo
         if not (isinstance(value, (int, float)) and np.isfinite(value) and value >= 0):
             raise ValueError(f"{name}: expected a finite number ≥ 0, got {value!r}")
     return _crestline.ridges(v, f, _estimator(estimator), smooth_steps, float(smooth_time), float(threshold))
+
+
+def morse(vertices, faces=None, values=None, estimator="shape-operator", keep_saddles=100):
+    """Feature lines as the ascending 1-cells (saddle to maximum) of a simplified
+    Morse-Smale complex (Sahner et al. 2008) of the curvedness, or of ``values``
+    (one float per vertex) when given, keeping the ``keep_saddles`` most
+    significant saddles; faired on the surface.
+
+    Returns a list of dicts like :func:`ridges`, of kind ``"ascending"``, with the
+    indicator at each point in ``values["indicator"]``.
+    """
+    v, f = _mesh_arrays(vertices, faces)
+    if not (isinstance(keep_saddles, int) and keep_saddles >= 0):
+        raise ValueError(f"keep_saddles: expected an integer ≥ 0, got {keep_saddles!r}")
+    if values is not None:
+        values = np.ascontiguousarray(values, dtype=np.float64)
+        if values.shape != (len(v),):
+            raise ValueError(f"values: expected shape ({len(v)},), one per vertex, got {values.shape}")
+        if not np.isfinite(values).all():
+            raise ValueError(f"values: entry {int(np.argmax(~np.isfinite(values)))} is not finite")
+    return _crestline.morse(v, f, _estimator(estimator), keep_saddles, values)

@@ -37,3 +37,10 @@ def ridges(
     smooth_time: float = ...,
     threshold: float = ...,
 ) -> list[Line]: ...
+def morse(
+    vertices: Any,
+    faces: Optional[npt.ArrayLike] = ...,
+    values: Optional[npt.ArrayLike] = ...,
+    estimator: Estimator = ...,
+    keep_saddles: int = ...,
+) -> list[Line]: ...
