@@ -63,7 +63,7 @@ pub struct LandmarksArgs {
 
 /// Find the landmarks and write them.
 pub fn run(args: &LandmarksArgs) -> Result<()> {
-    let format = LandmarkFormat::from_path(&args.output)?;
+    LandmarkFormat::from_path(&args.output)?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();
@@ -86,7 +86,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
     let space = input_space(args);
     args.report
         .write_with_output(&mut report, &args.output, |p| {
-            write_landmarks(p, format, &found, space)
+            write_landmarks(p, &found, space)
         })
 }
 

@@ -96,6 +96,19 @@ fn check_writable(role: &str, path: &Path) -> Result<()> {
 }
 
 /// A new empty file with a hidden name in `dir` ending in `suffix`.
+/// The file name of `path` from its first dot on (`.mrk.json`, `.nii.gz`, `.ply`;
+/// a leading dot of a hidden file does not count), empty without one.
+fn suffix(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let start = usize::from(name.starts_with('.'));
+    name[start..]
+        .find('.')
+        .map_or(String::new(), |dot| name[start + dot..].to_string())
+}
+
 fn temporary_in(dir: &Path, suffix: &str) -> std::io::Result<TempPath> {
     tempfile::Builder::new()
         .prefix(".crestline-")
@@ -114,15 +127,12 @@ pub struct OutputSet {
 
 impl OutputSet {
     /// Write the output `path` by calling `write` with a temporary path in the
-    /// same directory and with the same extension (writers that choose the format
-    /// by extension still do). Errors name `path`, not the temporary file.
+    /// same directory and with the same suffix (writers that choose the format by
+    /// the file name still do, `.mrk.json` included). Errors name `path`, not the
+    /// temporary file.
     pub fn write(&mut self, path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
-        let suffix = path
-            .extension()
-            .map(|e| format!(".{}", e.to_string_lossy()))
-            .unwrap_or_default();
         let temporary =
-            temporary_in(directory_of(path), &suffix).map_err(|e| Error::io(path, e))?;
+            temporary_in(directory_of(path), &suffix(path)).map_err(|e| Error::io(path, e))?;
         write(&temporary).map_err(|e| name_output(e, &temporary, path))?;
         self.staged.push((path.to_path_buf(), temporary));
         Ok(())

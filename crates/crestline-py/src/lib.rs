@@ -70,6 +70,16 @@ fn mesh_of(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> PyResult<Mesh> 
     Ok(mesh)
 }
 
+/// The estimator named `estimator` and the mesh of the arrays ([`mesh_of`]).
+fn inputs(
+    vertices: &PyReadonlyArray2<f64>,
+    faces: &PyReadonlyArray2<i64>,
+    estimator: &str,
+) -> PyResult<(Estimator, Mesh)> {
+    let estimator: Estimator = estimator.parse().map_err(raised)?;
+    Ok((estimator, mesh_of(vertices.as_array(), faces.as_array())?))
+}
+
 /// `n × 3` float64 array of vectors or points.
 fn rows<'py>(
     py: Python<'py>,
@@ -116,8 +126,7 @@ fn curvature<'py>(
     faces: PyReadonlyArray2<'py, i64>,
     estimator: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let estimator: Estimator = estimator.parse().map_err(raised)?;
-    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
     let field = py
         .detach(|| estimate_curvature(&mesh, estimator.build().as_ref()))
         .map_err(raised)?;
@@ -143,7 +152,6 @@ fn field_dict<'py>(py: Python<'py>, field: &CurvatureField) -> PyResult<Bound<'p
 /// Ridge and valley lines by extremality tracing, each a dict of kind, closed,
 /// strength, points (k × 3) and per-point values.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 fn ridges<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
@@ -153,8 +161,7 @@ fn ridges<'py>(
     smooth_time: f64,
     threshold: f64,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let estimator: Estimator = estimator.parse().map_err(raised)?;
-    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
     let tracer = ExtremalityTracer {
         estimator: estimator.build(),
         smooth_steps,
@@ -162,8 +169,7 @@ fn ridges<'py>(
         threshold,
         ..ExtremalityTracer::default()
     };
-    let lines: FeatureLines = py.detach(|| tracer.extract(&mesh)).map_err(raised)?;
-    lines.iter().map(|line| line_dict(py, line)).collect()
+    line_dicts(py, py.detach(|| tracer.extract(&mesh)).map_err(raised)?)
 }
 
 /// Feature lines as 1-cells of a simplified Morse-Smale complex (Sahner et al.
@@ -179,23 +185,25 @@ fn morse<'py>(
     keep_saddles: usize,
     values: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let estimator: Estimator = estimator.parse().map_err(raised)?;
-    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
     let complex = MorseSmale {
         estimator: estimator.build(),
         simplification: Simplification::KeepSaddles(keep_saddles),
         ..MorseSmale::default()
     };
     let values: Option<Vec<f64>> = values.map(|v| v.as_array().to_vec());
-    let lines: FeatureLines = py
-        .detach(|| match &values {
-            Some(values) => complex.extract(&SurfaceWithValues {
-                mesh: &mesh,
-                values,
-            }),
-            None => complex.extract(&mesh),
-        })
-        .map_err(raised)?;
+    let lines = py.detach(|| match &values {
+        Some(values) => complex.extract(&SurfaceWithValues {
+            mesh: &mesh,
+            values,
+        }),
+        None => complex.extract(&mesh),
+    });
+    line_dicts(py, lines.map_err(raised)?)
+}
+
+/// Every line as a dict ([`line_dict`]).
+fn line_dicts(py: Python<'_>, lines: FeatureLines) -> PyResult<Vec<Bound<'_, PyDict>>> {
     lines.iter().map(|line| line_dict(py, line)).collect()
 }
 

@@ -23,12 +23,17 @@ fn shell(n: usize, radius: f64, width: f64) -> (Volume, Point) {
     (volume, centre)
 }
 
+/// The ridge field of `volume`, reconstructed by the cubic B-spline.
+fn ridge_field(volume: &Volume) -> CreaseField {
+    let derivatives = Derivatives::cubic_spline(volume, 2).unwrap();
+    CreaseField::new(volume, &derivatives, true).unwrap()
+}
+
 #[test]
 fn spherical_shell_edge_crossings_lie_on_the_sphere_and_nowhere_else() {
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let field = ridge_field(&volume);
     let crossings = edge_crossings(&field, &field.default_options());
     let on_ridge: Vec<_> = crossings.iter().filter(|c| c.lambda3 < 0.0).collect();
     let distances: Vec<f64> = on_ridge
@@ -97,8 +102,7 @@ fn without_the_degenerate_rule_the_shell_would_grow_spurious_sheets() {
     // crossed all over: the rule of DESIGN.md is what keeps the result clean.
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let field = ridge_field(&volume);
     let far = |epsilon: f64| {
         let options = CrossingOptions {
             epsilon,
@@ -120,8 +124,7 @@ fn spherical_shell_ridge_surface_is_the_sphere() {
     use crestline::volume::crease::crease_surface;
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let field = ridge_field(&volume);
     let soup = &crease_surface(&field, &field.default_options(), 0);
     let distances: Vec<f64> = soup
         .positions
@@ -269,8 +272,7 @@ fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
     use crestline::volume::crease::{crease_surface, DEGENERATE};
     let (n, centre) = (32, [15.3, 15.5, 15.7]);
     let volume = ending_ridge(n, centre);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    let field = CreaseField::new(&volume, &derivatives, true).unwrap();
+    let field = ridge_field(&volume);
     // The polynomial's reconstruction at the volume's border inflates the range of
     // eigenvalues, and with it the default ε; take 0.5% of the range inside.
     let options = CrossingOptions {
@@ -337,8 +339,7 @@ const SHEETS: usize = 40;
 /// reconstructed by the cubic B-spline.
 fn sheets_field() -> CreaseField {
     let volume = crossing_sheets(SHEETS, 60f64.to_radians(), 2.5, 15.0);
-    let derivatives = Derivatives::cubic_spline(&volume, 2).unwrap();
-    CreaseField::new(&volume, &derivatives, true).unwrap()
+    ridge_field(&volume)
 }
 
 #[test]

@@ -190,9 +190,11 @@ fn slicer_markups_hold_the_schema_fields_and_read_back_as_points_and_curves() {
     let found = sample_landmarks();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("ellipsoid.mrk.json");
-    let format = LandmarkFormat::from_path(&path).unwrap();
-    assert_eq!(format, LandmarkFormat::Slicer);
-    write_landmarks(&path, format, &found, Space::Ras).unwrap();
+    assert_eq!(
+        LandmarkFormat::from_path(&path).unwrap(),
+        LandmarkFormat::Slicer
+    );
+    write_landmarks(&path, &found, Space::Ras).unwrap();
     let document: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
     // The schema's required fields and the types and values it allows.
@@ -246,18 +248,12 @@ fn json_round_trips_and_csv_has_one_row_per_point() {
     let found = sample_landmarks();
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("landmarks.json");
-    write_landmarks(
-        &json,
-        LandmarkFormat::from_path(&json).unwrap(),
-        &found,
-        Space::Lps,
-    )
-    .unwrap();
+    write_landmarks(&json, &found, Space::Lps).unwrap();
     let (read, space) = read_landmarks(&json).unwrap();
     assert_eq!(space, Space::Lps);
     assert_eq!(read, found);
     let csv = dir.path().join("landmarks.csv");
-    write_landmarks(&csv, LandmarkFormat::Csv, &found, Space::Lps).unwrap();
+    write_landmarks(&csv, &found, Space::Lps).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<&str> = text.lines().collect();
     assert_eq!(rows[0], "id,kind,x,y,z,curvature,line");

@@ -436,13 +436,20 @@ fn random_smooth(seed: u64) -> impl Fn(Point) -> f64 {
     }
 }
 
+/// Two independent random smooth fields on a grid of `dims`: f and g.
+fn random_pair(dims: [usize; 3], seed: u64) -> (Volume, Volume) {
+    (
+        centred(dims, random_smooth(seed)),
+        centred(dims, random_smooth(seed + 100)),
+    )
+}
+
 #[test]
 fn bi_iso_lines_of_random_fields_end_only_at_the_border_and_cross_each_face_once() {
     let dims = [22, 20, 18];
     let mut lines_seen = 0;
     for seed in 1..=6 {
-        let f = centred(dims, random_smooth(seed));
-        let g_volume = centred(dims, random_smooth(seed + 100));
+        let (f, g_volume) = random_pair(dims, seed);
         let lines = bi_iso_lines(&f, 0.0, g_volume.samples(), 0.0).unwrap();
         let mut keys = std::collections::HashSet::new();
         for line in &lines {
@@ -484,8 +491,7 @@ fn seeded_lines_are_whole_lines_of_the_full_sweep_longest_first() {
     let dims = [22, 20, 18];
     let mut longest_found = 0;
     for seed in 1..=6 {
-        let f = centred(dims, random_smooth(seed));
-        let g_volume = centred(dims, random_smooth(seed + 100));
+        let (f, g_volume) = random_pair(dims, seed);
         let g = SampledField::new(&f, g_volume.samples()).unwrap();
         let every = bi_iso_lines(&f, 0.0, g_volume.samples(), 0.0).unwrap();
         let seeded = seeded_marching_lines(&f, 0.0, &g, 0.0, 150, seed).unwrap();

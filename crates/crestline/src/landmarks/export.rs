@@ -92,15 +92,11 @@ struct Document {
     landmarks: Landmarks,
 }
 
-/// Write `landmarks`, whose positions are in `space`, to `path` in `format` (see
-/// [`LandmarkFormat::from_path`]), atomically: on an error `path` is untouched.
-pub fn write_landmarks(
-    path: &Path,
-    format: LandmarkFormat,
-    landmarks: &Landmarks,
-    space: Space,
-) -> Result<()> {
-    match format {
+/// Write `landmarks`, whose positions are in `space`, to `path` in the format
+/// its name gives ([`LandmarkFormat::from_path`]), atomically: on an error `path`
+/// is untouched.
+pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Result<()> {
+    match LandmarkFormat::from_path(path)? {
         LandmarkFormat::Json => {
             let document = Document {
                 format: FORMAT.to_string(),
