@@ -569,3 +569,46 @@ fn a_non_finite_gaussian_curvature_is_an_error() {
     let error = trace(&volume, &tracing).unwrap_err().to_string();
     assert!(error.contains("not finite"), "{error}");
 }
+
+/// Crest lines of a real head's skin, on the full-head T1 template that
+/// `tools/fetch_head_template.sh` fetches (skipped when it is absent): the tip of
+/// the nose, the most anterior crest point (RAS: largest y), lies on a ridge, the
+/// convex kind, and ridges outnumber valleys around it. Swapping the sides of
+/// the isosurface or the sign of the curvature would make it a valley.
+#[test]
+fn the_tip_of_the_nose_is_on_a_ridge_of_the_skin() {
+    let path = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/head/mean_head_t1.nii.gz"
+    ));
+    if !path.exists() {
+        eprintln!(
+            "skipping: {} is missing (run tools/fetch_head_template.sh to fetch it)",
+            path.display()
+        );
+        return;
+    }
+    let volume = crestline::io::read_volume(path).unwrap();
+    let lines = crest_lines(&volume, 120.0, 1.0).unwrap();
+    let points: Vec<(Point, LineKind)> = lines
+        .iter()
+        .flat_map(|line| line.points.iter().map(|p| (*p, line.kind)))
+        .collect();
+    let (tip, kind) = points
+        .iter()
+        .copied()
+        .max_by(|a, b| a.0.y.total_cmp(&b.0.y))
+        .unwrap();
+    assert_eq!(kind, LineKind::Ridge, "the nose tip {tip:?} is on a {kind:?}");
+    let around = |k: LineKind| {
+        points
+            .iter()
+            .filter(|(p, kind)| *kind == k && (p - tip).norm() < 10.0)
+            .count()
+    };
+    let (ridges, valleys) = (around(LineKind::Ridge), around(LineKind::Valley));
+    assert!(
+        ridges > 2 * valleys,
+        "{ridges} ridge and {valleys} valley points within 10 mm of the nose tip"
+    );
+}
