@@ -15,7 +15,7 @@ use super::ReportArg;
 pub struct CurvatureArgs {
     /// The mesh file (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
-    /// Output PLY file: the mesh with float vertex properties k_max, k_min, mean,
+    /// Output PLY file: the mesh with double vertex properties k_max, k_min, mean,
     /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable (1 on the boundary).
     #[arg(short, long, value_name = "FILE.ply")]
     pub output: PathBuf,

@@ -18,7 +18,7 @@ use super::ReportArg;
 pub struct IsoArgs {
     /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
     pub volume: PathBuf,
-    /// Output surface: .ply (with the float vertex properties k_max, k_min, mean,
+    /// Output surface: .ply (with the double vertex properties k_max, k_min, mean,
     /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable), .obj or .vtk (the
     /// surface alone).
     #[arg(short, long, value_name = "FILE")]

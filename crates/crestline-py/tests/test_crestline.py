@@ -76,34 +76,43 @@ def test_ridges_of_the_bunny_are_lines_with_per_point_values():
     vertices, faces, _ = crestline.read_mesh(BUNNY)
     lines = crestline.ridges(vertices, faces)
     assert len(lines) > 20
-    assert {line["kind"] for line in lines} == {"ridge", "valley"}
+    assert set(lines.kinds()) == {"ridge", "valley"}
     for line in lines:
-        n = len(line["points"])
-        assert line["points"].shape == (n, 3) and line["points"].dtype == np.float64
-        assert n >= (3 if line["closed"] else 2)
-        assert line["strength"] >= 2.0  # the default threshold
-        assert sorted(line["values"]) == ["e_max", "e_min", "k_max", "k_min"]
-        assert all(len(v) == n for v in line["values"].values())
+        n = len(line)
+        assert line.points.shape == (n, 3) and line.points.dtype == np.float64
+        assert n >= (3 if line.closed else 2)
+        assert line.strength >= 2.0  # the default threshold
+        assert sorted(line.values) == ["e_max", "e_min", "k_max", "k_min"]
+        assert all(len(v) == n for v in line.values.values())
     # A stricter threshold keeps fewer lines, and never a weaker one.
     strong = crestline.ridges(vertices, faces, threshold=10.0)
     assert 0 < len(strong) < len(lines)
-    assert min(line["strength"] for line in strong) >= 10.0
+    assert min(line.strength for line in strong) >= 10.0
 
 
 def test_morse_lines_follow_the_given_values():
     vertices, faces, _ = crestline.read_mesh(BUNNY)
     lines = crestline.morse(vertices, faces, keep_saddles=20)
     assert 0 < len(lines) <= 2 * 20
-    assert {line["kind"] for line in lines} == {"ascending"}
-    # With the height as the values, the lines climb to its maxima: the indicator
-    # they carry is the height of their points.
+    assert lines.kinds().keys() == {"ascending"}
+    # With the height as the indicator, the lines climb to its maxima: the
+    # indicator they carry is the height of their points.
     height = vertices[:, 1]
-    climbing = crestline.morse(vertices, faces, values=height, keep_saddles=5)
+    climbing = crestline.morse(vertices, faces, indicator=height, keep_saddles=5)
     assert climbing
     for line in climbing:
-        assert np.abs(line["values"]["indicator"] - line["points"][:, 1]).max() < 1e-9
-    with pytest.raises(ValueError, match=r"values: expected shape"):
-        crestline.morse(vertices, faces, values=height[:-1])
+        assert np.abs(line.values["indicator"] - line.points[:, 1]).max() < 1e-9
+    with pytest.raises(ValueError, match=r"indicator: expected shape"):
+        crestline.morse(vertices, faces, indicator=height[:-1])
+    with pytest.raises(ValueError, match=r"indicator: expected one of"):
+        crestline.morse(vertices, faces, indicator="height")
+    # k_max by name is k_max of the estimator.
+    by_name = crestline.morse(vertices, faces, indicator="k_max", keep_saddles=5)
+    k_max = crestline.curvature(vertices, faces)["k_max"]
+    by_values = crestline.morse(vertices, faces, indicator=k_max, keep_saddles=5)
+    assert len(by_name) == len(by_values) > 0
+    for a, b in zip(by_name, by_values):
+        assert np.array_equal(a.points, b.points)
 
 
 def test_objects_with_vertices_and_faces_are_accepted():
@@ -148,7 +157,9 @@ def test_bad_options_and_files_raise_clear_errors():
         crestline.ridges(vertices, faces, smooth_steps=-1)
     with pytest.raises(ValueError, match="threshold"):
         crestline.ridges(vertices, faces, threshold=float("nan"))
-    with pytest.raises(crestline.Error, match="no-such-mesh.obj"):
+    with pytest.raises(crestline.FileError, match="no-such-mesh.obj") as raised:
         crestline.read_mesh("no-such-mesh.obj")
+    assert raised.value.path == "no-such-mesh.obj"
+    assert isinstance(raised.value, crestline.Error)
     with pytest.raises(TypeError, match="faces: missing"):
         crestline.curvature(vertices)

@@ -774,20 +774,18 @@ fn ply_round_trip_with_attributes() {
     write_ply(&path, &mesh, &attributes).unwrap();
     let soup = read_mesh(&path).unwrap();
 
-    // Positions are written in double precision: exact. Attributes are floats.
+    // Positions and attributes are written in double precision: exact.
     assert_eq!(soup.positions.len(), n);
     assert_eq!(soup.positions, mesh.positions());
     assert_eq!(soup.triangles, mesh.triangles());
-    let as_f32 = |v: f64| f64::from(v as f32);
     let names: Vec<&str> = soup
         .vertex_scalars
         .iter()
         .map(|p| p.name.as_str())
         .collect();
     assert_eq!(names, ["height", "dir_x", "dir_y", "dir_z"]);
-    let expected: Vec<f64> = height.iter().map(|&h| as_f32(h)).collect();
-    assert_eq!(soup.vertex_scalars[0].values, expected);
-    let expected: Vec<f64> = directions.iter().map(|d| as_f32(d.z)).collect();
+    assert_eq!(soup.vertex_scalars[0].values, height);
+    let expected: Vec<f64> = directions.iter().map(|d| d.z).collect();
     assert_eq!(soup.vertex_scalars[3].values, expected);
 }
 

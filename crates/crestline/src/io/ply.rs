@@ -229,14 +229,14 @@ fn read_faces(
 /// A per-vertex quantity to store in a PLY file next to the positions.
 #[derive(Clone, Copy, Debug)]
 pub enum VertexAttribute<'a> {
-    /// One value per vertex, written as the float property `name`.
+    /// One value per vertex, written as the double property `name`.
     Scalar {
         /// The property name.
         name: &'a str,
         /// One value per vertex.
         values: &'a [f64],
     },
-    /// One vector per vertex, written as the float properties `name_x`, `name_y`,
+    /// One vector per vertex, written as the double properties `name_x`, `name_y`,
     /// `name_z`.
     Vector {
         /// The name before the `_x`, `_y`, `_z` suffixes.
@@ -270,10 +270,10 @@ impl VertexAttribute<'_> {
         }
     }
 
-    /// The first value that is not a finite 32-bit float, described with its
-    /// property and vertex, or `None`.
-    fn outside_f32(&self) -> Option<String> {
-        let fits = super::fits_f32;
+    /// The first value that is not finite, described with its property and
+    /// vertex, or `None`.
+    fn first_non_finite(&self) -> Option<String> {
+        let fits = |x: f64| x.is_finite();
         let (property, v, value) = match self {
             VertexAttribute::Scalar { name, values } => {
                 let v = values.iter().position(|&x| !fits(x))?;
@@ -288,35 +288,31 @@ impl VertexAttribute<'_> {
             }
         };
         Some(format!(
-            "vertex property '{property}' of vertex {v} is {value:e}, not a finite 32-bit float"
+            "vertex property '{property}' of vertex {v} is {value}, not a finite number"
         ))
     }
 
-    /// Append vertex `v`'s value(s) as little-endian `f32`.
+    /// Append vertex `v`'s value(s) as little-endian `f64`.
     fn write_vertex(&self, v: usize, w: &mut impl Write) -> std::io::Result<()> {
         match self {
-            VertexAttribute::Scalar { values, .. } => write_f32(w, values[v]),
-            VertexAttribute::Vector { values, .. } => {
-                values[v].iter().try_for_each(|&c| write_f32(w, c))
-            }
+            VertexAttribute::Scalar { values, .. } => w.write_all(&values[v].to_le_bytes()),
+            VertexAttribute::Vector { values, .. } => values[v]
+                .iter()
+                .try_for_each(|&c| w.write_all(&c.to_le_bytes())),
         }
     }
 }
 
-fn write_f32(w: &mut impl Write, value: f64) -> std::io::Result<()> {
-    w.write_all(&(value as f32).to_le_bytes())
-}
-
 /// Write `mesh` as a binary little-endian PLY file: a `vertex` element with double
-/// `x`, `y`, `z` followed by the `attributes` in order (a scalar as one float
+/// `x`, `y`, `z` followed by the `attributes` in order (a scalar as one double
 /// property, a vector as three), and a `face` element with a
 /// `list uchar int vertex_indices`. The file is written atomically.
 ///
 /// Fails with [`Error::Argument`] if an attribute does not have one value per
 /// vertex, or its name is empty, contains white space or repeats another property,
-/// and with [`Error::File`] naming the property if a value is not a finite 32-bit
-/// float (e.g. a Gaussian curvature of 10⁶⁰ on a mesh of size 10⁻³⁰); no file is
-/// created then. (Values below f32's smallest normal number are rounded towards 0.)
+/// and with [`Error::File`] naming the property if a value is not finite; no file
+/// is created then. Everything is written in double precision, so that the
+/// values read back exactly.
 pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<()> {
     write_triangles_ply(path, mesh.positions(), &mesh.triangles(), attributes)
 }
@@ -330,7 +326,10 @@ pub(super) fn write_triangles_ply(
     attributes: &[VertexAttribute<'_>],
 ) -> Result<()> {
     let header = ply_header(positions.len(), triangles.len(), attributes)?;
-    if let Some(message) = attributes.iter().find_map(VertexAttribute::outside_f32) {
+    if let Some(message) = attributes
+        .iter()
+        .find_map(VertexAttribute::first_non_finite)
+    {
         return Err(Error::File {
             path: path.to_path_buf(),
             message,
@@ -396,12 +395,13 @@ fn ply_header(
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by crestline\nelement vertex {vertex_count}\n"
     );
-    // Positions in double precision, so that a written mesh reads back exactly.
-    for name in ["x", "y", "z"] {
+    // Double precision, so that a written mesh and its values read back exactly.
+    for name in ["x", "y", "z"]
+        .iter()
+        .copied()
+        .chain(attribute_names.iter().map(String::as_str))
+    {
         header += &format!("property double {name}\n");
-    }
-    for name in &attribute_names {
-        header += &format!("property float {name}\n");
     }
     header +=
         &format!("element face {face_count}\nproperty list uchar int vertex_indices\nend_header\n");

@@ -1,0 +1,96 @@
+"""Feature lines: :class:`Line` and the sequence of them, :class:`Lines`."""
+
+from collections import Counter
+from dataclasses import dataclass, field
+from typing import Any, Dict, Iterable, Iterator, List, Optional, Sequence, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+
+@dataclass(frozen=True)
+class Line:
+    """One feature line.
+
+    ``kind`` is ``"ridge"``, ``"valley"``, ``"ascending"``, ``"crest"``,
+    ``"parabolic"``, ``"gauss"``, ...; ``points`` is (k, 3) float64, without a
+    repeated first point when ``closed``; ``strength`` is how pronounced it is (for
+    ridges and valleys ∫|k| ds, dimensionless); ``values`` holds per-point arrays
+    (e.g. ``k_max``, ``e_max``). Lines traced on a mesh also tell where each point
+    lies on it: ``location_vertices`` (k, 3) int64 and ``location_weights`` (k, 3)
+    float64, so that ``(weights[:, :, None] * vertices[location_vertices]).sum(1)``
+    is the point on the mesh (before fairing moved it along the surface).
+    """
+
+    kind: str
+    closed: bool
+    strength: float
+    points: npt.NDArray[np.float64]
+    values: Dict[str, npt.NDArray[np.float64]] = field(default_factory=dict)
+    location_vertices: Optional[npt.NDArray[np.int64]] = None
+    location_weights: Optional[npt.NDArray[np.float64]] = None
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    def length(self) -> float:
+        """The length of the polyline (with the closing segment if closed)."""
+        p = np.vstack([self.points, self.points[:1]]) if self.closed else self.points
+        return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+
+    def to_dict(self) -> Dict[str, Any]:
+        """The line as a dict of its fields (arrays as they are)."""
+        d: Dict[str, Any] = {
+            "kind": self.kind,
+            "closed": self.closed,
+            "strength": self.strength,
+            "points": self.points,
+            "values": dict(self.values),
+        }
+        if self.location_vertices is not None:
+            d["location_vertices"] = self.location_vertices
+            d["location_weights"] = self.location_weights
+        return d
+
+
+class Lines(Sequence[Line]):
+    """The feature lines found on one surface: a sequence of :class:`Line`, in the
+    order the library produced them."""
+
+    def __init__(self, lines: Iterable[Line]) -> None:
+        self._lines = list(lines)
+
+    @classmethod
+    def _from_dicts(cls, dicts: Iterable[Dict[str, Any]]) -> "Lines":
+        return cls(Line(**d) for d in dicts)
+
+    @overload
+    def __getitem__(self, index: int) -> Line: ...
+    @overload
+    def __getitem__(self, index: slice) -> "Lines": ...
+    def __getitem__(self, index: Union[int, slice]) -> Union[Line, "Lines"]:
+        if isinstance(index, slice):
+            return Lines(self._lines[index])
+        return self._lines[index]
+
+    def __len__(self) -> int:
+        return len(self._lines)
+
+    def __iter__(self) -> Iterator[Line]:
+        return iter(self._lines)
+
+    def __repr__(self) -> str:
+        counts = Counter(line.kind for line in self._lines)
+        return f"Lines({', '.join(f'{n} {kind}' for kind, n in sorted(counts.items())) or 'none'})"
+
+    def of_kind(self, kind: str) -> "Lines":
+        """The lines of one kind."""
+        return Lines(line for line in self._lines if line.kind == kind)
+
+    def kinds(self) -> Dict[str, int]:
+        """How many lines of each kind."""
+        return dict(Counter(line.kind for line in self._lines))
+
+    def to_list(self) -> List[Dict[str, Any]]:
+        """Every line as a dict (:meth:`Line.to_dict`)."""
+        return [line.to_dict() for line in self._lines]

@@ -1,0 +1,92 @@
+//! Between numpy arrays and the library's meshes, points and vectors.
+
+use crestline::mesh::{Mesh, RepairReport, TriangleSoup};
+use crestline::Point;
+use numpy::ndarray::{Array2, ArrayView2};
+use numpy::{IntoPyArray, PyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::errors::raised;
+
+/// The triangle soup of the arrays.
+fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
+    TriangleSoup {
+        positions: points(vertices),
+        triangles: faces
+            .rows()
+            .into_iter()
+            .map(|r| [r[0] as u32, r[1] as u32, r[2] as u32])
+            .collect(),
+        vertex_scalars: Vec::new(),
+    }
+}
+
+/// The rows of an `n × 3` array as points.
+pub fn points(rows: ArrayView2<f64>) -> Vec<Point> {
+    rows.rows()
+        .into_iter()
+        .map(|r| Point::new(r[0], r[1], r[2]))
+        .collect()
+}
+
+/// The mesh of the arrays, whose vertices must be the mesh's: repairs that weld,
+/// drop or split vertices would renumber them, and every per-vertex result would
+/// then belong to other rows than the caller's.
+pub fn mesh_of(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> PyResult<Mesh> {
+    let (mesh, report) = Mesh::from_soup(soup(vertices, faces)).map_err(raised)?;
+    let kept = mesh.positions().len() == vertices.nrows()
+        && mesh
+            .positions()
+            .iter()
+            .zip(vertices.rows())
+            .all(|(p, r)| p.x == r[0] && p.y == r[1] && p.z == r[2]);
+    if !kept {
+        return Err(PyValueError::new_err(format!(
+            "the mesh needs repairs that renumber its vertices ({}); read it with \
+             crestline.read_mesh, which returns the repaired arrays",
+            report.messages().join("; ")
+        )));
+    }
+    Ok(mesh)
+}
+
+/// `n × 3` float64 array of vectors or points.
+pub fn rows<'py>(
+    py: Python<'py>,
+    items: impl ExactSizeIterator<Item = [f64; 3]>,
+) -> Bound<'py, PyArray2<f64>> {
+    let n = items.len();
+    let flat: Vec<f64> = items.flatten().collect();
+    Array2::from_shape_vec((n, 3), flat)
+        .expect("three values per row")
+        .into_pyarray(py)
+}
+
+/// `n × 3` int64 array of vertex indices.
+pub fn index_rows<'py>(
+    py: Python<'py>,
+    items: impl ExactSizeIterator<Item = [u32; 3]>,
+) -> Bound<'py, PyArray2<i64>> {
+    let n = items.len();
+    let flat: Vec<i64> = items.flatten().map(i64::from).collect();
+    Array2::from_shape_vec((n, 3), flat)
+        .expect("three indices per row")
+        .into_pyarray(py)
+}
+
+/// The faces of a mesh as an `m × 3` int64 array.
+pub fn faces<'py>(py: Python<'py>, mesh: &Mesh) -> Bound<'py, PyArray2<i64>> {
+    index_rows(
+        py,
+        mesh.faces()
+            .map(|f| mesh.face_vertices(f).map(|v| v.0))
+            .collect::<Vec<_>>()
+            .into_iter(),
+    )
+}
+
+/// The repair report as JSON (the package turns it into a dict).
+pub fn report_json(report: &RepairReport) -> String {
+    serde_json::to_string(report).unwrap_or_else(|_| "{}".to_string())
+}

@@ -1,0 +1,85 @@
+//! Feature lines as dicts of numpy arrays (the package makes `Line` objects of
+//! them), and lines given back by the package as the library's polylines.
+
+use crestline::lines::{LineKind, Polyline};
+use crestline::mesh::Mesh;
+use numpy::ndarray::Array1;
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{index_rows, points, rows};
+
+/// Every line as a dict ([`line_dict`]).
+pub fn line_dicts<'py>(
+    py: Python<'py>,
+    lines: &[Polyline],
+    mesh: Option<&Mesh>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    lines.iter().map(|line| line_dict(py, line, mesh)).collect()
+}
+
+/// One line as a dict: kind, closed, strength, points (k × 3), values (per-point
+/// arrays) and, for lines traced on `mesh`, where each point lies on it: three
+/// vertex indices and three weights per point (`location_vertices`,
+/// `location_weights`), unused slots with weight 0.
+fn line_dict<'py>(
+    py: Python<'py>,
+    line: &Polyline,
+    mesh: Option<&Mesh>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("kind", line.kind.name())?;
+    dict.set_item("closed", line.closed)?;
+    dict.set_item("strength", line.strength)?;
+    dict.set_item(
+        "points",
+        rows(py, line.points.iter().map(|p| [p.x, p.y, p.z])),
+    )?;
+    let values = PyDict::new(py);
+    for (name, v) in &line.values {
+        values.set_item(name, Array1::from(v.clone()).into_pyarray(py))?;
+    }
+    dict.set_item("values", values)?;
+    if let Some(mesh) = mesh.filter(|_| line.locations.len() == line.points.len()) {
+        let (vertices, weights): (Vec<[u32; 3]>, Vec<[f64; 3]>) = line
+            .locations
+            .iter()
+            .map(|location| {
+                let pairs = location.weights(mesh);
+                let (mut ids, mut ws) = ([pairs[0].0 .0; 3], [0.0; 3]);
+                for (slot, (v, w)) in pairs.into_iter().enumerate() {
+                    ids[slot] = v.0;
+                    ws[slot] = w;
+                }
+                (ids, ws)
+            })
+            .unzip();
+        dict.set_item("location_vertices", index_rows(py, vertices.into_iter()))?;
+        dict.set_item("location_weights", rows(py, weights.into_iter()))?;
+    }
+    Ok(dict)
+}
+
+/// A line given as its kind's name, closed flag and points (k × 3).
+pub type LineParts<'py> = (String, bool, PyReadonlyArray2<'py, f64>);
+
+/// The library's polylines of lines given by the package.
+pub fn polylines(lines: Vec<LineParts<'_>>) -> PyResult<Vec<Polyline>> {
+    lines
+        .into_iter()
+        .map(|(kind, closed, line_points)| {
+            let kind = LineKind::ALL
+                .into_iter()
+                .find(|k| k.name() == kind)
+                .ok_or_else(|| PyValueError::new_err(format!("lines: unknown kind {kind:?}")))?;
+            Ok(Polyline::new(
+                kind,
+                closed,
+                0.0,
+                points(line_points.as_array()),
+            ))
+        })
+        .collect()
+}

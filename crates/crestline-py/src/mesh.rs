@@ -1,0 +1,182 @@
+//! The mesh half: reading meshes, curvature, ridges and Morse-Smale lines.
+
+use std::path::Path;
+
+use crestline::curvature::{estimate_curvature, CurvatureField, Estimator};
+use crestline::lines::{LineExtractor, SurfaceWithValues};
+use crestline::mesh::Mesh;
+use crestline::morse::{Indicator, MorseSmale, Simplification};
+use crestline::ridges::ExtremalityTracer;
+use crestline::Vector;
+use numpy::ndarray::{Array1, ArrayView2};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{faces, mesh_of, report_json, rows};
+use crate::errors::raised;
+use crate::lines::line_dicts;
+use crate::progress::Callback;
+
+/// The functions of this module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(curvature, m)?)?;
+    m.add_function(wrap_pyfunction!(ridges, m)?)?;
+    m.add_function(wrap_pyfunction!(morse, m)?)?;
+    Ok(())
+}
+
+/// The estimator named `estimator` and the mesh of the arrays ([`mesh_of`]).
+fn inputs(
+    vertices: &PyReadonlyArray2<f64>,
+    faces: &PyReadonlyArray2<i64>,
+    estimator: &str,
+) -> PyResult<(Estimator, Mesh)> {
+    let estimator: Estimator = estimator.parse().map_err(raised)?;
+    Ok((estimator, mesh_of(vertices.as_array(), faces.as_array())?))
+}
+
+/// Vertices (n × 3 float64), faces (m × 3 int64) and the repairs as JSON.
+type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, String);
+
+/// Read a mesh file (OBJ, PLY, OFF, STL) and repair it.
+#[pyfunction]
+fn read_mesh<'py>(py: Python<'py>, path: &str) -> PyResult<MeshArrays<'py>> {
+    let path = Path::new(path);
+    let (mesh, report) = py
+        .detach(|| crestline::io::read_mesh(path).and_then(Mesh::from_soup))
+        .map_err(raised)?;
+    let vertices = rows(py, mesh.positions().iter().map(|p| [p.x, p.y, p.z]));
+    Ok((vertices, faces(py, &mesh), report_json(&report)))
+}
+
+/// Principal curvatures and directions per vertex, as a dict of arrays.
+#[pyfunction]
+fn curvature<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    estimator: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
+    let field = py
+        .detach(|| estimate_curvature(&mesh, estimator.build().as_ref()))
+        .map_err(raised)?;
+    field_dict(py, &field)
+}
+
+/// The arrays of a curvature field.
+fn field_dict<'py>(py: Python<'py>, field: &CurvatureField) -> PyResult<Bound<'py, PyDict>> {
+    let vectors = |v: &[Vector]| rows(py, v.iter().map(|d| [d.x, d.y, d.z]));
+    let dict = PyDict::new(py);
+    dict.set_item("k_max", Array1::from(field.k_max.clone()).into_pyarray(py))?;
+    dict.set_item("k_min", Array1::from(field.k_min.clone()).into_pyarray(py))?;
+    dict.set_item("d_max", vectors(&field.d_max))?;
+    dict.set_item("d_min", vectors(&field.d_min))?;
+    dict.set_item("normal", vectors(&field.normal))?;
+    dict.set_item(
+        "unreliable",
+        Array1::from(field.unreliable.clone()).into_pyarray(py),
+    )?;
+    Ok(dict)
+}
+
+/// Principal curvatures (n), directions and normals (n × 3) and the unreliable
+/// flags (n) computed in Python.
+type FieldArrays<'py> = (
+    PyReadonlyArray1<'py, f64>,
+    PyReadonlyArray1<'py, f64>,
+    PyReadonlyArray2<'py, f64>,
+    PyReadonlyArray2<'py, f64>,
+    PyReadonlyArray2<'py, f64>,
+    PyReadonlyArray1<'py, bool>,
+);
+
+/// The curvature field of arrays checked by the package (one row per vertex).
+fn field_of((k_max, k_min, d_max, d_min, normal, unreliable): FieldArrays<'_>) -> CurvatureField {
+    let vectors = |a: ArrayView2<f64>| -> Vec<Vector> {
+        a.rows()
+            .into_iter()
+            .map(|r| Vector::new(r[0], r[1], r[2]))
+            .collect()
+    };
+    CurvatureField {
+        k_max: k_max.as_array().to_vec(),
+        k_min: k_min.as_array().to_vec(),
+        d_max: vectors(d_max.as_array()),
+        d_min: vectors(d_min.as_array()),
+        normal: vectors(normal.as_array()),
+        unreliable: unreliable.as_array().to_vec(),
+    }
+}
+
+/// Ridge and valley lines by extremality tracing, each a dict of kind, closed,
+/// strength, points (k × 3), per-point values and surface locations. With
+/// `field`, the curvature is that one (from a callable estimator) instead of
+/// `estimator`'s.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, estimator, smooth_steps, smooth_time, threshold, field=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn ridges<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    estimator: &str,
+    smooth_steps: usize,
+    smooth_time: f64,
+    threshold: f64,
+    field: Option<FieldArrays<'py>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
+    let tracer = ExtremalityTracer {
+        estimator: estimator.build(),
+        smooth_steps,
+        smooth_time,
+        threshold,
+        ..ExtremalityTracer::default()
+    };
+    let field = field.map(field_of);
+    let mut observer = Callback(progress);
+    let lines = py
+        .detach(|| match &field {
+            Some(field) => tracer.trace_with_curvature(&mesh, field, &mut observer),
+            None => tracer.trace(&mesh, &mut observer),
+        })
+        .map_err(raised)?;
+    line_dicts(py, &lines.lines, Some(&mesh))
+}
+
+/// Feature lines as ascending 1-cells of a simplified Morse-Smale complex (Sahner
+/// et al. 2008) of the indicator named `indicator` (`curvedness`, `kmax`,
+/// `kmin`), or of `values` (one per vertex) when given, as dicts like
+/// [`ridges`]'.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, estimator, keep_saddles, indicator, values=None))]
+fn morse<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    estimator: &str,
+    keep_saddles: usize,
+    indicator: &str,
+    values: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
+    let complex = MorseSmale {
+        estimator: estimator.build(),
+        indicator: indicator.parse::<Indicator>().map_err(raised)?,
+        simplification: Simplification::KeepSaddles(keep_saddles),
+        ..MorseSmale::default()
+    };
+    let values: Option<Vec<f64>> = values.map(|v| v.as_array().to_vec());
+    let lines = py.detach(|| match &values {
+        Some(values) => complex.extract(&SurfaceWithValues {
+            mesh: &mesh,
+            values,
+        }),
+        None => complex.extract(&mesh),
+    });
+    line_dicts(py, &lines.map_err(raised)?.lines, Some(&mesh))
+}

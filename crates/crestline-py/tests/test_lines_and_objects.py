@@ -1,0 +1,147 @@
+"""Tests of the Lines object, drawings, callable estimators, progress, the
+exception hierarchy and the mesh objects of trimesh, pymeshlab and pyvista."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import crestline
+
+ROOT = Path(__file__).resolve().parents[3]
+BUNNY = ROOT / "meshes" / "bunny.obj"
+
+
+@pytest.fixture(scope="module")
+def bunny():
+    vertices, faces, _ = crestline.read_mesh(BUNNY)
+    return vertices, faces
+
+
+def test_lines_are_a_sequence_of_lines_located_on_the_mesh(bunny):
+    vertices, faces = bunny
+    lines = crestline.ridges(vertices, faces)
+    assert isinstance(lines, crestline.Lines) and isinstance(lines[0], crestline.Line)
+    counts = lines.kinds()
+    assert repr(lines) == f"Lines({counts['ridge']} ridge, {counts['valley']} valley)"
+    assert len(lines.of_kind("ridge")) == counts["ridge"] and len(lines[:3]) == 3
+    assert [line.kind for line in lines] == [d["kind"] for d in lines.to_list()]
+    for line in lines:
+        # Every point is where its location on the mesh says it is.
+        assert line.location_vertices.shape == (len(line), 3)
+        assert line.location_vertices.dtype == np.int64
+        weights = line.location_weights
+        assert np.allclose(weights.sum(axis=1), 1) and weights.min() >= 0
+        on_mesh = (weights[:, :, None] * vertices[line.location_vertices]).sum(axis=1)
+        assert np.abs(on_mesh - line.points).max() < 1e-9
+        assert line.length() > 0
+
+
+def test_a_drawing_is_svg_with_the_lines_and_a_png_on_request(bunny):
+    vertices, faces = bunny
+    lines = crestline.ridges(vertices, faces)
+    svg = crestline.draw(vertices, faces, lines, view=(20, 15), size=(400, 300))
+    assert svg.startswith("<?xml") and 'width="400"' in svg and 'height="300"' in svg
+    assert 'id="ridges"' in svg and 'id="valleys"' in svg and 'id="silhouettes"' in svg
+    svg_again, png = crestline.draw(vertices, faces, lines, view=(20, 15), size=(400, 300), png=True)
+    assert svg_again == svg and png.startswith(b"\x89PNG\r\n\x1a\n")
+    plain = crestline.draw(vertices, faces, crestline.Lines([]), silhouettes=False)
+    assert 'id="ridges"' not in plain and 'id="silhouettes"' not in plain
+    with pytest.raises(ValueError, match="size"):
+        crestline.draw(vertices, faces, lines, size=(0, 100))
+    with pytest.raises(ValueError, match="view"):
+        crestline.draw(vertices, faces, lines, view=(float("nan"), 0))
+    with pytest.raises(TypeError, match="lines: expected crestline.Lines"):
+        crestline.draw(vertices, faces, [{"kind": "ridge"}])
+
+
+def test_a_callable_estimator_is_used_as_given(bunny):
+    vertices, faces = bunny
+    calls = []
+
+    def jet(v, f):
+        calls.append(len(v))
+        return crestline.curvature(v, f, estimator="jet-fit")
+
+    field = crestline.curvature(vertices, faces, estimator=jet)
+    assert np.array_equal(field["k_max"], crestline.curvature(vertices, faces, estimator="jet-fit")["k_max"])
+    # The lines of the callable's curvature are those of the named estimator.
+    given = crestline.ridges(vertices, faces, estimator=jet)
+    named = crestline.ridges(vertices, faces, estimator="jet-fit")
+    assert len(given) == len(named) > 0
+    for a, b in zip(given, named):
+        assert a.kind == b.kind and np.array_equal(a.points, b.points)
+    # Morse lines of the callable's curvedness are those of the named estimator's.
+    assert len(crestline.morse(vertices, faces, estimator=jet, keep_saddles=10)) == len(
+        crestline.morse(vertices, faces, estimator="jet-fit", keep_saddles=10))
+    assert calls == [len(vertices)] * 3
+    # Its results are checked.
+    with pytest.raises(ValueError, match="estimator result 'k_min': expected shape"):
+        crestline.ridges(vertices, faces, estimator=lambda v, f: {**jet(v, f), "k_min": np.zeros(3)})
+    with pytest.raises(ValueError, match="has no 'd_max'"):
+        crestline.curvature(vertices, faces, estimator=lambda v, f: {k: jet(v, f)[k] for k in ("k_max", "k_min")})
+    with pytest.raises(TypeError, match="returned list"):
+        crestline.curvature(vertices, faces, estimator=lambda v, f: [])
+
+
+def test_progress_is_told_of_every_stage_start_and_end(bunny):
+    vertices, faces = bunny
+    events = []
+    crestline.ridges(vertices, faces, progress=lambda stage, seconds: events.append((stage, seconds)))
+    started = [stage for stage, seconds in events if seconds is None]
+    finished = [stage for stage, seconds in events if seconds is not None]
+    assert started == finished and {"extremality", "smoothing", "ridges: tracing"} <= set(started)
+    assert all(seconds >= 0 for _, seconds in events if seconds is not None)
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        crestline.ridges(vertices, faces, progress="yes")
+
+
+def test_library_errors_are_subclasses_of_crestline_error(tmp_path):
+    broken = tmp_path / "broken.obj"
+    broken.write_text("v 0 0 0\nv 1 0 0\nf 1 2 9\n")
+    with pytest.raises(crestline.FileError, match="broken.obj") as raised:
+        crestline.read_mesh(broken)
+    assert raised.value.path == str(broken)
+    no_faces = np.zeros((0, 3), dtype=np.int64)
+    with pytest.raises(crestline.MeshError) as raised:
+        crestline.curvature(np.eye(3), no_faces)
+    assert isinstance(raised.value, crestline.Error) and isinstance(raised.value, ValueError)
+    assert issubclass(crestline.ArgumentError, crestline.Error)
+    assert issubclass(crestline.StageError, crestline.Error)
+
+
+def test_trimesh_objects_are_accepted(bunny):
+    trimesh = pytest.importorskip("trimesh")
+    vertices, faces = bunny
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    assert np.array_equal(crestline.curvature(mesh)["k_max"], crestline.curvature(vertices, faces)["k_max"])
+
+
+def test_pymeshlab_meshes_and_mesh_sets_are_accepted(bunny):
+    pymeshlab = pytest.importorskip("pymeshlab")
+    vertices, faces = bunny
+    mesh = pymeshlab.Mesh(vertex_matrix=vertices, face_matrix=faces.astype(np.int32))
+    expected = crestline.curvature(vertices, faces)["k_max"]
+    assert np.array_equal(crestline.curvature(mesh)["k_max"], expected)
+    meshes = pymeshlab.MeshSet()
+    meshes.add_mesh(mesh)
+    assert np.array_equal(crestline.curvature(meshes)["k_max"], expected)
+
+
+class PolyDataLike:
+    """The layout of a pyvista PolyData: ``points`` and a flat ``faces`` array of
+    ``[3, a, b, c, 3, ...]``, with ``n_cells``."""
+
+    def __init__(self, points, flat_faces):
+        self.points, self.faces = points, flat_faces
+        self.n_cells = len(flat_faces) // 4
+
+
+def test_polydata_of_triangles_is_accepted_and_polygons_are_refused(bunny):
+    vertices, faces = bunny
+    flat = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
+    field = crestline.curvature(PolyDataLike(vertices, flat))
+    assert np.array_equal(field["k_max"], crestline.curvature(vertices, faces)["k_max"])
+    quads = np.array([4, 0, 1, 2, 3])
+    with pytest.raises(ValueError, match="not triangles"):
+        crestline.curvature(PolyDataLike(vertices, quads))
