@@ -10,6 +10,7 @@ mod errors;
 mod lines;
 mod mesh;
 mod progress;
+mod volume;
 
 use pyo3::prelude::*;
 
@@ -18,5 +19,6 @@ use pyo3::prelude::*;
 fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     mesh::register(m)?;
     draw::register(m)?;
+    volume::register(m)?;
     Ok(())
 }

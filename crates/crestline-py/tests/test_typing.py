@@ -20,6 +20,12 @@ USAGE = textwrap.dedent('''
     cells = crestline.morse(vertices, faces, indicator=k, keep_saddles=10)
     svg: str = crestline.draw(vertices, faces, lines, view=(20.0, 15.0))
     pair: tuple[str, bytes] = crestline.draw(vertices, faces, cells, png=True)
+    brain: crestline.Volume = crestline.read_volume("volumes/mni152_t1_1mm.nii.gz")
+    skin, triangles = crestline.isosurface(brain, 60.0)
+    crests: crestline.Lines = crestline.crest_lines(brain, 60.0, sigma=1.5, kind="crest")
+    marks = crestline.landmarks(crests, radius=5.0, persistence=2.0)
+    motion = crestline.register(crests, crests)["matrix"]
+    sheet = crestline.crease_surface(brain.data, spacing=(1.0, 1.0, 1.0))["faces"]
     try:
         crestline.read_mesh("missing.obj")
     except crestline.FileError as error:
@@ -43,3 +49,5 @@ def test_mypy_accepts_typed_use(tmp_path):
 def test_mypy_rejects_a_wrong_call(tmp_path):
     result = mypy(tmp_path, USAGE + 'crestline.ridges(vertices, faces, smooth_steps="many")\n')
     assert result.returncode == 1 and "smooth_steps" in result.stdout, result.stdout
+    result = mypy(tmp_path, USAGE + 'crestline.crest_lines(brain, 60.0, kind="ridges")\n')
+    assert result.returncode == 1 and "kind" in result.stdout, result.stdout

@@ -34,3 +34,28 @@ def draw(
     silhouettes: bool,
     png: bool,
 ) -> tuple[str, Optional[bytes]]: ...
+def read_volume(path: str) -> tuple[npt.NDArray[np.float32], F64]: ...
+def isosurface(samples: npt.NDArray[np.float32], affine: F64, level: float) -> tuple[F64, I64]: ...
+def crest_lines(
+    samples: npt.NDArray[np.float32],
+    affine: F64,
+    level: float,
+    sigma: float,
+    min_length: float,
+    min_strength: float,
+    gauss: Optional[float] = None,
+    seeds: Optional[int] = None,
+    rng_seed: int = 0,
+) -> list[dict[str, Any]]: ...
+def crease_surface(
+    samples: npt.NDArray[np.float32],
+    affine: F64,
+    valley: bool,
+    sigma: float,
+    strength: float,
+    min_component: int,
+) -> dict[str, Any]: ...
+def landmarks(
+    lines: list[tuple[str, bool, F64]], values: list[list[tuple[str, list[float]]]], radius: float, persistence: float
+) -> str: ...
+def register_lines(fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, min_overlap: float) -> dict[str, Any]: ...
