@@ -599,7 +599,11 @@ fn the_tip_of_the_nose_is_on_a_ridge_of_the_skin() {
         .copied()
         .max_by(|a, b| a.0.y.total_cmp(&b.0.y))
         .unwrap();
-    assert_eq!(kind, LineKind::Ridge, "the nose tip {tip:?} is on a {kind:?}");
+    assert_eq!(
+        kind,
+        LineKind::Ridge,
+        "the nose tip {tip:?} is on a {kind:?}"
+    );
     let around = |k: LineKind| {
         points
             .iter()
