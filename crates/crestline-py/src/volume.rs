@@ -11,8 +11,9 @@ use crestline::crest_lines::{trace, LineFamily, LineTracing};
 use crestline::landmarks::{landmarks as find_landmarks, LandmarkOptions};
 use crestline::lines::{FeatureLines, MinLength, MinStrength};
 use crestline::mesh::TriangleSoup;
+use crestline::progress::{try_stage, Observer};
 use crestline::register::{register as align, PointSet, RegistrationOptions};
-use crestline::volume::crease::{crease_surface as crease, CreaseField, DEFAULT_STRENGTH_FRACTION};
+use crestline::volume::crease::{crease_surface_with, CreaseField, DEFAULT_STRENGTH_FRACTION};
 use crestline::volume::{isosurface as iso, Derivatives, Sweep, Volume};
 use nalgebra::Matrix3;
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -23,6 +24,7 @@ use pyo3::types::PyDict;
 use crate::arrays::{points, rows};
 use crate::errors::raised;
 use crate::lines::{line_dicts, polylines, LineParts};
+use crate::progress::Callback;
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -146,8 +148,10 @@ fn crest_lines<'py>(
 /// vertices, faces and the per-vertex values `strength` (−λ3) and `degenerate`
 /// (1 on the degenerate lines where the surface ends). `sigma` 0 differentiates
 /// the cubic B-spline of the samples, else a Gaussian of that width; `strength`
-/// is the least −λ3 as a fraction of the strongest in the image.
+/// is the least −λ3 as a fraction of the strongest in the image. `progress` is
+/// told of each stage.
 #[pyfunction]
+#[pyo3(signature = (samples, affine, valley, sigma, strength, min_component, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn crease_surface<'py>(
     py: Python<'py>,
@@ -157,20 +161,31 @@ fn crease_surface<'py>(
     sigma: f64,
     strength: f64,
     min_component: usize,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let volume = volume_of(&samples, &affine)?;
+    let mut observer = Callback(progress);
     let soup = py
         .detach(|| -> crestline::Result<TriangleSoup> {
-            let derivatives = if sigma == 0.0 {
-                Derivatives::cubic_spline(&volume, 2)?
-            } else {
-                Derivatives::new(&volume, sigma, 2)?
-            };
-            let field = CreaseField::new(&volume, &derivatives, !valley)?;
+            let derivatives = try_stage(&mut observer, "reconstruction", || {
+                if sigma == 0.0 {
+                    Derivatives::cubic_spline(&volume, 2)
+                } else {
+                    Derivatives::new(&volume, sigma, 2)
+                }
+            })?;
+            let field = try_stage(&mut observer, "eigenframes", || {
+                CreaseField::new(&volume, &derivatives, !valley)
+            })?;
             drop(derivatives);
             let mut options = field.default_options();
             options.strength *= strength / DEFAULT_STRENGTH_FRACTION;
-            Ok(crease(&field, &options, min_component))
+            Ok(crease_surface_with(
+                &field,
+                &options,
+                min_component,
+                |stage, took| observer.stage_finished(stage.name(), took.as_secs_f64()),
+            ))
         })
         .map_err(raised)?;
     let (vertices, faces) = soup_arrays(py, &soup);

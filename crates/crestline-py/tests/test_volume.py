@@ -120,7 +120,10 @@ def test_moved_crest_lines_register_back(brain_crests):
 def test_the_ridge_surface_of_a_shell_is_its_sphere():
     radius, width = 9.0, 2.5
     data, centre = radial(26, lambda r: np.exp(-((r - radius) / width) ** 2))
-    surface = crestline.crease_surface(data)
+    stages = []
+    surface = crestline.crease_surface(data, progress=lambda stage, seconds: stages.append((stage, seconds)))
+    finished = [stage for stage, seconds in stages if seconds is not None]
+    assert finished[:2] == ["reconstruction", "eigenframes"] and "degenerate points" in finished
     vertices, faces = surface["vertices"], surface["faces"]
     assert len(faces) > 1000 and faces.max() < len(vertices)
     distance = np.abs(np.linalg.norm(vertices - centre, axis=1) - radius)

@@ -54,6 +54,7 @@ def crease_surface(
     sigma: float,
     strength: float,
     min_component: int,
+    progress: Optional[Any] = None,
 ) -> dict[str, Any]: ...
 def landmarks(
     lines: list[tuple[str, bool, F64]], values: list[list[tuple[str, list[float]]]], radius: float, persistence: float

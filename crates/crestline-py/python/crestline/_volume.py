@@ -16,8 +16,9 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _crestline
-from ._checks import Faces, Vertices, count, number, points
+from ._checks import Faces, Vertices, callback, count, number, points
 from ._lines import Lines
+from ._mesh import Progress
 
 
 @dataclass(frozen=True)
@@ -168,6 +169,7 @@ def crease_surface(
     sigma: float = 0.0,
     strength: float = 0.1,
     min_component: int = 20,
+    progress: Progress = None,
     *,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
@@ -180,13 +182,20 @@ def crease_surface(
 
     Returns a dict: ``vertices`` (n, 3), ``faces`` (m, 3) (the surface need not be
     orientable), and per vertex ``strength`` (−λ3) and ``degenerate`` (1 on the
-    degenerate lines where the surface ends, else 0).
+    degenerate lines where the surface ends, else 0). ``progress`` (see
+    ``Progress``) is told when each stage ends (and when the first two start).
     """
     samples, affine = _image(volume, spacing, origin)
     if not (isinstance(strength, (int, float)) and 0.0 <= strength <= 1.0):
         raise ValueError(f"strength: expected a fraction from 0 to 1, got {strength!r}")
     result: Dict[str, npt.NDArray[Any]] = _crestline.crease_surface(
-        samples, affine, bool(valley), number(sigma, "sigma"), float(strength), count(min_component, "min_component", 0)
+        samples,
+        affine,
+        bool(valley),
+        number(sigma, "sigma"),
+        float(strength),
+        count(min_component, "min_component", 0),
+        callback(progress, "progress"),
     )
     return result
 
