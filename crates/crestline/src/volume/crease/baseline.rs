@@ -20,15 +20,16 @@ use crate::Vector;
 ///
 /// In each cell, the eigenvectors e3 at its eight corners are oriented to corner
 /// 0's (e → −e where e·e3₀ < 0), and the values g·e3 at the corners are contoured
-/// at 0 with the isosurface's case table ([`crate::volume::isosurface`]: inside
+/// at 0 with the isosurface's case table ([`mod@crate::volume::isosurface`]: inside
 /// is g·e3 ≥ 0, the asymptotic decider on ambiguous faces, polygons of more than
 /// three corners fanned around their barycentre). A crossed cell edge carries one
 /// vertex, at the linear interpolation of g·e3, keyed by its grid edge: two cells
 /// that both cross an edge place the crossing at the same point (its fraction does
 /// not depend on the edge's orientation) and share it. Where the orientations of
 /// neighbouring cells disagree, one may cross an edge that the other does not, and
-/// the surface has a crack there; nothing closes it (the paper's §3.3 and Table 3:
-/// e3 cannot be oriented consistently in general).
+/// the surface has a crack there; nothing closes it (the paper's §3.2: around a
+/// Hessian degeneracy e3 cannot be oriented consistently; Table 3 counts the short
+/// boundary components this leaves).
 ///
 /// The side constraint as for [`super::crease_surface`]: triangles with a vertex
 /// where −λ3 (interpolated linearly along the edge, averaged at a barycentre) is
