@@ -1,22 +1,23 @@
-//! Crease surfaces (Schultz, Theisel and Seidel 2010) against plain marching
-//! tetrahedra of g·e3 after orienting e3 per cell, on two fields whose ridge surface
-//! is known: a spherical shell (closed) and a ridge that ends on a degenerate line.
-//! For each: triangles, boundary components, non-manifold edges, vertices where
-//! more than two boundary edges meet (paper Table 3), and the mean and RMS distance
-//! of the vertices to the true surface (Table 2).
+//! Crease surfaces (Schultz, Theisel and Seidel 2010) against the baseline of the
+//! paper's §5 (Tables 2–3), plain marching cubes of g·e3 after orienting e3 per cell
+//! ([`oriented_marching_cubes`]), on two fields whose ridge surface is known: a
+//! spherical shell (closed) and a ridge that ends on a degenerate line. For each:
+//! triangles, boundary components, non-manifold edges, vertices where more than two
+//! boundary edges meet (paper Table 3), and the mean and RMS distance of the
+//! vertices to the true surface (Table 2).
 //!
-//! The marching-tetrahedra baseline: per cell, the eigenvectors e3 at its eight
-//! corners are oriented to corner 0's (e → −e where e·e3₀ < 0), the cell is cut into
-//! six tetrahedra around its main diagonal, each is contoured linearly at g·e3 = 0,
-//! and triangles with a vertex where −λ3 is below the strength are dropped (the side
-//! constraint, as for the crease surface). Vertices are shared by grid-point pair.
+//! The baseline orients the eigenvectors e3 at a cell's eight corners to corner 0's
+//! (e → −e where e·e3₀ < 0), contours g·e3 = 0 with the isosurface's marching-cubes
+//! case table and drops triangles with a vertex where −λ3 is below the strength
+//! (the side constraint, as for the crease surface). Vertices are shared by grid
+//! edge, so where neighbouring cells orient e3 differently the surface cracks.
 //!
 //! Run with `cargo run --release --example compare_crease`.
 
 use std::collections::HashMap;
 
 use crestline::mesh::TriangleSoup;
-use crestline::volume::crease::{crease_surface, CreaseField, CrossingOptions};
+use crestline::volume::crease::{crease_surface, oriented_marching_cubes, CreaseField};
 use crestline::volume::{Derivatives, Volume};
 use crestline::{Point, Result};
 use nalgebra::Matrix3;
@@ -84,11 +85,8 @@ fn compare(
         options.epsilon = e;
     }
     let ours = crease_surface(&field, &options, 0);
-    let marching = marching_tetrahedra(&field, &options);
-    for (method, soup) in [
-        ("crease surface", &ours),
-        ("marching tetrahedra", &marching),
-    ] {
+    let marching = oriented_marching_cubes(&field, &options);
+    for (method, soup) in [("crease surface", &ours), ("marching cubes", &marching)] {
         let t = topology(soup);
         let d: Vec<f64> = soup
             .positions
@@ -123,110 +121,6 @@ fn compare(
 /// Errors are measured on the vertices at least this far (voxels) from the border,
 /// where the reconstruction of the ending ridge's polynomial is not distorted.
 const MARGIN: f64 = 3.0;
-
-/// The six tetrahedra of a cell around its diagonal from corner 0 to corner 7
-/// (corner c at offset (c & 1, c >> 1 & 1, c >> 2 & 1)).
-const TETRAHEDRA: [[usize; 4]; 6] = [
-    [0, 1, 3, 7],
-    [0, 3, 2, 7],
-    [0, 2, 6, 7],
-    [0, 6, 4, 7],
-    [0, 4, 5, 7],
-    [0, 5, 1, 7],
-];
-
-/// The zero set of g·e3 with e3 oriented per cell to its corner 0, by marching
-/// tetrahedra, keeping triangles whose vertices have −λ3 ≥ the strength.
-fn marching_tetrahedra(field: &CreaseField, options: &CrossingOptions) -> TriangleSoup {
-    let [nx, ny, nz] = field.dims();
-    let mut vertices: HashMap<(usize, usize), u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut strength = Vec::new();
-    let mut triangles = Vec::new();
-    for k in 0..nz - 1 {
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                let corners: [[usize; 3]; 8] =
-                    std::array::from_fn(|c| [i + (c & 1), j + ((c >> 1) & 1), k + ((c >> 2) & 1)]);
-                let samples = corners.map(|c| field.sample(c));
-                let reference = samples[0].frame.e3;
-                let values = samples.map(|s| {
-                    let e3 = if s.frame.e3.dot(&reference) < 0.0 {
-                        -s.frame.e3
-                    } else {
-                        s.frame.e3
-                    };
-                    s.gradient.dot(&e3)
-                });
-                let mut vertex = |a: usize, b: usize| -> u32 {
-                    let (ga, gb) = (
-                        field.linear_index(corners[a]),
-                        field.linear_index(corners[b]),
-                    );
-                    let key = (ga.min(gb), ga.max(gb));
-                    *vertices.entry(key).or_insert_with(|| {
-                        let t = values[a] / (values[a] - values[b]);
-                        let (pa, pb) = (field.position(corners[a]), field.position(corners[b]));
-                        positions.push(pa + (pb - pa) * t);
-                        let l3 = |s: usize| samples[s].frame.eigenvalues[2];
-                        strength.push(-(l3(a) * (1.0 - t) + l3(b) * t));
-                        (positions.len() - 1) as u32
-                    })
-                };
-                for tet in TETRAHEDRA {
-                    let (neg, pos): (Vec<usize>, Vec<usize>) =
-                        tet.iter().partition(|&&c| values[c] < 0.0);
-                    match (neg.len(), pos.len()) {
-                        (1, 3) | (3, 1) => {
-                            let (lone, rest) = if neg.len() == 1 {
-                                (&neg, &pos)
-                            } else {
-                                (&pos, &neg)
-                            };
-                            triangles.push(rest.iter().map(|&r| vertex(lone[0], r)).collect());
-                        }
-                        (2, 2) => {
-                            let quad = [
-                                vertex(neg[0], pos[0]),
-                                vertex(neg[0], pos[1]),
-                                vertex(neg[1], pos[1]),
-                                vertex(neg[1], pos[0]),
-                            ];
-                            triangles.push(vec![quad[0], quad[1], quad[2]]);
-                            triangles.push(vec![quad[0], quad[2], quad[3]]);
-                        }
-                        _ => {}
-                    }
-                }
-            }
-        }
-    }
-    let strong = |v: &u32| strength[*v as usize] >= options.strength;
-    let kept: Vec<[u32; 3]> = triangles
-        .into_iter()
-        .filter(|t: &Vec<u32>| t.iter().all(strong))
-        .map(|t| [t[0], t[1], t[2]])
-        .collect();
-    compact(positions, kept)
-}
-
-/// The soup without unused vertices.
-fn compact(positions: Vec<Point>, mut triangles: Vec<[u32; 3]>) -> TriangleSoup {
-    let mut id = vec![u32::MAX; positions.len()];
-    let mut kept = Vec::new();
-    for v in triangles.iter_mut().flatten() {
-        if id[*v as usize] == u32::MAX {
-            id[*v as usize] = kept.len() as u32;
-            kept.push(positions[*v as usize]);
-        }
-        *v = id[*v as usize];
-    }
-    TriangleSoup {
-        positions: kept,
-        triangles,
-        vertex_scalars: Vec::new(),
-    }
-}
 
 /// Boundary and manifold figures of a soup.
 struct Topology {

@@ -423,3 +423,126 @@ fn the_surface_is_trimmed_along_the_strength_level() {
     assert_eq!(figures.non_manifold_edges, 0);
     assert_eq!(figures.crowded_vertices, 0);
 }
+
+#[test]
+fn the_marching_cubes_baseline_finds_the_sphere_of_the_shell() {
+    use crestline::volume::crease::oriented_marching_cubes;
+    let (radius, width) = (11.0, 3.0);
+    let (volume, centre) = shell(34, radius, width);
+    let field = ridge_field(&volume);
+    let soup = oriented_marching_cubes(&field, &field.default_options());
+    let signed: Vec<f64> = soup
+        .positions
+        .iter()
+        .map(|p| (p - centre).norm() - radius)
+        .collect();
+    // The vertices on the sphere, and those of the spurious sheets off it: outside,
+    // where λ2 = λ3 < 0 and the sign of g·e3 is noise (the crease surface rejects
+    // these edges, DESIGN.md; the baseline cannot), and inside, in cells whose corner
+    // 0 lies where λ2 ≈ λ3 and orients the e3 of the others at random.
+    let near: Vec<f64> = signed
+        .iter()
+        .map(|d| d.abs())
+        .filter(|&d| d < 0.1)
+        .collect();
+    let far = signed.iter().filter(|&&d| d.abs() >= 0.5).count();
+    let between = signed.len() - near.len() - far;
+    let mean = near.iter().sum::<f64>() / near.len() as f64;
+    let straddling = straddling_edges(volume.dims(), centre, radius).len();
+    let edges = edge_counts(&soup);
+    let near_vertex = |v: u32| signed[v as usize].abs() < 0.1;
+    let open_on_sphere = edges
+        .iter()
+        .filter(|&(&(a, b), &n)| n == 1 && near_vertex(a) && near_vertex(b))
+        .count();
+    eprintln!(
+        "{} vertices: {} within 0.1 voxel of the sphere (mean {mean:.4}), {far} at least 0.5 voxel off, {between} in between; {straddling} edges straddle the sphere; {} boundary edges, {open_on_sphere} of them on the sphere",
+        signed.len(),
+        near.len(),
+        edges.values().filter(|&&n| n == 1).count(),
+    );
+    // Linear interpolation of g·e3 along the edges finds the sphere to a few
+    // hundredths of a voxel (the smoothing moves it inward by about 0.03 voxel);
+    // interpolating from the wrong end would spread the vertices over half a voxel.
+    assert_eq!(between, 0, "{between} vertices 0.1 to 0.5 voxel off");
+    assert!(mean < 0.05, "mean distance {mean}");
+    // The sphere is found all around: at least as many vertices on it as grid edges
+    // clearly straddle it.
+    assert!(near.len() >= straddling, "{} of {straddling}", near.len());
+    // Its cracks are all in the spurious sheets: on the sphere, e3 is radial at every
+    // corner of the cells it crosses, and their orientations agree.
+    assert_eq!(open_on_sphere, 0);
+}
+
+/// f = exp(−((x − c)·n)² / s²) on an n³ grid of unit voxels: a ridge sheet, the plane
+/// through `c` normal to `normal`, tilted against the grid. Within s/√2 of it
+/// λ1 = λ2 = 0 > λ3 and e3 = ±n: with s wide enough to cover the volume, e3 can be
+/// oriented consistently everywhere.
+fn tilted_sheet(n: usize, c: Point, normal: nalgebra::Vector3<f64>, width: f64) -> Volume {
+    let samples = (0..n * n * n)
+        .map(|i| {
+            let p = Point::new((i % n) as f64, ((i / n) % n) as f64, (i / (n * n)) as f64);
+            let d = (p - c).dot(&normal);
+            (-(d * d) / (width * width)).exp() as f32
+        })
+        .collect();
+    Volume::new([n; 3], [1.0; 3], [0.0; 3], Matrix3::identity(), samples).unwrap()
+}
+
+#[test]
+fn the_marching_cubes_baseline_of_a_planar_ridge_has_no_cracks() {
+    use crestline::volume::crease::oriented_marching_cubes;
+    let n = 24;
+    let c = Point::new(11.3, 11.6, 11.45);
+    let normal = nalgebra::Vector3::new(0.25, -0.2, 1.0).normalize();
+    let volume = tilted_sheet(n, c, normal, 30.0);
+    let field = ridge_field(&volume);
+    let soup = oriented_marching_cubes(&field, &field.default_options());
+    let off = soup
+        .positions
+        .iter()
+        .map(|p| (p - c).dot(&normal).abs())
+        .fold(0.0, f64::max);
+    let last = (n - 1) as f64;
+    let on_border = |v: u32| {
+        let p = soup.positions[v as usize];
+        [p.x, p.y].iter().any(|&x| x < 1e-9 || x > last - 1e-9)
+    };
+    let edges = edge_counts(&soup);
+    let inner_open = edges
+        .iter()
+        .filter(|&(&(a, b), &count)| count == 1 && !(on_border(a) && on_border(b)))
+        .count();
+    let flipped = (0..n * n * n)
+        .filter(|&i| {
+            field
+                .sample([i % n, (i / n) % n, i / (n * n)])
+                .frame
+                .e3
+                .dot(&normal)
+                < 0.0
+        })
+        .count();
+    let figures = topology(&soup);
+    eprintln!(
+        "planar ridge: e3·n < 0 at {flipped} of {} samples; {} vertices, {} triangles, at most {off:.4} voxel off the plane; {} boundary edges in {} components, {inner_open} inside the volume, {} non-manifold edges",
+        n * n * n,
+        soup.positions.len(),
+        soup.triangles.len(),
+        figures.boundary_edges,
+        figures.boundary_components,
+        figures.non_manifold_edges,
+    );
+    // The eigenvectors come with either sign: the orientation per cell matters.
+    assert!(flipped > 0 && flipped < n * n * n, "{flipped}");
+    // The sheet crosses the whole volume: about (n − 1)² cells, most of them with a
+    // polygon fanned into 4 to 6 triangles.
+    assert!(soup.triangles.len() >= 3 * (n - 1) * (n - 1));
+    assert!(off < 0.1, "{off}");
+    // Every edge inside the volume is shared by exactly two triangles; the one
+    // boundary runs around the volume's border.
+    assert_eq!(figures.non_manifold_edges, 0);
+    assert_eq!(inner_open, 0);
+    assert_eq!(figures.boundary_components, 1);
+    assert_eq!(figures.crowded_vertices, 0);
+}

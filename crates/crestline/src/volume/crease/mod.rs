@@ -9,7 +9,10 @@
 //! the grid edges ([`edge_crossings`]), the degenerate points (λ2 = λ3) on the
 //! faces crossed an odd number of times, where a crease ends, and the surface of their per-face pairings and per-cell
 //! polygons ([`crease_surface`]), whose boundary follows the degenerate lines.
+//! For comparison, the paper's baseline (§5): marching cubes of g·e3 after orienting
+//! e3 per cell ([`oriented_marching_cubes`]).
 
+mod baseline;
 mod cells;
 mod degenerate;
 mod edges;
@@ -22,6 +25,7 @@ mod surface;
 mod tensor;
 mod trim;
 
+pub use baseline::oriented_marching_cubes;
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
 pub use field::{CreaseField, Sample};
 pub use surface::{crease_surface, crease_surface_with, Stage, DEGENERATE, STRENGTH};

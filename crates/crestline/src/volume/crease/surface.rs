@@ -197,7 +197,7 @@ fn triangulate(points: &Points, polygons: impl Iterator<Item = Vec<usize>>) -> M
 /// The surface without the vertices no triangle uses (points whose polygon did not
 /// close, pieces dropped for their size), with the vertex scalars [`STRENGTH`] and
 /// [`DEGENERATE`].
-fn compact(mesh: Mesh) -> TriangleSoup {
+pub(super) fn compact(mesh: Mesh) -> TriangleSoup {
     let Mesh {
         positions,
         strength,

@@ -175,7 +175,7 @@ impl Polygons {
     }
 
     fn push(&mut self, polygon: &[u8]) {
-        let fanned = polygon.len() > 3;
+        let fanned = is_fanned(polygon.len());
         self.triangles += if fanned { polygon.len() as u8 } else { 1 };
         self.centres += u8::from(fanned);
         let start: usize = self.lengths[..self.count as usize]
@@ -186,6 +186,29 @@ impl Polygons {
         self.lengths[self.count as usize] = polygon.len() as u8;
         self.count += 1;
     }
+}
+
+/// Whether a polygon of `n` corners is fanned around its barycentre (`n > 3`)
+/// rather than kept as one triangle.
+pub(in crate::volume) fn is_fanned(n: usize) -> bool {
+    n > 3
+}
+
+/// The triangles of a polygon with corners `ids`, wound as the polygon: the
+/// polygon itself if it is a triangle, otherwise the fan around `centre`, the
+/// vertex at its barycentre (ignored for a triangle).
+pub(in crate::volume) fn triangulate(
+    ids: &[u32],
+    centre: u32,
+) -> impl Iterator<Item = [u32; 3]> + '_ {
+    let (n, fanned) = (ids.len(), is_fanned(ids.len()));
+    (0..if fanned { n } else { 1 }).map(move |k| {
+        if fanned {
+            [centre, ids[k], ids[(k + 1) % n]]
+        } else {
+            [ids[0], ids[1], ids[2]]
+        }
+    })
 }
 
 /// BUILDCYCLES: the segments of all six faces chained into closed oriented

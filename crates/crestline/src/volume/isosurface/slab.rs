@@ -12,7 +12,10 @@
 
 use rayon::prelude::*;
 
-use super::cell::{corner_offset, crossing_fraction, decide_faces, CaseTable, Polygons, EDGES};
+use super::cell::{
+    corner_offset, crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, Polygons,
+    EDGES,
+};
 use super::{cell_key, edge_key};
 use crate::volume::Volume;
 use crate::{Error, Point, Result, Vector};
@@ -348,17 +351,16 @@ impl Part<'_> {
     /// larger polygon as a fan around its barycentre (a new vertex of this cell),
     /// `sum / n` from the sum of its corners' positions.
     fn push_polygon(&mut self, ids: &[u32], sum: Vector, cell: usize) {
-        if let [a, b, c] = *ids {
-            self.push_triangle([a, b, c]);
-            return;
+        let mut centre = 0;
+        if is_fanned(ids.len()) {
+            let n = self.written_centres;
+            self.written_centres += 1;
+            self.centres[n] = Point::from(sum / ids.len() as f64);
+            self.centre_keys[n] = cell_key(cell as u64);
+            centre = self.first_centre + n as u32;
         }
-        let n = self.written_centres;
-        self.written_centres += 1;
-        self.centres[n] = Point::from(sum / ids.len() as f64);
-        self.centre_keys[n] = cell_key(cell as u64);
-        let centre = self.first_centre + n as u32;
-        for (k, &a) in ids.iter().enumerate() {
-            self.push_triangle([centre, a, ids[(k + 1) % ids.len()]]);
+        for triangle in triangulate(ids, centre) {
+            self.push_triangle(triangle);
         }
     }
 }
@@ -385,7 +387,7 @@ fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
                     let plane = if up { &upper } else { &lower };
                     let local = plane.slot[cell_slot + offset] as usize;
                     ids[n] = plane.base + local as u32;
-                    if polygon.len() > 3 {
+                    if is_fanned(polygon.len()) {
                         sum += plane.points[local].coords;
                     }
                 }
