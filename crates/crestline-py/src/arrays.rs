@@ -90,3 +90,22 @@ pub fn faces<'py>(py: Python<'py>, mesh: &Mesh) -> Bound<'py, PyArray2<i64>> {
 pub fn report_json(report: &RepairReport) -> String {
     serde_json::to_string(report).unwrap_or_else(|_| "{}".to_string())
 }
+
+/// Write a triangle mesh with per-vertex values to `path` in the format of its
+/// extension (.ply with the values as properties, .obj, .vtk), atomically.
+#[pyfunction]
+pub fn write_mesh(
+    py: Python<'_>,
+    path: &str,
+    vertices: numpy::PyReadonlyArray2<'_, f64>,
+    faces: numpy::PyReadonlyArray2<'_, i64>,
+    values: Vec<(String, Vec<f64>)>,
+) -> PyResult<()> {
+    let mut soup = soup(vertices.as_array(), faces.as_array());
+    soup.vertex_scalars = values
+        .into_iter()
+        .map(|(name, values)| crestline::mesh::ScalarProperty { name, values })
+        .collect();
+    py.detach(|| crestline::io::write_soup(std::path::Path::new(path), &soup))
+        .map_err(raised)
+}

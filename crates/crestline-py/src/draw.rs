@@ -4,14 +4,13 @@
 use crestline::draw::{
     draw as draw_lines, render_png, svg_document, Camera, DrawOptions, Projection, Style, View,
 };
-use crestline::lines::FeatureLines;
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::mesh_of;
 use crate::errors::raised;
-use crate::lines::{polylines, LineParts};
+use crate::lines::{feature_lines, LineParts};
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -37,10 +36,7 @@ fn draw<'py>(
     png: bool,
 ) -> PyResult<(String, Option<Bound<'py, PyBytes>>)> {
     let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
-    let lines = FeatureLines {
-        source: "arrays".to_string(),
-        lines: polylines(lines)?,
-    };
+    let lines = feature_lines(lines)?;
     let options = DrawOptions {
         silhouettes,
         ..DrawOptions::default()

@@ -20,5 +20,7 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     mesh::register(m)?;
     draw::register(m)?;
     volume::register(m)?;
+    m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(arrays::write_mesh, m)?)?;
     Ok(())
 }

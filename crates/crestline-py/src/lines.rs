@@ -1,7 +1,9 @@
 //! Feature lines as dicts of numpy arrays (the package makes `Line` objects of
 //! them), and lines given back by the package as the library's polylines.
 
-use crestline::lines::{LineKind, Polyline};
+use std::path::Path;
+
+use crestline::lines::{FeatureLines, LineKind, Polyline};
 use crestline::mesh::Mesh;
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyReadonlyArray2};
@@ -10,6 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{index_rows, points, rows};
+use crate::errors::raised;
 
 /// Every line as a dict ([`line_dict`]).
 pub fn line_dicts<'py>(
@@ -62,24 +65,41 @@ fn line_dict<'py>(
     Ok(dict)
 }
 
-/// A line given as its kind's name, closed flag and points (k × 3).
-pub type LineParts<'py> = (String, bool, PyReadonlyArray2<'py, f64>);
+/// A line given as its kind's name, closed flag, strength, points (k × 3) and
+/// named per-point values.
+pub type LineParts<'py> = (
+    String,
+    bool,
+    f64,
+    PyReadonlyArray2<'py, f64>,
+    Vec<(String, Vec<f64>)>,
+);
 
-/// The library's polylines of lines given by the package.
-pub fn polylines(lines: Vec<LineParts<'_>>) -> PyResult<Vec<Polyline>> {
-    lines
+/// The library's lines of lines given by the package.
+pub fn feature_lines(lines: Vec<LineParts<'_>>) -> PyResult<FeatureLines> {
+    let lines = lines
         .into_iter()
-        .map(|(kind, closed, line_points)| {
+        .map(|(kind, closed, strength, line_points, values)| {
             let kind = LineKind::ALL
                 .into_iter()
                 .find(|k| k.name() == kind)
                 .ok_or_else(|| PyValueError::new_err(format!("lines: unknown kind {kind:?}")))?;
-            Ok(Polyline::new(
-                kind,
-                closed,
-                0.0,
-                points(line_points.as_array()),
-            ))
+            let mut line = Polyline::new(kind, closed, strength, points(line_points.as_array()));
+            line.values = values.into_iter().collect();
+            Ok(line)
         })
-        .collect()
+        .collect::<PyResult<Vec<Polyline>>>()?;
+    Ok(FeatureLines {
+        source: "arrays".to_string(),
+        lines,
+    })
+}
+
+/// Write lines to `path` in the format of its extension (.json, .obj, .ply,
+/// .vtk), atomically.
+#[pyfunction]
+pub fn write_lines(py: Python<'_>, path: &str, lines: Vec<LineParts<'_>>) -> PyResult<()> {
+    let lines = feature_lines(lines)?;
+    py.detach(|| crestline::lines::write_lines(Path::new(path), &lines))
+        .map_err(raised)
 }

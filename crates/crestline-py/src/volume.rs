@@ -23,7 +23,7 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{points, rows};
 use crate::errors::raised;
-use crate::lines::{line_dicts, polylines, LineParts};
+use crate::lines::{feature_lines, line_dicts, LineParts};
 use crate::progress::Callback;
 
 /// The functions of this module.
@@ -204,20 +204,8 @@ fn crease_surface<'py>(
 /// Landmarks of ridge and valley lines (extremal points, curvature maxima, ends,
 /// and a descriptor per line) as the JSON the library writes.
 #[pyfunction]
-fn landmarks(
-    lines: Vec<LineParts<'_>>,
-    values: Vec<Vec<(String, Vec<f64>)>>,
-    radius: f64,
-    persistence: f64,
-) -> PyResult<String> {
-    let mut polylines = polylines(lines)?;
-    for (line, named) in polylines.iter_mut().zip(values) {
-        line.values = named.into_iter().collect();
-    }
-    let lines = FeatureLines {
-        source: "arrays".to_string(),
-        lines: polylines,
-    };
+fn landmarks(lines: Vec<LineParts<'_>>, radius: f64, persistence: f64) -> PyResult<String> {
+    let lines = feature_lines(lines)?;
     let options = LandmarkOptions {
         radius,
         persistence,

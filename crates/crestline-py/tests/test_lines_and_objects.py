@@ -145,3 +145,30 @@ def test_polydata_of_triangles_is_accepted_and_polygons_are_refused(bunny):
     quads = np.array([4, 0, 1, 2, 3])
     with pytest.raises(ValueError, match="not triangles"):
         crestline.curvature(PolyDataLike(vertices, quads))
+
+
+def test_lines_and_meshes_are_saved_as_the_tool_saves_them(bunny, tmp_path):
+    import json
+
+    vertices, faces = bunny
+    lines = crestline.ridges(vertices, faces)
+    lines.save(tmp_path / "lines.json")
+    saved = json.loads((tmp_path / "lines.json").read_text())
+    assert saved["format"].startswith("crestline-lines") and len(saved["lines"]) == len(lines)
+    for line, written in zip(lines, saved["lines"]):
+        assert written["kind"] == line.kind and written["strength"] == line.strength
+        assert np.array_equal(np.array(written["points"]), line.points)
+        assert np.array_equal(np.array(written["values"]["e_max"]), line.values["e_max"])
+    for suffix in ("ply", "obj", "vtk"):
+        lines.save(tmp_path / f"lines.{suffix}")
+        assert (tmp_path / f"lines.{suffix}").stat().st_size > 0
+    with pytest.raises(crestline.FileError, match="lines.txt"):
+        lines.save(tmp_path / "lines.txt")
+    assert not (tmp_path / "lines.txt").exists()
+
+    k_max = crestline.curvature(vertices, faces)["k_max"]
+    crestline.write_mesh(tmp_path / "bunny.ply", vertices, faces, {"k_max": k_max})
+    again, again_faces, _ = crestline.read_mesh(tmp_path / "bunny.ply")
+    assert np.array_equal(again, vertices) and np.array_equal(again_faces, faces)
+    with pytest.raises(ValueError, match=r"values\['k_max'\]: expected shape"):
+        crestline.write_mesh(tmp_path / "short.ply", vertices, faces, {"k_max": k_max[:5]})

@@ -24,7 +24,7 @@ the GIL.
 
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
-from ._mesh import Curvature, Estimator, Progress, curvature, draw, morse, read_mesh, ridges
+from ._mesh import Curvature, Estimator, Progress, curvature, draw, morse, read_mesh, ridges, write_mesh
 from ._volume import Image, Volume, crease_surface, crest_lines, isosurface, landmarks, read_volume, register
 
 __all__ = [
@@ -51,4 +51,5 @@ __all__ = [
     "read_volume",
     "register",
     "ridges",
+    "write_mesh",
 ]

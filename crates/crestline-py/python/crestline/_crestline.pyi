@@ -7,6 +7,7 @@ import numpy.typing as npt
 
 F64 = npt.NDArray[np.float64]
 I64 = npt.NDArray[np.int64]
+LineParts = tuple[str, bool, float, F64, list[tuple[str, list[float]]]]
 
 def read_mesh(path: str) -> tuple[F64, I64, str]: ...
 def curvature(vertices: F64, faces: I64, estimator: str) -> dict[str, Any]: ...
@@ -26,7 +27,7 @@ def morse(
 def draw(
     vertices: F64,
     faces: I64,
-    lines: list[tuple[str, bool, F64]],
+    lines: list[LineParts],
     azimuth: float,
     elevation: float,
     width: int,
@@ -57,6 +58,6 @@ def crease_surface(
     progress: Optional[Any] = None,
 ) -> dict[str, Any]: ...
 def landmarks(
-    lines: list[tuple[str, bool, F64]], values: list[list[tuple[str, list[float]]]], radius: float, persistence: float
+    lines: list[LineParts], values: list[list[tuple[str, list[float]]]], radius: float, persistence: float
 ) -> str: ...
 def register_lines(fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, min_overlap: float) -> dict[str, Any]: ...

@@ -2,7 +2,8 @@
 
 from collections import Counter
 from dataclasses import dataclass, field
-from typing import Any, Dict, Iterable, Iterator, List, Optional, Sequence, Union, overload
+from os import PathLike
+from typing import Any, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -94,3 +95,25 @@ class Lines(Sequence[Line]):
     def to_list(self) -> List[Dict[str, Any]]:
         """Every line as a dict (:meth:`Line.to_dict`)."""
         return [line.to_dict() for line in self._lines]
+
+    def save(self, path: Union[str, "PathLike[str]"]) -> None:
+        """Write the lines in the format of the file's extension, as the
+        command-line tool does: ``.json`` (points, per-point values), ``.ply``,
+        ``.obj`` or ``.vtk``. The file is written under a temporary name and
+        renamed, so it is never left half written."""
+        from . import _crestline
+
+        _crestline.write_lines(str(path), self._parts())
+
+    def _parts(self) -> List[Tuple[str, bool, float, npt.NDArray[np.float64], List[Tuple[str, List[float]]]]]:
+        """The lines as the extension module takes them."""
+        return [
+            (
+                line.kind,
+                bool(line.closed),
+                float(line.strength),
+                np.ascontiguousarray(line.points, dtype=np.float64).reshape(-1, 3),
+                [(name, np.asarray(v, dtype=np.float64).tolist()) for name, v in line.values.items()],
+            )
+            for line in self._lines
+        ]

@@ -50,6 +50,20 @@ def read_mesh(path: Union[str, "PathLike[str]"]) -> Tuple[Vertices, Faces, Dict[
     return vertices, faces, json.loads(repairs)
 
 
+def write_mesh(
+    path: Union[str, "PathLike[str]"],
+    vertices: Any,
+    faces: Optional[npt.ArrayLike] = None,
+    values: Optional[Dict[str, npt.ArrayLike]] = None,
+) -> None:
+    """Write a triangle mesh in the format of the file's extension: ``.ply`` (with
+    ``values``, one float per vertex each, as vertex properties), ``.obj`` or
+    ``.vtk``. The file is written under a temporary name and renamed."""
+    v, f = mesh_arrays(vertices, faces)
+    named = [(str(name), per_vertex(array, f"values[{name!r}]", len(v)).tolist()) for name, array in (values or {}).items()]
+    _crestline.write_mesh(str(path), v, f, named)
+
+
 def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curvature:
     """The curvature a user's estimator returns, checked."""
     field = estimator(v, f)
@@ -200,7 +214,6 @@ def draw(
         raise TypeError(f"lines: expected crestline.Lines, got {type(lines).__name__}")
     azimuth, elevation = pair(view, "view", lambda a, name: number(a, name, low=-360.0))
     width, height = pair(size, "size", lambda s, name: count(s, name, 1, 20000))
-    parts = [(line.kind, line.closed, line.points) for line in lines]
-    svg, image = _crestline.draw(v, f, parts, azimuth, elevation, width, height, bool(silhouettes), bool(png))
+    svg, image = _crestline.draw(v, f, lines._parts(), azimuth, elevation, width, height, bool(silhouettes), bool(png))
     return (svg, image) if png else svg
 

@@ -213,10 +213,8 @@ def landmarks(lines: Lines, radius: float, persistence: float) -> Dict[str, Any]
     """
     if not isinstance(lines, Lines):
         raise TypeError(f"lines: expected crestline.Lines, got {type(lines).__name__}")
-    parts = [(line.kind, line.closed, line.points) for line in lines]
-    values = [[(name, np.asarray(v, dtype=np.float64).tolist()) for name, v in line.values.items()] for line in lines]
     found = json.loads(
-        _crestline.landmarks(parts, values, number(radius, "radius", strict=True),
+        _crestline.landmarks(lines._parts(), number(radius, "radius", strict=True),
                              number(persistence, "persistence", strict=True))
     )
     marks = found["points"]
