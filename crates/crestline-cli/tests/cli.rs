@@ -783,7 +783,7 @@ fn iso_writes_a_closed_brain_surface_with_image_curvature() {
     let header = String::from_utf8_lossy(&header[..600]);
     for property in ["k_max", "k_min", "n_x", "unreliable"] {
         assert!(
-            header.contains(&format!("property float {property}")),
+            header.contains(&format!("property double {property}")),
             "{header}"
         );
     }

@@ -254,20 +254,38 @@ fn spheres_at_extreme_scales_give_no_spurious_lines() {
 }
 
 #[test]
-fn a_curvature_ply_out_of_f32_range_is_an_error_naming_the_property() {
+fn a_curvature_ply_holds_values_beyond_f32_exactly_and_refuses_non_finite_ones() {
+    // On a sphere of radius 1e-30 the Gaussian curvature is about 1e60, beyond
+    // f32: written in double precision, it reads back exactly.
     let (mesh, _) = scaled_sphere(1e-30);
     let field = estimate_curvature(&mesh, &ShapeOperator).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("tiny.ply");
-    let err = write_curvature_ply(&path, &mesh, &field).unwrap_err();
-    let message = err.to_string();
-    assert!(message.contains("gauss"), "{message}");
-    assert!(message.contains("tiny.ply"), "{message}");
-    assert!(!path.exists());
-    // At radius 1e-15 every value fits.
-    let (mesh, _) = scaled_sphere(1e-15);
-    let field = estimate_curvature(&mesh, &ShapeOperator).unwrap();
     write_curvature_ply(&path, &mesh, &field).unwrap();
+    let soup = crestline::io::read_mesh(&path).unwrap();
+    let gauss = soup
+        .vertex_scalars
+        .iter()
+        .find(|p| p.name == "gauss")
+        .unwrap();
+    let expected: Vec<f64> = field
+        .k_max
+        .iter()
+        .zip(&field.k_min)
+        .map(|(a, b)| a * b)
+        .collect();
+    assert!(gauss.values[0] > 1e59, "{}", gauss.values[0]);
+    assert_eq!(gauss.values, expected);
+    // A non-finite value is an error naming the file and the property, and no
+    // file is left.
+    let mut broken = field.clone();
+    broken.k_min[3] = f64::INFINITY;
+    let path = dir.path().join("broken.ply");
+    let message = write_curvature_ply(&path, &mesh, &broken)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("broken.ply") && message.contains("k_min"), "{message}");
+    assert!(!path.exists());
 }
 
 /// A fan of `valence` triangles around a centre vertex on the paraboloid cap
