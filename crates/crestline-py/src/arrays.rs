@@ -13,21 +13,35 @@ use crate::errors::raised;
 fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
     TriangleSoup {
         positions: points(vertices),
-        triangles: faces
-            .rows()
-            .into_iter()
-            .map(|r| [r[0] as u32, r[1] as u32, r[2] as u32])
-            .collect(),
+        triangles: match faces.as_slice() {
+            Some(flat) => flat
+                .chunks_exact(3)
+                .map(|r| [r[0] as u32, r[1] as u32, r[2] as u32])
+                .collect(),
+            None => faces
+                .rows()
+                .into_iter()
+                .map(|r| [r[0] as u32, r[1] as u32, r[2] as u32])
+                .collect(),
+        },
         vertex_scalars: Vec::new(),
     }
 }
 
-/// The rows of an `n × 3` array as points.
+/// The rows of an `n × 3` array as points (read straight from memory when the
+/// array is contiguous, as the package passes it).
 pub fn points(rows: ArrayView2<f64>) -> Vec<Point> {
-    rows.rows()
-        .into_iter()
-        .map(|r| Point::new(r[0], r[1], r[2]))
-        .collect()
+    match rows.as_slice() {
+        Some(flat) => flat
+            .chunks_exact(3)
+            .map(|r| Point::new(r[0], r[1], r[2]))
+            .collect(),
+        None => rows
+            .rows()
+            .into_iter()
+            .map(|r| Point::new(r[0], r[1], r[2]))
+            .collect(),
+    }
 }
 
 /// The mesh of the arrays, whose vertices must be the mesh's: repairs that weld,
@@ -57,7 +71,8 @@ pub fn rows<'py>(
     items: impl ExactSizeIterator<Item = [f64; 3]>,
 ) -> Bound<'py, PyArray2<f64>> {
     let n = items.len();
-    let flat: Vec<f64> = items.flatten().collect();
+    let mut flat = Vec::with_capacity(3 * n);
+    items.for_each(|row| flat.extend_from_slice(&row));
     Array2::from_shape_vec((n, 3), flat)
         .expect("three values per row")
         .into_pyarray(py)

@@ -63,21 +63,21 @@ fn curvature<'py>(
     let field = py
         .detach(|| estimate_curvature(&mesh, estimator.build().as_ref()))
         .map_err(raised)?;
-    field_dict(py, &field)
+    field_dict(py, field)
 }
 
-/// The arrays of a curvature field.
-fn field_dict<'py>(py: Python<'py>, field: &CurvatureField) -> PyResult<Bound<'py, PyDict>> {
+/// The arrays of a curvature field (its per-vertex values moved, not copied).
+fn field_dict(py: Python<'_>, field: CurvatureField) -> PyResult<Bound<'_, PyDict>> {
     let vectors = |v: &[Vector]| rows(py, v.iter().map(|d| [d.x, d.y, d.z]));
     let dict = PyDict::new(py);
-    dict.set_item("k_max", Array1::from(field.k_max.clone()).into_pyarray(py))?;
-    dict.set_item("k_min", Array1::from(field.k_min.clone()).into_pyarray(py))?;
     dict.set_item("d_max", vectors(&field.d_max))?;
     dict.set_item("d_min", vectors(&field.d_min))?;
     dict.set_item("normal", vectors(&field.normal))?;
+    dict.set_item("k_max", Array1::from(field.k_max).into_pyarray(py))?;
+    dict.set_item("k_min", Array1::from(field.k_min).into_pyarray(py))?;
     dict.set_item(
         "unreliable",
-        Array1::from(field.unreliable.clone()).into_pyarray(py),
+        Array1::from(field.unreliable).into_pyarray(py),
     )?;
     Ok(dict)
 }

@@ -63,9 +63,9 @@ def points(array: Any, name: str) -> Vertices:
         raise TypeError(f"{name}: not an array of numbers ({e})") from None
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"{name}: expected shape (n, 3), got {p.shape}")
-    bad = ~np.isfinite(p).all(axis=1)
-    if bad.any():
-        raise ValueError(f"{name}: row {int(np.argmax(bad))} is not finite ({p[np.argmax(bad)].tolist()})")
+    if not np.isfinite(p).all():  # the row is only looked for when there is one
+        row = int(np.argmax(~np.isfinite(p).all(axis=1)))
+        raise ValueError(f"{name}: row {row} is not finite ({p[row].tolist()})")
     return p
 
 
