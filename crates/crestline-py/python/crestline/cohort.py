@@ -4,6 +4,9 @@
     >>> rows = crestline.cohort.run(["a.nii.gz", "b.nii.gz"], "out", task="landmarks",
     ...                             options={"level": 60})
 
+In a script, call :func:`run` under ``if __name__ == "__main__":``: the worker
+processes of a local cluster import the script again.
+
 Every input gets a folder ``out_dir/<subject>/`` with its outputs and a
 ``manifest.json`` written last: the input's SHA-256, the task, its options, the
 outputs, counts and seconds. A rerun skips the subjects whose manifest matches
@@ -42,6 +45,7 @@ import argparse
 import csv
 import hashlib
 import json
+import multiprocessing
 import os
 import shutil
 import sys
@@ -331,6 +335,12 @@ def run(
     """
     if task not in TASKS:
         raise ValueError(f"task: expected one of {TASKS}, got {task!r}")
+    importing_main = getattr(multiprocessing.current_process(), "_inheriting", False)
+    if client is None and (importing_main or multiprocessing.parent_process() is not None):
+        raise RuntimeError(
+            "crestline.cohort.run was called while a worker process imported the main script: "
+            'in a script, call it under `if __name__ == "__main__":` (worker processes import the script again)'
+        )
     if options is not None and not isinstance(options, dict):
         raise TypeError(f"options: expected a dict, got {type(options).__name__}")
     subjects = read_inputs(inputs)
