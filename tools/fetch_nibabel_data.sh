@@ -10,11 +10,10 @@
 # Running it again does nothing when every file is already there.
 set -euo pipefail
 
-readonly VERSION="5.3.2"
-readonly WHEEL="nibabel-$VERSION-py3-none-any.whl"
-
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 readonly DEST="$repo_root/data/nibabel"
+# shellcheck source=tools/wheel_data.sh
+source "$repo_root/tools/wheel_data.sh"
 readonly FILES=(
     anatomical.nii
     example4d.nii.gz
@@ -24,11 +23,6 @@ readonly FILES=(
     resampled_anat_moved.nii
     standard.nii.gz
 )
-
-die() {
-    echo "fetch_nibabel_data: error: $*" >&2
-    exit 1
-}
 
 all_present() {
     local file
@@ -42,26 +36,13 @@ if all_present; then
     exit 0
 fi
 
-command -v python3 >/dev/null || die "python3 is not installed (its pip downloads the wheel)"
-command -v unzip >/dev/null || die "unzip is not installed"
-
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-
-echo "fetch_nibabel_data: downloading $WHEEL"
-python3 -m pip download --quiet --no-deps --only-binary=:all: \
-    --dest "$work" "nibabel==$VERSION" ||
-    die "pip could not download nibabel $VERSION (is PyPI reachable?)"
-[[ -s "$work/$WHEEL" ]] || die "pip left no $WHEEL in $work"
-
-mkdir -p "$DEST"
+members=()
 for file in "${FILES[@]}"; do
-    # Unpack to a temporary name first, so an interrupted run leaves no truncated
-    # file behind that a later run would keep.
-    unzip -p "$work/$WHEEL" "nibabel/tests/data/$file" >"$DEST/$file.part" ||
-        die "$WHEEL holds no nibabel/tests/data/$file"
-    mv "$DEST/$file.part" "$DEST/$file"
+    members+=("nibabel/tests/data/$file" "$DEST/$file")
 done
-
-all_present || die "some files are empty after unpacking"
+unpack_from_wheel fetch_nibabel_data nibabel 5.3.2 "${members[@]}"
+all_present || {
+    echo "fetch_nibabel_data: error: some files are empty after unpacking" >&2
+    exit 1
+}
 echo "fetch_nibabel_data: ${#FILES[@]} files written to $DEST"
