@@ -269,6 +269,14 @@ def default_workers() -> int:
     return max(1, min(cores, memory // TASK_PEAK_BYTES))
 
 
+def worker_environment(workers: int) -> Dict[str, str]:
+    """The environment of each of ``workers`` worker processes on this machine: the
+    cores shared out among them, so that the library's threads (rayon) in several
+    workers do not contend for the same cores."""
+    cores = os.cpu_count() or 1
+    return {"RAYON_NUM_THREADS": str(max(1, cores // workers))}
+
+
 def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
     """summary.csv (and .parquet), and for landmarks all of them in one table."""
 
@@ -330,7 +338,8 @@ def run(
     ``inputs``: paths of meshes or images, or a CSV file with a ``path`` column and
     per-subject options (which override ``options``). ``client``: a
     ``dask.distributed.Client``; with None a LocalCluster sized to the machine is
-    started for the run and closed after it. ``progress``: a tqdm bar when tqdm is
+    started for the run and closed after it, the cores shared out among its workers
+(``RAYON_NUM_THREADS``; give a cluster of your own ``worker_environment(n)``). ``progress``: a tqdm bar when tqdm is
     installed.
     """
     if task not in TASKS:
@@ -353,7 +362,7 @@ def run(
         workers = default_workers()
         memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // workers
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory,
-                               dashboard_address=None)
+                               dashboard_address=None, env=worker_environment(workers))
         client = Client(cluster)
     try:
         futures = {
