@@ -12,11 +12,15 @@
 //!
 //! `cargo run --release -p crestline --example jet_extremality [-- --sweep]`
 //! (`--sweep`: also the smoothing steps and times of the jet path).
+//!
+//! With mesh files as arguments (`-- meshes/bunny.obj …`), prints instead the
+//! defaults against the jet path on each: time of the extraction (the mesh
+//! loaded), number of lines and their total length.
 
 use std::sync::Arc;
 use std::time::Instant;
 
-use crestline::curvature::{CurvatureEstimator, CurvatureField, JetFit, ShapeOperator};
+use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};
 use crestline::lines::{LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::{Mesh, TriangleSoup};
@@ -114,7 +118,45 @@ fn tracer(
     }
 }
 
+/// Defaults against the jet path on the meshes at `paths`.
+fn compare_on_meshes(paths: &[String]) {
+    println!("| mesh | vertices | path | time | lines (ridges / valleys) | total length |");
+    println!("|---|---|---|---|---|---|");
+    for path in paths {
+        let soup = crestline::io::read_mesh(std::path::Path::new(path)).unwrap();
+        let mesh = Mesh::from_soup(soup).unwrap().0;
+        let tracers = [
+            ("defaults", ExtremalityTracer::default()),
+            (
+                "jet path",
+                ExtremalityTracer::with_estimator(Estimator::JetFit),
+            ),
+        ];
+        for (name, tracer) in tracers {
+            let start = Instant::now();
+            let lines = tracer.extract(&mesh).unwrap();
+            let seconds = start.elapsed().as_secs_f64();
+            println!(
+                "| {path} | {} | {name} | {seconds:.2} s | {} ({} / {}) | {:.4} |",
+                mesh.vertex_count(),
+                lines.len(),
+                lines.of_kind(LineKind::Ridge).count(),
+                lines.of_kind(LineKind::Valley).count(),
+                lines.total_length()
+            );
+        }
+    }
+}
+
 fn main() {
+    let paths: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    if !paths.is_empty() {
+        compare_on_meshes(&paths);
+        return;
+    }
     let sweep = std::env::args().any(|a| a == "--sweep");
     let motion = motion();
     let surface = generate::ellipsoid(AXES, 30_000, Sampling::jittered(1)).unwrap();

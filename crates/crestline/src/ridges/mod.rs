@@ -6,8 +6,14 @@
 //! 1. optional implicit smoothing of the surface ([`smoothing::presmooth_surface`]);
 //! 2. principal curvatures and directions (any [`CurvatureEstimator`]), extremalities
 //!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`mod@extremality`]);
+//!    an estimator that gives the extremalities itself
+//!    ([`CurvatureField::extremality`]: [`crate::curvature::JetFit`], from the
+//!    third-order terms of its fitted jets) is used as it is, which keeps the
+//!    fit's precision that differentiating its curvature over the 1-ring loses;
 //! 3. sign-aware implicit smoothing of the extremalities (§5.1)
-//!    ([`smoothing::smooth_extremality`]);
+//!    ([`smoothing::smooth_extremality`]); fitted extremalities are smoothed in
+//!    proportion to the noise their fit residual shows
+//!    ([`fitted_smoothing_factors`]), so clean meshes keep their precision;
 //! 4. tracing the zero sets in regular triangles under the feature conditions (eqs. 5,
 //!    6), then bridging singular triangles (§4.2) ([`mod@trace`]), with the shared
 //!    zero-set tracer ([`crate::lines::zero_set`]);
@@ -108,7 +114,9 @@ pub struct ExtremalityTracer {
     pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
     /// Which lines to extract.
     pub kinds: Kinds,
-    /// Implicit smoothing steps of the extremalities.
+    /// Implicit smoothing steps of the extremalities. Extremalities the estimator
+    /// gives with a fit residual are smoothed only where the residual shows noise
+    /// ([`fitted_smoothing_factors`]).
     pub smooth_steps: usize,
     /// Time step τ of extremality smoothing, in units of the mean edge length squared.
     pub smooth_time: f64,
@@ -139,9 +147,20 @@ impl ExtremalityTracer {
     /// Default smoothing time τ, in units of the mean edge length squared.
     pub const DEFAULT_SMOOTH_TIME: f64 = 2.0;
     /// Default number of implicit smoothing steps of extremalities the estimator
-    /// gives ([`CurvatureField::extremality`], e.g. [`crate::curvature::JetFit`]'s).
+    /// gives ([`CurvatureField::extremality`], e.g. [`crate::curvature::JetFit`]'s),
+    /// weighted by [`fitted_smoothing_factors`]. Measured on a rotated, irregular
+    /// 30k-vertex ellipsoid (example `jet_extremality`): on the clean mesh the
+    /// weights are about 10⁻⁵ and the ridge stays at 0.0004% of the diagonal from
+    /// the true plane (every unweighted step costs precision: 1 step of τ = 0.25
+    /// gives 0.0024%, 3 of τ = 2 give 0.0058%); on scans the weights are 1 and
+    /// the lines are those of the discrete path in number and smoothness.
     pub const DEFAULT_FITTED_SMOOTH_STEPS: usize = 3;
-    /// Default smoothing time τ of extremalities the estimator gives.
+    /// Default smoothing time τ of extremalities the estimator gives. Fitted
+    /// extremalities of noisy meshes need a little more smoothing than the
+    /// discrete ones: with normal noise of 0.2 h̄, 3 presmoothing and 5 smoothing
+    /// steps, the ridge lies 0.24% of the diagonal from the true plane with τ = 2,
+    /// 0.17% with τ = 3, 0.15% with τ = 4 (the discrete path: 0.21% with τ = 2);
+    /// more smoothing also removes more of the weaker lines of scans.
     pub const DEFAULT_FITTED_SMOOTH_TIME: f64 = 3.0;
     /// Default strength threshold (dimensionless).
     pub const DEFAULT_THRESHOLD: f64 = 2.0;
