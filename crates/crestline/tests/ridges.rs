@@ -559,3 +559,27 @@ fn jet_path_lines_do_not_depend_on_direction_signs() {
             .all(|(p, q)| (p - q).norm() < 1e-12));
     }
 }
+
+/// The jet path, fitted extremalities and residual weights included, gives the
+/// same lines on a mesh scaled by 1000.
+#[test]
+fn jet_path_scaling_by_1000_gives_the_same_lines() {
+    let mesh = ellipsoid();
+    let big = transformed(&mesh, |p| p * 1000.0);
+    let tracer = ExtremalityTracer {
+        feature_conditions: false,
+        threshold: 0.5,
+        ..jet_tracer()
+    };
+    let small_lines = tracer.extract(&mesh).unwrap();
+    let big_lines = tracer.extract(&big).unwrap();
+    assert!(!small_lines.is_empty());
+    assert_eq!(small_lines.len(), big_lines.len());
+    for (s, b) in small_lines.iter().zip(big_lines.iter()) {
+        assert_eq!(s.points.len(), b.points.len());
+        assert!((s.strength - b.strength).abs() < 1e-9 * s.strength.max(1.0));
+        for (p, q) in s.points.iter().zip(&b.points) {
+            assert!((p - q / 1000.0).norm() < 1e-9, "{p} vs {q}");
+        }
+    }
+}
