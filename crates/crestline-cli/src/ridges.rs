@@ -25,12 +25,15 @@ pub struct TracerArgs {
     /// Curvature estimator: shape-operator (fast) or jet-fit (accurate on irregular meshes).
     #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
-    /// Implicit smoothing steps of the extremalities.
-    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_SMOOTH_STEPS, value_name = "N")]
-    pub smooth_steps: usize,
-    /// Smoothing time step, in units of the mean edge length squared.
-    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_SMOOTH_TIME, value_name = "TAU")]
-    pub smooth_time: f64,
+    /// Implicit smoothing steps of the extremalities [default: 3]. With jet-fit the
+    /// extremalities come from the fitted jets and are smoothed only where the
+    /// vertices deviate from them (noise), not on clean meshes.
+    #[arg(long, value_name = "N")]
+    pub smooth_steps: Option<usize>,
+    /// Smoothing time step, in units of the mean edge length squared [default: 2
+    /// with shape-operator, 3 with jet-fit].
+    #[arg(long, value_name = "TAU")]
+    pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
     /// ∫ |k_min| ds for valleys) is at least this.
     #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_THRESHOLD, value_name = "T")]
@@ -132,11 +135,12 @@ pub fn trace_loaded(
                 .to_vec(),
         ),
     };
+    let (smooth_steps, smooth_time) = ExtremalityTracer::smoothing_defaults(args.estimator);
     let tracer = ExtremalityTracer {
         estimator: surface.estimator.clone(),
         kinds: args.kind,
-        smooth_steps: args.smooth_steps,
-        smooth_time: args.smooth_time,
+        smooth_steps: args.smooth_steps.unwrap_or(smooth_steps),
+        smooth_time: args.smooth_time.unwrap_or(smooth_time),
         threshold: args.threshold,
         presmooth_steps: args.presmooth,
         fairing: args.fair.then(Fairing::default),

@@ -1250,3 +1250,48 @@ fn image_commands_set_non_finite_samples_to_the_background_with_a_warning() {
     }
     assert!(surface.exists() && lines.exists());
 }
+
+/// The smoothing defaults follow the estimator: `--estimator jet-fit` alone
+/// smooths as `--smooth-steps 3 --smooth-time 3`, the shape operator as
+/// `--smooth-steps 3 --smooth-time 2`; given values override them.
+#[test]
+fn ridges_smoothing_defaults_follow_the_estimator() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(format!("{name}.json"));
+        let mut args = vec![
+            "ridges",
+            "meshes/bunny_small.obj",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let run = crestline(&args);
+        assert!(run.status.success(), "{}", stderr(&run));
+        std::fs::read(&out).unwrap()
+    };
+    let jet = run("jet", &["--estimator", "jet-fit"]);
+    let jet_explicit = run(
+        "jet_explicit",
+        &[
+            "--estimator",
+            "jet-fit",
+            "--smooth-steps",
+            "3",
+            "--smooth-time",
+            "3",
+        ],
+    );
+    let jet_tau_2 = run(
+        "jet_tau_2",
+        &["--estimator", "jet-fit", "--smooth-time", "2"],
+    );
+    let shape = run("shape", &[]);
+    let shape_explicit = run(
+        "shape_explicit",
+        &["--smooth-steps", "3", "--smooth-time", "2"],
+    );
+    assert_eq!(jet, jet_explicit);
+    assert_ne!(jet, jet_tau_2);
+    assert_eq!(shape, shape_explicit);
+}

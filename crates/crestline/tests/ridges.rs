@@ -5,7 +5,7 @@
 mod common;
 
 use common::transformed;
-use crestline::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
+use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};
 use crestline::lines::chain;
 use crestline::lines::{
     FeatureLines, LineExtractor, LineKind, SurfaceLocation, SurfaceWithCurvature,
@@ -453,4 +453,133 @@ fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
     };
     let lines = faired.extract(mesh).unwrap();
     assert!(!lines.is_empty() && lines.iter().all(|l| l.locations.is_empty()));
+}
+
+/// The ellipsoid rotated, moved and scaled by 1000, and how to map its points back.
+fn big_rotated_ellipsoid() -> (Mesh, impl Fn(&Point) -> Point) {
+    let motion = motion();
+    let mesh = transformed(&ellipsoid(), |p| motion * (p * 1000.0));
+    (mesh, move |p: &Point| {
+        motion.inverse_transform_point(p) / 1000.0
+    })
+}
+
+fn jet_tracer() -> ExtremalityTracer {
+    ExtremalityTracer::with_estimator(Estimator::JetFit)
+}
+
+/// With extremalities from the fitted jet the ridge of a clean irregular
+/// ellipsoid lies on its principal plane to a few millionths of the diagonal.
+#[test]
+fn jet_extremalities_put_the_ridge_on_the_principal_plane() {
+    let (mesh, back) = big_rotated_ellipsoid();
+    let lines = jet_tracer().extract(&mesh).unwrap();
+    let points: Vec<Point> = all_points(&lines).iter().map(&back).collect();
+    let mean = mean_plane_distance(&points) / diagonal();
+    let h = mesh.mean_edge_length() / 1000.0;
+    let covered = coverage(&points, 2, 2.0 * h);
+    eprintln!(
+        "jet path: {} lines, mean plane distance {:.5}% of the diagonal, coverage {:.4}",
+        lines.len(),
+        100.0 * mean,
+        covered
+    );
+    assert!(mean < 0.00002, "{mean}");
+    assert!(covered >= 0.98, "{covered}");
+    assert_eq!(lines.len(), 1);
+    assert!(lines.lines[0].closed && lines.lines[0].kind == LineKind::Ridge);
+}
+
+/// The jet path keeps the robustness to noise of the discrete path: with normal
+/// noise of 0.2 mean edge lengths, 3 presmoothing and 5 extremality smoothing steps
+/// recover the ridge.
+#[test]
+fn jet_extremalities_recover_the_ridge_of_a_noisy_ellipsoid() {
+    let (mesh, back) = big_rotated_ellipsoid();
+    let noisy = generate::with_normal_noise(&mesh, 0.2, 5).unwrap();
+    let tracer = ExtremalityTracer {
+        presmooth_steps: 3,
+        smooth_steps: 5,
+        ..jet_tracer()
+    };
+    let lines = tracer.extract(&noisy).unwrap();
+    let points: Vec<Point> = all_points(&lines).iter().map(&back).collect();
+    let mean = mean_plane_distance(&points) / diagonal();
+    let h = mesh.mean_edge_length() / 1000.0;
+    let covered = coverage(&points, 2, 2.0 * h);
+    eprintln!(
+        "jet path, noise 0.2 h: {} lines, mean plane distance {:.4}% of the diagonal, coverage {:.4}",
+        lines.len(),
+        100.0 * mean,
+        covered
+    );
+    assert!(mean < 0.002, "{mean}");
+    assert!(covered >= 0.95, "{covered}");
+}
+
+/// The jet fit with the directions, and with them the fitted extremalities,
+/// flipped at a random half of the vertices.
+struct RandomJetSigns;
+
+impl CurvatureEstimator for RandomJetSigns {
+    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
+        let mut field = JetFit::default().estimate(mesh)?;
+        let mut rng = StdRng::seed_from_u64(98);
+        for v in 0..field.len() {
+            for max in [true, false] {
+                if rng.random_bool(0.5) {
+                    field.flip_direction(crestline::mesh::VertexId(v as u32), max);
+                }
+            }
+        }
+        Ok(field)
+    }
+}
+
+#[test]
+fn jet_path_lines_do_not_depend_on_direction_signs() {
+    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(6))
+        .unwrap()
+        .mesh;
+    let tracer = |estimator: Arc<dyn CurvatureEstimator + Send + Sync>| ExtremalityTracer {
+        estimator,
+        threshold: 0.0,
+        ..jet_tracer()
+    };
+    let lines_a = tracer(Arc::new(JetFit::default())).extract(&mesh).unwrap();
+    let lines_b = tracer(Arc::new(RandomJetSigns)).extract(&mesh).unwrap();
+    assert!(!lines_a.is_empty());
+    assert_eq!(lines_a.len(), lines_b.len());
+    for (x, y) in lines_a.iter().zip(lines_b.iter()) {
+        assert_eq!(x.points.len(), y.points.len());
+        assert!(x
+            .points
+            .iter()
+            .zip(&y.points)
+            .all(|(p, q)| (p - q).norm() < 1e-12));
+    }
+}
+
+/// The jet path, fitted extremalities and residual weights included, gives the
+/// same lines on a mesh scaled by 1000.
+#[test]
+fn jet_path_scaling_by_1000_gives_the_same_lines() {
+    let mesh = ellipsoid();
+    let big = transformed(&mesh, |p| p * 1000.0);
+    let tracer = ExtremalityTracer {
+        feature_conditions: false,
+        threshold: 0.5,
+        ..jet_tracer()
+    };
+    let small_lines = tracer.extract(&mesh).unwrap();
+    let big_lines = tracer.extract(&big).unwrap();
+    assert!(!small_lines.is_empty());
+    assert_eq!(small_lines.len(), big_lines.len());
+    for (s, b) in small_lines.iter().zip(big_lines.iter()) {
+        assert_eq!(s.points.len(), b.points.len());
+        assert!((s.strength - b.strength).abs() < 1e-9 * s.strength.max(1.0));
+        for (p, q) in s.points.iter().zip(&b.points) {
+            assert!((p - q / 1000.0).norm() < 1e-9, "{p} vs {q}");
+        }
+    }
 }

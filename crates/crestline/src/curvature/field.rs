@@ -26,6 +26,22 @@ pub struct CurvatureField {
     /// estimator had too little data, or where its estimate was not finite or an
     /// outlier and was replaced ([`super::repair_outliers`]).
     pub unreliable: Vec<bool>,
+    /// Extremalities `[e_max, e_min]` per vertex, where the estimator gives them
+    /// directly (e.g. [`super::JetFit`], from the third-order terms of its fitted
+    /// height function): e_max = ∇k_max · d_max and e_min = ∇k_min · d_min
+    /// (Hildebrandt, Polthier, Wardetzky 2005, eq. 4, in the smooth setting), with
+    /// the signs of the directions stored in [`Self::d_max`] and [`Self::d_min`]:
+    /// flipping a direction flips its extremality. `None` where the estimator only
+    /// gives curvature; consumers then differentiate the curvature across the mesh
+    /// ([`crate::ridges::extremality::extremality`]).
+    pub extremality: Option<[Vec<f64>; 2]>,
+    /// Where the estimator fits a surface to the vertices around each one (e.g.
+    /// [`super::JetFit`]): the root mean square distance of those vertices from the
+    /// fitted surface, relative to the radius of the neighbourhood fitted
+    /// (dimensionless). Near 0 on a clean smooth mesh, it grows with noise: the
+    /// extremality tracer smooths fitted extremalities in proportion
+    /// ([`crate::ridges::ExtremalityTracer`]).
+    pub fit_residual: Option<Vec<f64>>,
 }
 
 impl CurvatureField {
@@ -43,6 +59,8 @@ impl CurvatureField {
             d_min: vec![Vector::zeros(); n],
             normal: vec![Vector::zeros(); n],
             unreliable: vec![false; n],
+            extremality: None,
+            fit_residual: None,
         };
         (
             &mut field.k_max,
@@ -63,10 +81,30 @@ impl CurvatureField {
     }
 
     /// Multiply both principal curvatures by `factor` (e.g. 2^k for a field
-    /// estimated on the mesh scaled by 2^k); directions and normals are unchanged.
+    /// estimated on the mesh scaled by 2^k) and the extremalities, derivatives of
+    /// curvature along the surface, by `factor²`; directions and normals are
+    /// unchanged.
     pub fn scale_curvature(&mut self, factor: f64) {
         for k in self.k_max.iter_mut().chain(&mut self.k_min) {
             *k *= factor;
+        }
+        for e in self.extremality.iter_mut().flatten().flatten() {
+            *e *= factor * factor;
+        }
+    }
+
+    /// Reverse the direction `d_max` (`max`) or `d_min` (`!max`) at vertex `v`,
+    /// and with it the sign of its extremality, if the field has extremalities:
+    /// an equally valid field.
+    pub fn flip_direction(&mut self, v: VertexId, max: bool) {
+        let (d, slot) = if max {
+            (&mut self.d_max, 0)
+        } else {
+            (&mut self.d_min, 1)
+        };
+        d[v.idx()] = -d[v.idx()];
+        if let Some(e) = &mut self.extremality {
+            e[slot][v.idx()] = -e[slot][v.idx()];
         }
     }
 
@@ -129,7 +167,11 @@ impl CurvatureField {
             self.normal.len(),
             self.unreliable.len(),
         ];
-        if self.k_max.len() != n || lengths.iter().any(|&l| l != n) {
+        if self.k_max.len() != n
+            || lengths.iter().any(|&l| l != n)
+            || self.extremality.iter().flatten().any(|e| e.len() != n)
+            || self.fit_residual.as_ref().is_some_and(|r| r.len() != n)
+        {
             return Err(crate::Error::Argument(format!(
                 "curvature field has {} values for a mesh with {n} vertices",
                 self.k_max.len()
@@ -142,6 +184,11 @@ impl CurvatureField {
                 || !finite(&self.d_max[i])
                 || !finite(&self.d_min[i])
                 || !finite(&self.normal[i])
+                || self.extremality.iter().flatten().any(|e| !e[i].is_finite())
+                || self
+                    .fit_residual
+                    .as_ref()
+                    .is_some_and(|r| !r[i].is_finite())
         });
         match bad {
             Some(i) => Err(crate::Error::Mesh(format!(

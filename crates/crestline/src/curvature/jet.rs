@@ -8,7 +8,9 @@ use rayon::prelude::*;
 use crate::mesh::{Mesh, VertexId};
 use crate::{Result, Vector};
 
-use super::{implicit_curvature, tangent_basis, CurvatureEstimator, CurvatureField};
+use crate::differential::{isosurface_curvature, ThirdOrder};
+
+use super::{tangent_basis, CurvatureEstimator, CurvatureField};
 
 /// Fits z = f(x, y), a polynomial of degree 4 (unweighted least squares), to the
 /// vertices of a neighbourhood of rings around each vertex, in the frame of the
@@ -25,7 +27,14 @@ use super::{implicit_curvature, tangent_basis, CurvatureEstimator, CurvatureFiel
 /// pass over its ring and one small fit.
 ///
 /// Error on a smooth surface sampled with spacing h is O(h²), independent of the
-/// triangulation's regularity, unlike the discrete shape operator. Estimates are
+/// triangulation's regularity, unlike the discrete shape operator.
+///
+/// The fit also gives the extremalities e_max = ∇k_max · d_max and e_min =
+/// ∇k_min · d_min from its third-order terms ([`CurvatureField::extremality`];
+/// Hildebrandt, Polthier and Wardetzky 2005, eq. 4, in the smooth setting), O(h)
+/// accurate where differentiating the curvature across the mesh is not, and the
+/// fit's residual ([`CurvatureField::fit_residual`]), which tells clean data from
+/// noise. Estimates are
 /// computed in the unit frame ([`Mesh::in_unit_frame`]) and scaled back, and
 /// non-finite or outlying ones are flagged and replaced
 /// ([`super::robust::repair_outliers`]).
@@ -64,17 +73,38 @@ thread_local! {
 }
 
 impl JetFit {
-    /// The field of a mesh in the unit frame, before repairs.
+    /// The field of a mesh in the unit frame, before repairs, with the
+    /// extremalities of the fitted height functions ([`fit_vertex`]). Where a fit
+    /// has no third-order terms (a quadric, from fewer than 10 points) the
+    /// extremality is taken from the vertex's neighbours ([`super::robust::fill_extremality`]).
     fn estimate_unit(&self, mesh: &Mesh) -> CurvatureField {
         let normals = area_weighted_normals(mesh);
-        CurvatureField::from_fn(mesh.vertex_count(), |v| {
-            GATHERER.with_borrow_mut(|gatherer| {
-                let points = gatherer.gather(self, mesh, v);
-                let (k, normal, fitted) = LOCAL
-                    .with_borrow_mut(|local| fit_vertex(mesh, v, &normals[v.idx()], points, local));
-                (k, normal, !fitted || mesh.is_boundary_vertex(v))
+        let fits: Vec<VertexFit> = mesh
+            .par_vertices()
+            .map(|v| {
+                GATHERER.with_borrow_mut(|gatherer| {
+                    let points = gatherer.gather(self, mesh, v);
+                    LOCAL.with_borrow_mut(|local| {
+                        fit_vertex(mesh, v, &normals[v.idx()], points, local)
+                    })
+                })
             })
-        })
+            .collect();
+        let mut field = CurvatureField::from_fn(mesh.vertex_count(), |v| {
+            let fit = &fits[v.idx()];
+            let unreliable = !fit.fitted || mesh.is_boundary_vertex(v);
+            (fit.curvature, fit.normal, unreliable)
+        });
+        let known: Vec<bool> = fits.iter().map(|f| f.extremality.is_some()).collect();
+        let extremality = [0, 1].map(|i| {
+            fits.iter()
+                .map(|f| f.extremality.map_or(0.0, |e| e[i]))
+                .collect::<Vec<f64>>()
+        });
+        field.extremality = Some(extremality);
+        field.fit_residual = Some(fits.iter().map(|f| f.residual).collect());
+        super::robust::fill_extremality(mesh, &mut field, &known);
+        field
     }
 
     /// The vertices the fit at `v` uses, `v` first: the smallest ring neighbourhood
@@ -171,16 +201,45 @@ const QUARTIC: usize = 15;
 const CUBIC: usize = 10;
 const QUADRIC: usize = 6;
 
+/// What one vertex's fit gives.
+struct VertexFit {
+    /// Principal curvatures and directions of the fitted graph.
+    curvature: super::PrincipalCurvatures,
+    /// The fitted graph's unit normal.
+    normal: Vector,
+    /// Whether a fit was possible.
+    fitted: bool,
+    /// `[e_max, e_min]` of the fitted graph, if the fit had third-order terms.
+    extremality: Option<[f64; 2]>,
+    /// The fit's residual relative to the radius of its points
+    /// ([`CurvatureField::fit_residual`]).
+    residual: f64,
+}
+
 /// Fit a height function over the tangent plane of `normal` at `v` and return the
-/// curvature of its graph at the vertex, the graph's normal, and whether a fit
-/// was possible. `local` is scratch space for the points in the local frame.
+/// curvature of its graph at the vertex, the graph's normal, whether a fit was
+/// possible and, if the fit has third-order terms, the extremalities. `local` is
+/// scratch space for the points in the local frame.
+///
+/// The graph z = f(x, y) is the level set f(x, y) − z = 0 of a function whose
+/// derivatives are those of the fit, so curvature and extremalities follow from
+/// [`isosurface_curvature`]: in the Monge frame (x along d_max, y along d_min,
+/// where f_x = f_y = 0) with the outward normal along +z, k = −f_xx and e_max =
+/// ∂k_max/∂x = −f_xxx, e_min = −f_yyy. In the notation of the Monge form
+/// ½(k1 x² + k2 y²) + (1/6)(b0 x³ + 3 b1 x² y + 3 b2 x y² + b3 y³) of the height
+/// along the inward normal (so that a convex surface has k1, k2 > 0, as here),
+/// e_max = b0 and e_min = b3. Away from the Monge frame (the fit is made in the
+/// frame of the area-weighted normal) the closed form also accounts for the tilt
+/// of the fitted normal. This is the
+/// smooth counterpart of the extremality of Hildebrandt, Polthier and Wardetzky
+/// (2005), eq. 4, read off the fitted jet as in Cazals and Pouget (2005).
 fn fit_vertex(
     mesh: &Mesh,
     v: VertexId,
     normal: &Vector,
     points: &[VertexId],
     local: &mut Vec<Vector>,
-) -> (super::PrincipalCurvatures, Vector, bool) {
+) -> VertexFit {
     let origin = mesh.position(v);
     let (t1, t2) = tangent_basis(normal);
     local.clear();
@@ -200,54 +259,100 @@ fn fit_vertex(
     } else {
         None
     };
-    let Some([fx, fy, fxx, fxy, fyy]) = derivatives else {
-        let flat = super::PrincipalCurvatures::from_tangent_operator(&Matrix3::zeros(), normal);
-        return (flat, *normal, false);
+    let flat = |normal: &Vector| VertexFit {
+        curvature: super::PrincipalCurvatures::from_tangent_operator(&Matrix3::zeros(), normal),
+        normal: *normal,
+        fitted: false,
+        extremality: None,
+        residual: 0.0,
     };
-    // Back to unscaled units: first derivatives keep, second divide by the scale.
-    let (fxx, fxy, fyy) = (fxx / scale, fxy / scale, fyy / scale);
-    // The graph z = f(x, y) is the implicit surface F = z − f = 0, normal upwards.
-    let gradient = Vector::new(-fx, -fy, 1.0);
-    let hessian = -Matrix3::new(fxx, fxy, 0.0, fxy, fyy, 0.0, 0.0, 0.0, 0.0);
-    let (k, n) = implicit_curvature(&gradient, &hessian);
+    let Some(Jet {
+        derivatives: d,
+        third_order,
+        residual,
+    }) = derivatives
+    else {
+        return flat(normal);
+    };
+    // Back to unscaled units: first derivatives keep, the k-th divide by scale^(k−1).
+    let [fx, fy, fxx, fxy, fyy, fxxx, fxxy, fxyy, fyyy] = [
+        d[0],
+        d[1],
+        d[2] / scale,
+        d[3] / scale,
+        d[4] / scale,
+        d[5] / (scale * scale),
+        d[6] / (scale * scale),
+        d[7] / (scale * scale),
+        d[8] / (scale * scale),
+    ];
+    // The level set f(x, y) − z = 0 of the fitted graph, "inside" below it: its
+    // outward normal points up, along the vertex normal.
+    let gradient = Vector::new(fx, fy, -1.0);
+    let hessian = Matrix3::new(fxx, fxy, 0.0, fxy, fyy, 0.0, 0.0, 0.0, 0.0);
+    let third = ThirdOrder::from_components([fxxx, fxxy, 0.0, fxyy, 0.0, 0.0, fyyy, 0.0, 0.0, 0.0]);
+    let Some(iso) = isosurface_curvature(&gradient, &hessian, &third) else {
+        return flat(normal);
+    };
     let to_world = |d: Vector| t1 * d.x + t2 * d.y + normal * d.z;
-    let curvature = super::PrincipalCurvatures {
-        d_max: to_world(k.d_max),
-        d_min: to_world(k.d_min),
-        ..k
-    };
-    (curvature, to_world(n), true)
+    let k = iso.principal;
+    VertexFit {
+        curvature: super::PrincipalCurvatures {
+            d_max: to_world(k.d_max),
+            d_min: to_world(k.d_min),
+            ..k
+        },
+        normal: to_world(iso.normal),
+        fitted: true,
+        extremality: third_order.then_some([iso.e_max, iso.e_min]),
+        // Both the residual and the coordinates were divided by the scale.
+        residual,
+    }
 }
 
-/// Least-squares fit of z over the first `N` monomials 1, x, y, x², xy, y², x³,
-/// x²y, xy², y³, x⁴, x³y, x²y², xy³, y⁴; returns (f_x, f_y, f_xx, f_xy, f_yy) at the origin, or `None` if
-/// the points do not determine the fit.
-fn fit<const N: usize>(points: &[Vector]) -> Option<[f64; 5]> {
+/// The monomials 1, x, y, x², xy, y², x³, x²y, xy², y³, x⁴, x³y, x²y², xy³, y⁴.
+fn monomials(x: f64, y: f64) -> [f64; QUARTIC] {
+    let (xx, xy, yy) = (x * x, x * y, y * y);
+    [
+        1.0,
+        x,
+        y,
+        xx,
+        xy,
+        yy,
+        xx * x,
+        xx * y,
+        x * yy,
+        yy * y,
+        xx * xx,
+        xx * xy,
+        xx * yy,
+        xy * yy,
+        yy * yy,
+    ]
+}
+
+/// A fitted height function at the origin.
+struct Jet {
+    /// (f_x, f_y, f_xx, f_xy, f_yy, f_xxx, f_xxy, f_xyy, f_yyy).
+    derivatives: [f64; 9],
+    /// Whether the fit has third-order terms (a quadric's third derivatives are 0).
+    third_order: bool,
+    /// The root mean square distance (in z) of the points from the fitted graph,
+    /// over the degrees of freedom left (points − coefficients; 0 if none).
+    residual: f64,
+}
+
+/// Least-squares fit of z over the first `N` [`monomials`]; `None` if the points
+/// do not determine the fit.
+fn fit<const N: usize>(points: &[Vector]) -> Option<Jet> {
     if points.len() < N {
         return None;
     }
     let mut normal_matrix = SMatrix::<f64, N, N>::zeros();
     let mut rhs = SVector::<f64, N>::zeros();
     for p in points {
-        let (x, y) = (p.x, p.y);
-        let (xx, xy, yy) = (x * x, x * y, y * y);
-        let all = [
-            1.0,
-            x,
-            y,
-            xx,
-            xy,
-            yy,
-            xx * x,
-            xx * y,
-            x * yy,
-            yy * y,
-            xx * xx,
-            xx * xy,
-            xx * yy,
-            xy * yy,
-            yy * yy,
-        ];
+        let all = monomials(p.x, p.y);
         let row = SVector::<f64, N>::from_fn(|i, _| all[i]);
         // The lower triangle only: the Cholesky factorization reads no more.
         normal_matrix.syger(1.0, &row, &row, 1.0);
@@ -258,5 +363,34 @@ fn fit<const N: usize>(points: &[Vector]) -> Option<[f64; 5]> {
     if !c.iter().all(|x| x.is_finite()) {
         return None;
     }
-    Some([c[1], c[2], 2.0 * c[3], c[4], 2.0 * c[5]])
+    let squares: f64 = points
+        .iter()
+        .map(|p| {
+            let all = monomials(p.x, p.y);
+            let z: f64 = (0..N).map(|i| c[i] * all[i]).sum();
+            (p.z - z).powi(2)
+        })
+        .sum();
+    let freedom = points.len() - N;
+    let residual = if freedom > 0 {
+        (squares / freedom as f64).sqrt()
+    } else {
+        0.0
+    };
+    let third = |i: usize, factor: f64| if i < N { factor * c[i] } else { 0.0 };
+    Some(Jet {
+        derivatives: [
+            c[1],
+            c[2],
+            2.0 * c[3],
+            c[4],
+            2.0 * c[5],
+            third(6, 6.0),
+            third(7, 2.0),
+            third(8, 2.0),
+            third(9, 6.0),
+        ],
+        third_order: N >= CUBIC,
+        residual,
+    })
 }

@@ -47,7 +47,8 @@ pub(super) fn estimate_robustly(
 /// non-finite value or an outlying curvature (see the module documentation), and
 /// replace its values: curvatures by the medians over its reliable neighbours, the
 /// normal (if not finite) by their mean normal, the directions by a neighbour's
-/// projected into the tangent plane. Returns the number of vertices repaired.
+/// projected into the tangent plane, and extremalities, if the field has them, by
+/// the medians of its reliable neighbours' ([`fill_extremality`]). Returns the number of vertices repaired.
 pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
     let bad: Vec<bool> = mesh
         .par_vertices()
@@ -66,6 +67,12 @@ pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
         field.d_min[i] = r.d_min;
         field.unreliable[i] = true;
     }
+    // The extremalities belong to the replaced directions: take them from the
+    // neighbours too.
+    if field.extremality.is_some() {
+        let known: Vec<bool> = bad.iter().map(|b| !b).collect();
+        fill_extremality(mesh, field, &known);
+    }
     repairs.len()
 }
 
@@ -77,6 +84,7 @@ fn is_finite_at(field: &CurvatureField, i: usize) -> bool {
         && finite(&field.d_max[i])
         && finite(&field.d_min[i])
         && finite(&field.normal[i])
+        && field.extremality.iter().flatten().all(|e| e[i].is_finite())
 }
 
 thread_local! {
@@ -132,7 +140,7 @@ fn is_outlying(
 
 /// The median of `values` (reordered), the mean of the middle two for an even
 /// count; `None` if empty.
-fn median(values: &mut [f64]) -> Option<f64> {
+pub(super) fn median(values: &mut [f64]) -> Option<f64> {
     let n = values.len();
     if n == 0 {
         return None;
@@ -146,6 +154,51 @@ fn median(values: &mut [f64]) -> Option<f64> {
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     Some(0.5 * (lower + upper))
+}
+
+/// Give every vertex not marked `known` the medians of the extremalities
+/// ([`CurvatureField::extremality`]) of its known neighbours, each read with the
+/// sign of the vertex's own direction (σ_pq e(q), σ_pq = sign⟨d(p), d(q)⟩), and of
+/// their fit residuals ([`CurvatureField::fit_residual`]); 0 if it has none. Does
+/// nothing to a field without extremalities.
+pub(super) fn fill_extremality(mesh: &Mesh, field: &mut CurvatureField, known: &[bool]) {
+    let Some(mut extremality) = field.extremality.take() else {
+        return;
+    };
+    let ring_median = |v: VertexId, value: &dyn Fn(usize) -> f64| {
+        let mut ring: Vec<f64> = mesh
+            .neighbors(v)
+            .map(|w| w.idx())
+            .filter(|&q| known[q])
+            .map(value)
+            .collect();
+        median(&mut ring).unwrap_or(0.0)
+    };
+    let directions = [&field.d_max, &field.d_min];
+    for (e, d) in extremality.iter_mut().zip(directions) {
+        let filled: Vec<(usize, f64)> = mesh
+            .par_vertices()
+            .filter(|v| !known[v.idx()])
+            .map(|v| {
+                let p = v.idx();
+                (p, ring_median(v, &|q| d[p].dot(&d[q]).signum() * e[q]))
+            })
+            .collect();
+        for (p, value) in filled {
+            e[p] = value;
+        }
+    }
+    if let Some(residual) = &mut field.fit_residual {
+        let filled: Vec<(usize, f64)> = mesh
+            .par_vertices()
+            .filter(|v| !known[v.idx()])
+            .map(|v| (v.idx(), ring_median(v, &|q| residual[q])))
+            .collect();
+        for (p, value) in filled {
+            residual[p] = value;
+        }
+    }
+    field.extremality = Some(extremality);
 }
 
 /// Replacement values of a flagged vertex.

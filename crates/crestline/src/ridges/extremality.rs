@@ -35,6 +35,16 @@ impl Principal {
         }
     }
 
+    /// The extremalities of this field that the estimator gave
+    /// ([`CurvatureField::extremality`]), if it did.
+    pub fn given(self, field: &CurvatureField) -> Option<&[f64]> {
+        let slot = match self {
+            Principal::Max => 0,
+            Principal::Min => 1,
+        };
+        field.extremality.as_ref().map(|e| &e[slot][..])
+    }
+
     /// The (sign-ambiguous) directions of this field.
     pub fn directions(self, field: &CurvatureField) -> &[Vector] {
         match self {
@@ -92,6 +102,16 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
             }
         })
         .collect()
+}
+
+/// The extremality of `which` at every vertex: the field's own if its estimator
+/// gave them ([`CurvatureField::extremality`], e.g. from the third-order terms of a
+/// fitted jet), else the discrete one of eq. 4 ([`extremality`]).
+pub fn field_extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec<f64> {
+    match which.given(field) {
+        Some(given) => given.to_vec(),
+        None => extremality(mesh, field, which),
+    }
 }
 
 /// Whether face `f` is regular for the direction field `d` (Definition 1): the

@@ -187,6 +187,10 @@ pub fn smooth_extremality(
 #[derive(Clone)]
 pub struct ExtremalitySmoother {
     pattern: SystemPattern,
+    /// The time step τ, in units of h̄².
+    tau: f64,
+    /// The per-vertex weights the smoother was made with.
+    vertex_weights: Option<Vec<f64>>,
     /// t c w per edge.
     weights: Vec<f64>,
     mass: Vec<f64>,
@@ -198,12 +202,15 @@ impl ExtremalitySmoother {
     /// weights, whose systems are solved as `solver` says.
     pub fn new(mesh: &Mesh, tau: f64, weights: Option<&[f64]>, solver: Solver) -> Result<Self> {
         check_weights(mesh, weights)?;
+        let vertex_weights = weights;
         let h = mesh.mean_edge_length();
         let (weights, mass) = implicit_terms(mesh, tau * h * h, |p, q| {
             weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]))
         });
         Ok(ExtremalitySmoother {
             pattern: SystemPattern::new(mesh),
+            tau,
+            vertex_weights: vertex_weights.map(<[f64]>::to_vec),
             weights,
             mass,
             solver: SpdSolver::new(solver, CgSettings::default()),
@@ -218,6 +225,27 @@ impl ExtremalitySmoother {
         let unsigned = self.system(|_, _| 1.0)?;
         self.solver.analyze(&unsigned)?;
         Ok(self)
+    }
+
+    /// The smoother of the same mesh (`mesh`, the one it was made for) with its
+    /// per-vertex weights multiplied by `factors` (≥ 0), keeping its solver and
+    /// any analysis made: the pattern is the same.
+    pub fn reweighted(&self, mesh: &Mesh, factors: &[f64]) -> Result<Self> {
+        check_weights(mesh, Some(factors))?;
+        let combined: Vec<f64> = match &self.vertex_weights {
+            Some(w) => w.iter().zip(factors).map(|(w, f)| w * f).collect(),
+            None => factors.to_vec(),
+        };
+        let h = mesh.mean_edge_length();
+        let (weights, mass) = implicit_terms(mesh, self.tau * h * h, |p, q| {
+            0.5 * (combined[p] + combined[q])
+        });
+        Ok(ExtremalitySmoother {
+            weights,
+            mass,
+            vertex_weights: Some(combined),
+            ..self.clone()
+        })
     }
 
     /// M + t K with the signs `sigma(p, q)`.

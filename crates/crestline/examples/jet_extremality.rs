@@ -1,0 +1,238 @@
+//! Ridge precision of the extremality tracer with extremalities from the fitted
+//! jet (`JetFit`, third-order terms) against the discrete ones (eq. 4 of
+//! Hildebrandt, Polthier and Wardetzky 2005), on a rotated, scaled (×1000),
+//! jittered 30k-vertex ellipsoid with axes 1, 0.7, 0.45, clean and with normal
+//! noise of 0.2 mean edge lengths. The true ridge is the principal ellipse through
+//! the two longer axes.
+//!
+//! Prints, per setting: the mean distance of the line points from the nearest
+//! principal plane as a share of the bounding-box diagonal, the share of the ellipse
+//! within two mean edge lengths of a line point, the number of lines and the time
+//! of the whole extraction.
+//!
+//! `cargo run --release -p crestline --example jet_extremality [-- --sweep]`
+//! (`--sweep`: also the smoothing steps and times of the jet path).
+//!
+//! With mesh files as arguments (`-- meshes/bunny.obj …`), prints instead the
+//! defaults against the jet path on each: time of the extraction (the mesh
+//! loaded), number of lines and their total length.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};
+use crestline::lines::{LineExtractor, LineKind};
+use crestline::mesh::generate::{self, Sampling};
+use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::ridges::ExtremalityTracer;
+use crestline::{Point, Vector};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion};
+
+const AXES: [f64; 3] = [1.0, 0.7, 0.45];
+const SCALE: f64 = 1000.0;
+
+/// The jet fit's curvature without its extremalities: the tracer then
+/// differentiates the curvature over the 1-ring (eq. 4).
+struct JetCurvatureOnly;
+
+impl CurvatureEstimator for JetCurvatureOnly {
+    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
+        let mut field = JetFit::default().estimate(mesh)?;
+        field.extremality = None;
+        Ok(field)
+    }
+}
+
+fn motion() -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(5.0 * SCALE, -2.0 * SCALE, 9.0 * SCALE),
+        UnitQuaternion::from_euler_angles(0.7, 0.4, -1.2),
+    )
+}
+
+/// Share of the ellipse in z = 0 within `radius` of a point, away from the
+/// umbilics (which lie in y = 0), as in the crate's tests.
+fn coverage(points: &[Point], radius: f64) -> f64 {
+    let [a, b, c] = AXES;
+    let umbilic = Point::new(
+        a * ((a * a - b * b) / (a * a - c * c)).sqrt(),
+        0.0,
+        c * ((b * b - c * c) / (a * a - c * c)).sqrt(),
+    ) * SCALE;
+    let samples: Vec<Point> = (0..720)
+        .map(|i| {
+            let angle = std::f64::consts::TAU * i as f64 / 720.0;
+            Point::new(a * angle.cos(), b * angle.sin(), 0.0) * SCALE
+        })
+        .filter(|p| {
+            let mirrored = Point::new(p.x.abs(), p.y.abs(), p.z.abs());
+            (mirrored - umbilic).norm() > 0.15 * SCALE
+        })
+        .collect();
+    let covered = samples
+        .iter()
+        .filter(|s| points.iter().any(|p| (p - *s).norm() < radius))
+        .count();
+    covered as f64 / samples.len() as f64
+}
+
+fn measure(name: &str, mesh: &Mesh, tracer: &ExtremalityTracer) {
+    let start = Instant::now();
+    let lines = tracer.extract(mesh).unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    let motion = motion();
+    let points: Vec<Point> = lines
+        .iter()
+        .flat_map(|l| l.points.iter())
+        .map(|p| motion.inverse_transform_point(p))
+        .collect();
+    let diagonal = 2.0 * Vector::from(AXES).norm() * SCALE;
+    let distance = points
+        .iter()
+        .map(|p| p.x.abs().min(p.y.abs()).min(p.z.abs()))
+        .sum::<f64>()
+        / points.len().max(1) as f64;
+    let h = mesh.mean_edge_length();
+    println!(
+        "| {name:<44} | {:>9.4}% | {:>7.1}% | {:>5} | {:>5} | {:>6.2} s |",
+        100.0 * distance / diagonal,
+        100.0 * coverage(&points, 2.0 * h),
+        lines.len(),
+        lines.of_kind(LineKind::Ridge).count(),
+        seconds
+    );
+}
+
+fn tracer(
+    estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
+    presmooth_steps: usize,
+    smooth_steps: usize,
+    smooth_time: f64,
+) -> ExtremalityTracer {
+    ExtremalityTracer {
+        estimator,
+        presmooth_steps,
+        smooth_steps,
+        smooth_time,
+        ..ExtremalityTracer::default()
+    }
+}
+
+/// Defaults against the jet path on the meshes at `paths`.
+fn compare_on_meshes(paths: &[String]) {
+    println!("| mesh | vertices | path | time | lines (ridges / valleys) | total length |");
+    println!("|---|---|---|---|---|---|");
+    for path in paths {
+        let soup = crestline::io::read_mesh(std::path::Path::new(path)).unwrap();
+        let mesh = Mesh::from_soup(soup).unwrap().0;
+        let tracers = [
+            ("defaults", ExtremalityTracer::default()),
+            (
+                "jet path",
+                ExtremalityTracer::with_estimator(Estimator::JetFit),
+            ),
+        ];
+        for (name, tracer) in tracers {
+            let start = Instant::now();
+            let lines = tracer.extract(&mesh).unwrap();
+            let seconds = start.elapsed().as_secs_f64();
+            println!(
+                "| {path} | {} | {name} | {seconds:.2} s | {} ({} / {}) | {:.4} |",
+                mesh.vertex_count(),
+                lines.len(),
+                lines.of_kind(LineKind::Ridge).count(),
+                lines.of_kind(LineKind::Valley).count(),
+                lines.total_length()
+            );
+        }
+    }
+}
+
+fn main() {
+    let paths: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    if !paths.is_empty() {
+        compare_on_meshes(&paths);
+        return;
+    }
+    let sweep = std::env::args().any(|a| a == "--sweep");
+    let motion = motion();
+    let surface = generate::ellipsoid(AXES, 30_000, Sampling::jittered(1)).unwrap();
+    let soup = TriangleSoup {
+        positions: surface
+            .mesh
+            .positions()
+            .iter()
+            .map(|p| motion * (p * SCALE))
+            .collect(),
+        triangles: surface.mesh.triangles(),
+        vertex_scalars: Vec::new(),
+    };
+    let clean = Mesh::from_soup(soup).unwrap().0;
+    let noisy = generate::with_normal_noise(&clean, 0.2, 5).unwrap();
+    let shape: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(ShapeOperator);
+    let jet: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(JetFit::default());
+    let jet_discrete: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(JetCurvatureOnly);
+    let steps = ExtremalityTracer::DEFAULT_SMOOTH_STEPS;
+    let time = ExtremalityTracer::DEFAULT_SMOOTH_TIME;
+    let (jet_steps, jet_time) = (
+        ExtremalityTracer::DEFAULT_FITTED_SMOOTH_STEPS,
+        ExtremalityTracer::DEFAULT_FITTED_SMOOTH_TIME,
+    );
+    println!("| setting | distance / diagonal | coverage | lines | ridges | time |");
+    println!("|---|---|---|---|---|---|");
+    for (label, mesh) in [("clean", &clean), ("noise 0.2 h", &noisy)] {
+        let presmooth = if label == "clean" { 0 } else { 3 };
+        let (s, ss) = if label == "clean" { (steps, 0) } else { (5, 5) };
+        let p = format!("{label}, presmooth {presmooth}");
+        measure(
+            &format!("{p}: shape operator, {s}×τ{time}"),
+            mesh,
+            &tracer(shape.clone(), presmooth, s, time),
+        );
+        measure(
+            &format!("{p}: jet, discrete e, {s}×τ{time}"),
+            mesh,
+            &tracer(jet_discrete.clone(), presmooth, s, time),
+        );
+        measure(
+            &format!("{p}: jet, discrete e, 0 steps"),
+            mesh,
+            &tracer(jet_discrete.clone(), presmooth, 0, time),
+        );
+        let chosen = if label == "clean" { jet_steps } else { 5 };
+        measure(
+            &format!("{p}: jet, fitted e, {chosen}×τ{jet_time}"),
+            mesh,
+            &tracer(jet.clone(), presmooth, chosen, jet_time),
+        );
+        measure(
+            &format!("{p}: jet, fitted e, {ss}×τ{time}"),
+            mesh,
+            &tracer(jet.clone(), presmooth, ss, time),
+        );
+        measure(
+            &format!("{p}: jet, fitted e, 0 steps"),
+            mesh,
+            &tracer(jet.clone(), presmooth, 0, time),
+        );
+        if sweep {
+            let taus: &[f64] = if label == "clean" {
+                &[0.25, 0.5, 1.0, 2.0]
+            } else {
+                &[2.0, 3.0, 4.0, 6.0, 8.0]
+            };
+            for n in [1, 2, 3, 5] {
+                for &tau in taus {
+                    measure(
+                        &format!("{p}: jet, fitted e, {n}×τ{tau}"),
+                        mesh,
+                        &tracer(jet.clone(), presmooth, n, tau),
+                    );
+                }
+            }
+        }
+    }
+}
