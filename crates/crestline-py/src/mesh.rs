@@ -8,12 +8,13 @@ use crestline::mesh::Mesh;
 use crestline::morse::{Indicator, MorseSmale, Simplification};
 use crestline::ridges::ExtremalityTracer;
 use crestline::Vector;
-use numpy::ndarray::{Array1, ArrayView2};
+use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{faces, mesh_of, report_json, rows};
+use crate::arrays::{faces, mesh_of, points, report_json, rows};
 use crate::errors::raised;
 use crate::lines::line_dicts;
 use crate::progress::Callback;
@@ -79,42 +80,73 @@ fn field_dict(py: Python<'_>, field: CurvatureField) -> PyResult<Bound<'_, PyDic
         "unreliable",
         Array1::from(field.unreliable).into_pyarray(py),
     )?;
+    if let Some([e_max, e_min]) = field.extremality {
+        dict.set_item("e_max", Array1::from(e_max).into_pyarray(py))?;
+        dict.set_item("e_min", Array1::from(e_min).into_pyarray(py))?;
+    }
+    if let Some(residual) = field.fit_residual {
+        dict.set_item("fit_residual", Array1::from(residual).into_pyarray(py))?;
+    }
     Ok(dict)
 }
 
-/// Principal curvatures (n), directions and normals (n × 3) and the unreliable
-/// flags (n) computed in Python.
-type FieldArrays<'py> = (
-    PyReadonlyArray1<'py, f64>,
-    PyReadonlyArray1<'py, f64>,
-    PyReadonlyArray2<'py, f64>,
-    PyReadonlyArray2<'py, f64>,
-    PyReadonlyArray2<'py, f64>,
-    PyReadonlyArray1<'py, bool>,
-);
+/// The array `name` of a curvature dict checked by the package, if present.
+fn entry<'py, T: FromPyObjectOwned<'py>>(
+    field: &Bound<'py, PyDict>,
+    name: &str,
+) -> PyResult<Option<T>> {
+    field
+        .get_item(name)?
+        .map(|v| v.extract().map_err(Into::into))
+        .transpose()
+}
 
-/// The curvature field of arrays checked by the package (one row per vertex).
-fn field_of((k_max, k_min, d_max, d_min, normal, unreliable): FieldArrays<'_>) -> CurvatureField {
-    let vectors = |a: ArrayView2<f64>| -> Vec<Vector> {
-        a.rows()
+/// The array `name` of a curvature dict, which must be there.
+fn required<'py, T: FromPyObjectOwned<'py>>(field: &Bound<'py, PyDict>, name: &str) -> PyResult<T> {
+    entry(field, name)?
+        .ok_or_else(|| PyValueError::new_err(format!("estimator result: no {name:?}")))
+}
+
+/// The curvature field of a dict of arrays checked by the package (one row per
+/// vertex): `k_max`, `k_min`, `d_max`, `d_min`, `normal`, `unreliable`, and the
+/// fitted `e_max`, `e_min` and `fit_residual` when present.
+fn field_of(field: &Bound<'_, PyDict>) -> PyResult<CurvatureField> {
+    let vectors = |name: &str| -> PyResult<Vec<Vector>> {
+        let array: PyReadonlyArray2<f64> = required(field, name)?;
+        Ok(points(array.as_array())
             .into_iter()
-            .map(|r| Vector::new(r[0], r[1], r[2]))
-            .collect()
+            .map(|p| p.coords)
+            .collect())
     };
-    CurvatureField {
-        k_max: k_max.as_array().to_vec(),
-        k_min: k_min.as_array().to_vec(),
-        d_max: vectors(d_max.as_array()),
-        d_min: vectors(d_min.as_array()),
-        normal: vectors(normal.as_array()),
+    let values = |name: &str| -> PyResult<Option<Vec<f64>>> {
+        Ok(entry::<PyReadonlyArray1<f64>>(field, name)?.map(|a| a.as_array().to_vec()))
+    };
+    let curvature = |name: &str| -> PyResult<Vec<f64>> {
+        Ok(required::<PyReadonlyArray1<f64>>(field, name)?
+            .as_array()
+            .to_vec())
+    };
+    let unreliable: PyReadonlyArray1<bool> = required(field, "unreliable")?;
+    Ok(CurvatureField {
+        k_max: curvature("k_max")?,
+        k_min: curvature("k_min")?,
+        d_max: vectors("d_max")?,
+        d_min: vectors("d_min")?,
+        normal: vectors("normal")?,
         unreliable: unreliable.as_array().to_vec(),
-    }
+        extremality: match (values("e_max")?, values("e_min")?) {
+            (Some(e_max), Some(e_min)) => Some([e_max, e_min]),
+            _ => None,
+        },
+        fit_residual: values("fit_residual")?,
+    })
 }
 
 /// Ridge and valley lines by extremality tracing, each a dict of kind, closed,
 /// strength, points (k × 3), per-point values and surface locations. With
 /// `field`, the curvature is that one (from a callable estimator) instead of
-/// `estimator`'s.
+/// `estimator`'s. The smoothing steps and time default to those of the
+/// estimator's extremalities (fitted ones when `field` has them).
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, estimator, smooth_steps, smooth_time, threshold, field=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -123,21 +155,26 @@ fn ridges<'py>(
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
     estimator: &str,
-    smooth_steps: usize,
-    smooth_time: f64,
+    smooth_steps: Option<usize>,
+    smooth_time: Option<f64>,
     threshold: f64,
-    field: Option<FieldArrays<'py>>,
+    field: Option<Bound<'py, PyDict>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
-    let tracer = ExtremalityTracer {
-        estimator: estimator.build(),
-        smooth_steps,
-        smooth_time,
-        threshold,
-        ..ExtremalityTracer::default()
+    let field = field.as_ref().map(field_of).transpose()?;
+    let fitted = match &field {
+        Some(field) if field.extremality.is_some() => Estimator::JetFit,
+        Some(_) => Estimator::ShapeOperator,
+        None => estimator,
     };
-    let field = field.map(field_of);
+    let (steps, time) = ExtremalityTracer::smoothing_defaults(fitted);
+    let tracer = ExtremalityTracer {
+        smooth_steps: smooth_steps.unwrap_or(steps),
+        smooth_time: smooth_time.unwrap_or(time),
+        threshold,
+        ..ExtremalityTracer::with_estimator(estimator)
+    };
     let mut observer = Callback(progress);
     let lines = py
         .detach(|| match &field {

@@ -75,6 +75,12 @@ def test_a_callable_estimator_is_used_as_given(bunny):
     assert len(crestline.morse(vertices, faces, estimator=jet, keep_saddles=10)) == len(
         crestline.morse(vertices, faces, estimator="jet-fit", keep_saddles=10))
     assert calls == [len(vertices)] * 3
+    # The jet fit's extremalities travel with its curvature; the shape operator
+    # has none.
+    assert {"e_max", "e_min", "fit_residual"} <= set(field)
+    assert not {"e_max", "e_min", "fit_residual"} & set(crestline.curvature(vertices, faces))
+    with pytest.raises(ValueError, match="'e_max' and 'e_min' without the other"):
+        crestline.ridges(vertices, faces, estimator=lambda v, f: {k: x for k, x in jet(v, f).items() if k != "e_min"})
     # Its results are checked.
     with pytest.raises(ValueError, match="estimator result 'k_min': expected shape"):
         crestline.ridges(vertices, faces, estimator=lambda v, f: {**jet(v, f), "k_min": np.zeros(3)})

@@ -15,10 +15,10 @@ def ridges(
     vertices: F64,
     faces: I64,
     estimator: str,
-    smooth_steps: int,
-    smooth_time: float,
+    smooth_steps: Optional[int],
+    smooth_time: Optional[float],
     threshold: float,
-    field: Optional[tuple[F64, F64, F64, F64, F64, npt.NDArray[np.bool_]]] = None,
+    field: Optional[dict[str, Any]] = None,
     progress: Optional[Any] = None,
 ) -> list[dict[str, Any]]: ...
 def morse(

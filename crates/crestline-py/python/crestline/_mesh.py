@@ -30,8 +30,10 @@ EstimatorName = Literal["shape-operator", "jet-fit"]
 Estimator = Union[EstimatorName, Callable[[Vertices, Faces], Dict[str, Any]]]
 """The name of one of crestline's estimators, or a function ``(vertices, faces)
 -> dict`` returning ``k_max``, ``k_min`` (n,), ``d_max``, ``d_min``, ``normal``
-(n, 3) and optionally ``unreliable`` (n,) bool, one row per vertex, with
-positive curvature where the surface is convex."""
+(n, 3), one row per vertex, with positive curvature where the surface is convex;
+optionally ``unreliable`` (n,) bool, and the extremalities ``e_max``, ``e_min``
+(n,: the derivatives of k_max along d_max and of k_min along d_min, with the
+directions' signs) with ``fit_residual`` (n,) as the jet fit gives them."""
 
 Progress = Optional[Callable[[str, Optional[float]], Any]]
 """Called with ``(stage, None)`` when a stage of the computation starts and
@@ -80,6 +82,11 @@ def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curva
     if unreliable.shape != (n,):
         raise ValueError(f"estimator result 'unreliable': expected shape ({n},), got {unreliable.shape}")
     checked["unreliable"] = unreliable
+    if ("e_max" in field) != ("e_min" in field):
+        raise ValueError("estimator: the callable's result has one of 'e_max' and 'e_min' without the other")
+    for name in ("e_max", "e_min", "fit_residual"):
+        if name in field:
+            checked[name] = per_vertex(field[name], f"estimator result {name!r}", n)
     return checked
 
 
@@ -87,7 +94,8 @@ def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: E
     """Principal curvatures and directions at every vertex.
 
     Returns a dict of arrays: ``k_max``, ``k_min`` (n,), ``d_max``, ``d_min``,
-    ``normal`` (n, 3) and ``unreliable`` (n,) bool. ``estimator`` is
+    ``normal`` (n, 3) and ``unreliable`` (n,) bool; the jet fit adds the
+    extremalities ``e_max``, ``e_min`` from its cubic terms and ``fit_residual``. ``estimator`` is
     ``"shape-operator"`` (fast), ``"jet-fit"`` (accurate on irregular meshes) or a
     callable (see ``Estimator``), whose result is checked and returned.
     Positive curvature is convex (a sphere with outward faces has ``k > 0``).
@@ -105,13 +113,16 @@ def ridges(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = None,
     estimator: Estimator = "shape-operator",
-    smooth_steps: int = 3,
-    smooth_time: float = 2.0,
+    smooth_steps: Optional[int] = None,
+    smooth_time: Optional[float] = None,
     threshold: float = 2.0,
     progress: Progress = None,
 ) -> Lines:
     """Ridge and valley lines by extremality tracing (Hildebrandt, Polthier,
-    Wardetzky 2005), with the command-line tool's defaults.
+    Wardetzky 2005), with the command-line tool's defaults: the extremalities
+    smoothed in 3 steps of time 2 (discrete ones) or 3 (the jet fit's, and only
+    where its residual shows noise) unless ``smooth_steps`` and ``smooth_time``
+    say otherwise.
 
     Returns :class:`Lines` of kind ``"ridge"`` (convex crests) and ``"valley"``
     (concave creases), with per-point ``k_max``, ``k_min``, ``e_max``, ``e_min``
@@ -119,14 +130,12 @@ def ridges(
     told of each stage.
     """
     v, f = mesh_arrays(vertices, faces)
-    smooth_steps = count(smooth_steps, "smooth_steps", 0, 1000)
-    smooth_time = number(smooth_time, "smooth_time")
+    smooth_steps = None if smooth_steps is None else count(smooth_steps, "smooth_steps", 0, 1000)
+    smooth_time = None if smooth_time is None else number(smooth_time, "smooth_time")
     threshold = number(threshold, "threshold")
     progress = callback(progress, "progress")
     if callable(estimator):
-        c = _custom_field(estimator, v, f)
-        field = (c["k_max"], c["k_min"], c["d_max"], c["d_min"], c["normal"], c["unreliable"])
-        name = "shape-operator"
+        field, name = _custom_field(estimator, v, f), "shape-operator"
     else:
         field, name = None, estimator_name(estimator)
     dicts = _crestline.ridges(v, f, name, smooth_steps, smooth_time, threshold, field, progress)
