@@ -284,7 +284,10 @@ fn a_curvature_ply_holds_values_beyond_f32_exactly_and_refuses_non_finite_ones()
     let message = write_curvature_ply(&path, &mesh, &broken)
         .unwrap_err()
         .to_string();
-    assert!(message.contains("broken.ply") && message.contains("k_min"), "{message}");
+    assert!(
+        message.contains("broken.ply") && message.contains("k_min"),
+        "{message}"
+    );
     assert!(!path.exists());
 }
 
