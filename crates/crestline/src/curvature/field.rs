@@ -91,6 +91,18 @@ impl CurvatureField {
         for e in self.extremality.iter_mut().flatten().flatten() {
             *e *= factor * factor;
         }
+        // Extremalities scale with the square of the factor and can leave f64's
+        // range where the curvature does not (a mesh of size 1e-160): then they
+        // are dropped, and consumers differentiate the curvature instead.
+        let overflowed = self
+            .extremality
+            .iter()
+            .flatten()
+            .flatten()
+            .any(|e| !e.is_finite());
+        if overflowed {
+            self.extremality = None;
+        }
     }
 
     /// Reverse the direction `d_max` (`max`) or `d_min` (`!max`) at vertex `v`,
