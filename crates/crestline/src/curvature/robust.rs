@@ -48,7 +48,8 @@ pub(super) fn estimate_robustly(
 /// replace its values: curvatures by the medians over its reliable neighbours, the
 /// normal (if not finite) by their mean normal, the directions by a neighbour's
 /// projected into the tangent plane, and extremalities, if the field has them, by
-/// the medians of its reliable neighbours' ([`fill_extremality`]). Returns the number of vertices repaired.
+/// the medians of its reliable neighbours' (each read with the sign of the
+/// vertex's own direction). Returns the number of vertices repaired.
 pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
     let bad: Vec<bool> = mesh
         .par_vertices()
