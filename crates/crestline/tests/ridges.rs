@@ -54,6 +54,20 @@ fn mean_plane_distance(points: &[Point]) -> f64 {
     points.iter().map(plane_distance).sum::<f64>() / points.len() as f64
 }
 
+/// `a` and `b` are the same lines, point for point to 1e-12, and not none.
+fn assert_same_lines(a: &FeatureLines, b: &FeatureLines) {
+    assert!(!a.is_empty());
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b.iter()) {
+        assert_eq!(x.points.len(), y.points.len());
+        assert!(x
+            .points
+            .iter()
+            .zip(&y.points)
+            .all(|(p, q)| (p - q).norm() < 1e-12));
+    }
+}
+
 fn diagonal() -> f64 {
     2.0 * Vector::from(AXES).norm()
 }
@@ -218,16 +232,7 @@ fn smoothing_and_lines_do_not_depend_on_direction_signs() {
     };
     let lines_a = tracer(Arc::new(ShapeOperator)).extract(&mesh).unwrap();
     let lines_b = tracer(Arc::new(RandomSigns)).extract(&mesh).unwrap();
-    assert!(!lines_a.is_empty());
-    assert_eq!(lines_a.len(), lines_b.len());
-    for (x, y) in lines_a.iter().zip(lines_b.iter()) {
-        assert_eq!(x.points.len(), y.points.len());
-        assert!(x
-            .points
-            .iter()
-            .zip(&y.points)
-            .all(|(p, q)| (p - q).norm() < 1e-12));
-    }
+    assert_same_lines(&lines_a, &lines_b);
 }
 
 #[test]
@@ -548,16 +553,7 @@ fn jet_path_lines_do_not_depend_on_direction_signs() {
     };
     let lines_a = tracer(Arc::new(JetFit::default())).extract(&mesh).unwrap();
     let lines_b = tracer(Arc::new(RandomJetSigns)).extract(&mesh).unwrap();
-    assert!(!lines_a.is_empty());
-    assert_eq!(lines_a.len(), lines_b.len());
-    for (x, y) in lines_a.iter().zip(lines_b.iter()) {
-        assert_eq!(x.points.len(), y.points.len());
-        assert!(x
-            .points
-            .iter()
-            .zip(&y.points)
-            .all(|(p, q)| (p - q).norm() < 1e-12));
-    }
+    assert_same_lines(&lines_a, &lines_b);
 }
 
 /// The jet path, fitted extremalities and residual weights included, gives the
