@@ -14,6 +14,18 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Run the tool and check that it succeeded (showing its errors otherwise).
+fn succeeds(args: &[&str]) -> Output {
+    let out = crestline(args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    out
+}
+
+/// The JSON file at `path`.
+fn json_file(path: impl AsRef<std::path::Path>) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
 /// Exit code 1 and exactly one line `error: <file>: ...` containing `words`.
 fn assert_one_line_error(out: &Output, file: &str, words: &str) {
     let err = stderr(out);
@@ -25,8 +37,7 @@ fn assert_one_line_error(out: &Output, file: &str, words: &str) {
 
 #[test]
 fn info_prints_the_bunny_summary() {
-    let out = crestline(&["info", "meshes/bunny.obj"]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    let out = succeeds(&["info", "meshes/bunny.obj"]);
     let text = String::from_utf8(out.stdout).unwrap();
     for line in [
         "vertices          28088",
@@ -43,13 +54,12 @@ fn info_prints_the_bunny_summary() {
 fn info_summarises_the_mni_template() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("r.json");
-    let out = crestline(&[
+    let out = succeeds(&[
         "info",
         "volumes/mni152_t1_1mm.nii.gz",
         "--report",
         report.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
     let text = String::from_utf8(out.stdout).unwrap();
     for line in [
         "dimensions        197 × 233 × 189 (8675289 voxels)",
@@ -60,7 +70,7 @@ fn info_summarises_the_mni_template() {
     ] {
         assert!(text.contains(line), "missing '{line}' in\n{text}");
     }
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&report);
     let values = &json["values"];
     assert_eq!(values["histogram"].as_array().unwrap().len(), 64);
     // Otsu's level of a T1 head lies between the dark background and the tissue.
@@ -100,14 +110,13 @@ fn info_lists_repairs() {
 fn report_has_the_documented_shape() {
     let dir = tempfile::tempdir().unwrap();
     let report = dir.path().join("r.json");
-    let out = crestline(&[
+    succeeds(&[
         "info",
         "meshes/bone.ply",
         "--report",
         report.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&report);
     assert_eq!(json["command"], "info");
     assert_eq!(json["input"], "meshes/bone.ply");
     let stages: Vec<&str> = json["stages"]
@@ -200,7 +209,7 @@ fn ridges_writes_every_line_format_and_reports_its_stages() {
     let report = dir.path().join("r.json");
     for ext in ["json", "obj", "ply", "vtk"] {
         let out = dir.path().join(format!("lines.{ext}"));
-        let run = crestline(&[
+        succeeds(&[
             "ridges",
             "meshes/cow.obj",
             "-o",
@@ -208,10 +217,9 @@ fn ridges_writes_every_line_format_and_reports_its_stages() {
             "--report",
             report.to_str().unwrap(),
         ]);
-        assert!(run.status.success(), "{}", stderr(&run));
         assert!(std::fs::metadata(&out).unwrap().len() > 100, "{ext}");
     }
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&report);
     assert_eq!(json["command"], "ridges");
     let stages: Vec<&str> = json["stages"]
         .as_array()
@@ -307,7 +315,7 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
         dir.path().join("h.json"),
         dir.path().join("h.png"),
     );
-    let run = crestline(&[
+    succeeds(&[
         "morse",
         "meshes/bunny_small.obj",
         "-o",
@@ -321,8 +329,7 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
         "--hierarchy-plot",
         plot.to_str().unwrap(),
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&report);
     let chi = |counts: &serde_json::Value| {
         counts["minima"].as_i64().unwrap() - counts["saddles"].as_i64().unwrap()
             + counts["maxima"].as_i64().unwrap()
@@ -330,8 +337,7 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
     assert_eq!(chi(&json["counts"]), 2);
     assert_eq!(chi(&json["counts_after"]), 2);
     assert_eq!(json["counts_after"]["saddles"], 20);
-    let cancellations: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(&hierarchy).unwrap()).unwrap();
+    let cancellations: serde_json::Value = json_file(&hierarchy);
     let cancelled = cancellations["cancellations"].as_array().unwrap();
     let initial = json["counts"]["saddles"].as_u64().unwrap() as usize;
     assert_eq!(cancelled.len(), initial - 20);
@@ -568,8 +574,7 @@ fn strict_refuses_a_moebius_strip_that_the_default_cuts_open() {
     let mesh = dir.path().join("moebius.obj");
     std::fs::write(&mesh, moebius_obj(24)).unwrap();
     let mesh = mesh.to_str().unwrap();
-    let opened = crestline(&["info", mesh]);
-    assert!(opened.status.success(), "{}", stderr(&opened));
+    succeeds(&["info", mesh]);
     let refused = crestline(&["info", mesh, "--strict"]);
     assert_one_line_error(&refused, mesh, "orient");
     let out = dir.path().join("lines.json");
@@ -628,8 +633,7 @@ fn morse_keeps_saddles_forced_by_topology_and_warns_when_nothing_is_left() {
         args.extend(extra);
         let run = crestline(&args);
         assert!(run.status.success(), "{}", stderr(&run));
-        let json: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+        let json: serde_json::Value = json_file(&report);
         let lines = crestline::lines::read_json(&out).unwrap();
         let saddles = json["counts_after"]["saddles"].as_u64().unwrap();
         let forced = json["counts_after"]["forced_saddles"].as_u64().unwrap();
@@ -656,7 +660,7 @@ fn morse_keeps_saddles_forced_by_topology_and_warns_when_nothing_is_left() {
 fn empty_results_are_warned_about_with_the_option_to_change() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("lines.json");
-    let run = crestline(&[
+    let run = succeeds(&[
         "ridges",
         "meshes/bunny_small.obj",
         "-o",
@@ -664,7 +668,6 @@ fn empty_results_are_warned_about_with_the_option_to_change() {
         "--threshold",
         "1e9",
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     assert!(crestline::lines::read_json(&out).unwrap().is_empty());
     assert!(
         stderr(&run).starts_with("warning: meshes/bunny_small.obj: ")
@@ -673,7 +676,7 @@ fn empty_results_are_warned_about_with_the_option_to_change() {
         stderr(&run)
     );
     let svg = dir.path().join("d.svg");
-    let run = crestline(&[
+    let run = succeeds(&[
         "draw",
         "meshes/bunny_small.obj",
         "-o",
@@ -681,7 +684,6 @@ fn empty_results_are_warned_about_with_the_option_to_change() {
         "--lines",
         "none",
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     assert!(stderr(&run).contains("--silhouettes"), "{}", stderr(&run));
 }
 
@@ -737,7 +739,7 @@ fn one_thread_gives_the_same_lines_as_many() {
         .iter()
         .map(|threads| {
             let out = dir.path().join(format!("lines-{threads}.json"));
-            let run = crestline(&[
+            succeeds(&[
                 "--threads",
                 threads,
                 "ridges",
@@ -745,7 +747,6 @@ fn one_thread_gives_the_same_lines_as_many() {
                 "-o",
                 out.to_str().unwrap(),
             ]);
-            assert!(run.status.success(), "{}", stderr(&run));
             std::fs::read(out).unwrap()
         })
         .collect();
@@ -760,7 +761,7 @@ fn iso_writes_a_closed_brain_surface_with_image_curvature() {
     let dir = tempfile::tempdir().unwrap();
     let surface = dir.path().join("brain.ply");
     let report = dir.path().join("r.json");
-    let out = crestline(&[
+    succeeds(&[
         "iso",
         MNI,
         "--level",
@@ -770,8 +771,7 @@ fn iso_writes_a_closed_brain_surface_with_image_curvature() {
         "--report",
         report.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&report);
     let counts = &json["counts"];
     // The brain's outer surface is one sphere-like sheet, open only where the
     // brain stem leaves the grid through its lowest slice: χ = 2 − 1 hole.
@@ -829,7 +829,7 @@ fn landmarks_of_the_brain_land_on_it_in_slicer_coordinates() {
         dir.path().join("brain.mrk.json"),
     );
     for path in [&json, &slicer] {
-        let out = crestline(&[
+        succeeds(&[
             "landmarks",
             MNI,
             "--level",
@@ -837,16 +837,14 @@ fn landmarks_of_the_brain_land_on_it_in_slicer_coordinates() {
             "-o",
             path.to_str().unwrap(),
         ]);
-        assert!(out.status.success(), "{}", stderr(&out));
     }
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&json);
     assert_eq!(json["space"], "RAS");
     let points = json["points"].as_array().unwrap();
     let count = |kind: &str| points.iter().filter(|p| p["kind"] == kind).count();
     assert!(count("extremal") > 100 && count("curvature_maximum") > 100 && count("end") > 100);
     // The same points in the Slicer file, in LPS: x and y negated.
-    let slicer: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(&slicer).unwrap()).unwrap();
+    let slicer: serde_json::Value = json_file(&slicer);
     let fiducials = slicer["markups"][0]["controlPoints"].as_array().unwrap();
     assert_eq!(fiducials.len(), points.len());
     for (lps, ras) in fiducials.iter().zip(points) {
@@ -867,13 +865,12 @@ fn landmarks_of_the_brain_land_on_it_in_slicer_coordinates() {
 fn landmarks_of_a_mesh_need_a_known_format_and_sane_options() {
     let dir = tempfile::tempdir().unwrap();
     let out_path = dir.path().join("bunny.csv");
-    let out = crestline(&[
+    succeeds(&[
         "landmarks",
         "meshes/bunny.obj",
         "-o",
         out_path.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
     let text = std::fs::read_to_string(&out_path).unwrap();
     assert!(text.starts_with("id,kind,x,y,z,curvature,line\n") && text.lines().count() > 50);
     let bad = crestline(&[
@@ -902,7 +899,7 @@ fn landmarks_of_a_mesh_need_a_known_format_and_sane_options() {
 
 /// The lines of a crest-lines JSON file: kind, length and points.
 fn crest_json(path: &std::path::Path) -> Vec<(String, f64, Vec<[f64; 3]>)> {
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(path);
     let line = |l: &serde_json::Value| {
         let points: Vec<[f64; 3]> = l["points"]
             .as_array()
@@ -980,7 +977,7 @@ fn seeded_crest_lines_of_the_brain_are_its_long_lines_longest_first() {
 fn crest_lines_of_the_brain_are_gyri_and_sulci() {
     let dir = tempfile::tempdir().unwrap();
     let lines = dir.path().join("crest.json");
-    let out = crestline(&[
+    succeeds(&[
         "crest-lines",
         MNI,
         "--level",
@@ -990,8 +987,7 @@ fn crest_lines_of_the_brain_are_gyri_and_sulci() {
         "-o",
         lines.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&lines).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(&lines);
     let lines = json["lines"].as_array().unwrap();
     let count = |kind: &str| lines.iter().filter(|l| l["kind"] == kind).count();
     // Convex crests (gyri) and concave ones (sulci) both, and nothing else.
@@ -1061,10 +1057,9 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         ("meshes/bunny.obj".to_string(), path("fixed.json")),
         (moved_obj.to_str().unwrap().to_string(), path("moving.json")),
     ] {
-        let run = crestline(&["ridges", &mesh, "-o", &lines]);
-        assert!(run.status.success(), "{}", stderr(&run));
+        succeeds(&["ridges", &mesh, "-o", &lines]);
     }
-    let run = crestline(&[
+    let run = succeeds(&[
         "register",
         &path("fixed.json"),
         &path("moving.json"),
@@ -1073,11 +1068,9 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         "--report",
         &path("r.json"),
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let said = String::from_utf8_lossy(&run.stdout).into_owned();
     assert!(said.contains("rotation 30.000°"), "{said}");
-    let json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(path("t.json")).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(path("t.json"));
     assert_eq!(json["coordinate_system"], "RAS");
     // The matrix applied to a point of the moving scan gives the point moved.
     let point = [0.01, 0.12, -0.02];
@@ -1090,18 +1083,16 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
             "{mapped} vs {expected:?}"
         );
     }
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(path("r.json")).unwrap()).unwrap();
+    let report: serde_json::Value = json_file(path("r.json"));
     assert_eq!(report["command"], "register");
     assert!(report["counts"]["matched_share"].as_f64().unwrap() > 0.9);
-    let run = crestline(&[
+    succeeds(&[
         "register",
         &path("fixed.json"),
         &path("moving.json"),
         "-o",
         &path("t.tfm"),
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
     let tfm = std::fs::read_to_string(path("t.tfm")).unwrap();
     assert!(
         tfm.starts_with("#Insight Transform File V1.0\n#Transform 0\n"),
@@ -1124,19 +1115,16 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         ),
     ] {
         let json = landmarks.replace(".mrk.json", ".landmarks.json");
-        let run = crestline(&["landmarks", &mesh, "-o", &json, "--space", "ras"]);
-        assert!(run.status.success(), "{}", stderr(&run));
+        succeeds(&["landmarks", &mesh, "-o", &json, "--space", "ras"]);
     }
-    let run = crestline(&[
+    succeeds(&[
         "register",
         &path("fixed.landmarks.json"),
         &path("moving.landmarks.json"),
         "-o",
         &path("l.json"),
     ]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(path("l.json")).unwrap()).unwrap();
+    let json: serde_json::Value = json_file(path("l.json"));
     for row in 0..3 {
         let m = |c: usize| json["matrix"][row][c].as_f64().unwrap();
         let mapped = m(0) * point[0] + m(1) * point[1] + m(2) * point[2] + m(3);
@@ -1170,7 +1158,7 @@ fn crease_writes_the_ridge_surface_with_its_strength_and_degenerate_marks() {
     let image = dir.path().join("shell.nrrd");
     shell_nrrd(&image, 32, 10.0, 3.0);
     let surface = dir.path().join("shell.ply");
-    let out = crestline(&[
+    succeeds(&[
         "crease",
         image.to_str().unwrap(),
         "--sigma",
@@ -1178,7 +1166,6 @@ fn crease_writes_the_ridge_surface_with_its_strength_and_degenerate_marks() {
         "-o",
         surface.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
     let ply = std::fs::read(&surface).unwrap();
     let header_end = ply.windows(10).position(|w| w == b"end_header").unwrap();
     let header = String::from_utf8_lossy(&ply[..header_end]);
