@@ -469,6 +469,28 @@ fn big_rotated_ellipsoid() -> (Mesh, impl Fn(&Point) -> Point) {
     })
 }
 
+/// The mean distance of `lines` (on the big ellipsoid `mesh`, mapped `back`)
+/// from the principal plane as a share of the diagonal, and their coverage of the
+/// ridge ellipse, printed under `label`.
+fn ridge_accuracy(
+    label: &str,
+    lines: &FeatureLines,
+    mesh: &Mesh,
+    back: impl Fn(&Point) -> Point,
+) -> (f64, f64) {
+    let points: Vec<Point> = all_points(lines).iter().map(back).collect();
+    let mean = mean_plane_distance(&points) / diagonal();
+    let h = mesh.mean_edge_length() / 1000.0;
+    let covered = coverage(&points, 2, 2.0 * h);
+    eprintln!(
+        "{label}: {} lines, mean plane distance {:.5}% of the diagonal, coverage {:.4}",
+        lines.len(),
+        100.0 * mean,
+        covered
+    );
+    (mean, covered)
+}
+
 fn jet_tracer() -> ExtremalityTracer {
     ExtremalityTracer::with_estimator(Estimator::JetFit)
 }
@@ -479,16 +501,7 @@ fn jet_tracer() -> ExtremalityTracer {
 fn jet_extremalities_put_the_ridge_on_the_principal_plane() {
     let (mesh, back) = big_rotated_ellipsoid();
     let lines = jet_tracer().extract(&mesh).unwrap();
-    let points: Vec<Point> = all_points(&lines).iter().map(&back).collect();
-    let mean = mean_plane_distance(&points) / diagonal();
-    let h = mesh.mean_edge_length() / 1000.0;
-    let covered = coverage(&points, 2, 2.0 * h);
-    eprintln!(
-        "jet path: {} lines, mean plane distance {:.5}% of the diagonal, coverage {:.4}",
-        lines.len(),
-        100.0 * mean,
-        covered
-    );
+    let (mean, covered) = ridge_accuracy("jet path", &lines, &mesh, &back);
     assert!(mean < 0.00002, "{mean}");
     assert!(covered >= 0.98, "{covered}");
     assert_eq!(lines.len(), 1);
@@ -508,16 +521,7 @@ fn jet_extremalities_recover_the_ridge_of_a_noisy_ellipsoid() {
         ..jet_tracer()
     };
     let lines = tracer.extract(&noisy).unwrap();
-    let points: Vec<Point> = all_points(&lines).iter().map(&back).collect();
-    let mean = mean_plane_distance(&points) / diagonal();
-    let h = mesh.mean_edge_length() / 1000.0;
-    let covered = coverage(&points, 2, 2.0 * h);
-    eprintln!(
-        "jet path, noise 0.2 h: {} lines, mean plane distance {:.4}% of the diagonal, coverage {:.4}",
-        lines.len(),
-        100.0 * mean,
-        covered
-    );
+    let (mean, covered) = ridge_accuracy("jet path, noise 0.2 h", &lines, &mesh, &back);
     assert!(mean < 0.002, "{mean}");
     assert!(covered >= 0.95, "{covered}");
 }
