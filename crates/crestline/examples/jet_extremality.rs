@@ -187,37 +187,27 @@ fn main() {
         let presmooth = if label == "clean" { 0 } else { 3 };
         let (s, ss) = if label == "clean" { (steps, 0) } else { (5, 5) };
         let p = format!("{label}, presmooth {presmooth}");
-        measure(
-            &format!("{p}: shape operator, {s}×τ{time}"),
-            mesh,
-            &tracer(shape.clone(), presmooth, s, time),
-        );
-        measure(
-            &format!("{p}: jet, discrete e, {s}×τ{time}"),
-            mesh,
-            &tracer(jet_discrete.clone(), presmooth, s, time),
-        );
-        measure(
-            &format!("{p}: jet, discrete e, 0 steps"),
-            mesh,
-            &tracer(jet_discrete.clone(), presmooth, 0, time),
-        );
         let chosen = if label == "clean" { jet_steps } else { 5 };
-        measure(
-            &format!("{p}: jet, fitted e, {chosen}×τ{jet_time}"),
-            mesh,
-            &tracer(jet.clone(), presmooth, chosen, jet_time),
-        );
-        measure(
-            &format!("{p}: jet, fitted e, {ss}×τ{time}"),
-            mesh,
-            &tracer(jet.clone(), presmooth, ss, time),
-        );
-        measure(
-            &format!("{p}: jet, fitted e, 0 steps"),
-            mesh,
-            &tracer(jet.clone(), presmooth, 0, time),
-        );
+        let rows = [
+            ("shape operator", &shape, s, time),
+            ("jet, discrete e", &jet_discrete, s, time),
+            ("jet, discrete e", &jet_discrete, 0, time),
+            ("jet, fitted e", &jet, chosen, jet_time),
+            ("jet, fitted e", &jet, ss, time),
+            ("jet, fitted e", &jet, 0, time),
+        ];
+        for (name, estimator, n, tau) in rows {
+            let setting = if n == 0 {
+                "0 steps".to_string()
+            } else {
+                format!("{n}×τ{tau}")
+            };
+            measure(
+                &format!("{p}: {name}, {setting}"),
+                mesh,
+                &tracer(estimator.clone(), presmooth, n, tau),
+            );
+        }
         if sweep {
             let taus: &[f64] = if label == "clean" {
                 &[0.25, 0.5, 1.0, 2.0]
