@@ -259,14 +259,19 @@ def run_subject(subject: str, path: str, task: str, options: Dict[str, Any], out
     return row
 
 
+def machine_memory() -> Optional[int]:
+    """The machine's memory in bytes, if the system tells."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
 def default_workers() -> int:
     """One worker per core, fewer if their tasks' peaks would not fit in memory."""
     cores = os.cpu_count() or 1
-    try:
-        memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (ValueError, OSError, AttributeError):
-        return cores
-    return max(1, min(cores, memory // TASK_PEAK_BYTES))
+    memory = machine_memory()
+    return cores if memory is None else max(1, min(cores, memory // TASK_PEAK_BYTES))
 
 
 def worker_environment(workers: int) -> Dict[str, str]:
@@ -360,8 +365,9 @@ def run(
     own = client is None
     if own:
         workers = default_workers()
-        memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // workers
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory,
+        memory = machine_memory()
+        share = "auto" if memory is None else memory // workers
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=share,
                                dashboard_address=None, env=worker_environment(workers))
         client = Client(cluster)
     try:
