@@ -135,14 +135,14 @@ def crest_lines(
     ``"valley"`` (concave); ``"parabolic"`` the lines where the Gaussian curvature
     is 0; ``"gauss"`` those where it is ``gauss``. With ``seeds``, only the lines
     through that many random cells (``rng_seed``), longest first. Lines shorter
-    than ``min_length`` (three times ``sigma`` by default) or weaker than
+    than ``min_length`` (three voxels by default, as the tool's) or weaker than
     ``min_strength`` are dropped. Each point carries ``k_max``, ``k_min``,
     ``e_max``, ``e_min``.
     """
     samples, affine = _image(volume, spacing, origin)
     voxel = float(np.linalg.norm(affine[:3, :3], axis=0).max())
     sigma = voxel if sigma is None else number(sigma, "sigma", strict=True)
-    min_length = 3.0 * sigma if min_length is None else number(min_length, "min_length")
+    min_length = 3.0 * voxel if min_length is None else number(min_length, "min_length")
     kinds = {"crest": None, "parabolic": 0.0, "gauss": number(gauss, "gauss", low=-np.inf)}
     if kind not in kinds:
         raise ValueError(f"kind: expected one of {tuple(kinds)}, got {kind!r}")
