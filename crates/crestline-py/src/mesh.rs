@@ -25,6 +25,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(curvature, m)?)?;
     m.add_function(wrap_pyfunction!(ridges, m)?)?;
     m.add_function(wrap_pyfunction!(morse, m)?)?;
+    m.add_function(wrap_pyfunction!(mean_edge_length, m)?)?;
     Ok(())
 }
 
@@ -50,6 +51,16 @@ fn read_mesh<'py>(py: Python<'py>, path: &str) -> PyResult<MeshArrays<'py>> {
         .map_err(raised)?;
     let vertices = rows(py, mesh.positions().iter().map(|p| [p.x, p.y, p.z]));
     Ok((vertices, faces(py, &mesh), report_json(&report)))
+}
+
+/// The mean length of the mesh's edges, each counted once (the length scale of
+/// the command-line tool's defaults).
+#[pyfunction]
+fn mean_edge_length(
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+) -> PyResult<f64> {
+    Ok(mesh_of(vertices.as_array(), faces.as_array())?.mean_edge_length())
 }
 
 /// Principal curvatures and directions per vertex, as a dict of arrays.

@@ -55,8 +55,8 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
-import numpy as np
 
+from . import _crestline
 from ._lines import Lines
 from ._mesh import curvature, read_mesh, ridges, write_mesh
 from ._volume import crest_lines, isosurface, landmarks, read_volume
@@ -153,8 +153,7 @@ def _mesh_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     vertices, faces, _ = read_mesh(path)
     keys = ("estimator", "smooth_steps", "smooth_time", "threshold")
     found = ridges(vertices, faces, **{k: v for k, v in options.items() if k in keys})
-    edges = vertices[faces] - vertices[np.roll(faces, 1, axis=1)]
-    return found, float(np.linalg.norm(edges, axis=2).mean())
+    return found, _crestline.mean_edge_length(vertices, faces)
 
 
 def _save_lines(lines: Lines, folder: Path) -> Tuple[Dict[str, int], List[str]]:
