@@ -15,7 +15,7 @@ use crestline::progress::{try_stage, Observer};
 use crestline::register::{register as align, PointSet, RegistrationOptions};
 use crestline::volume::crease::{crease_surface_with, CreaseField, DEFAULT_STRENGTH_FRACTION};
 use crestline::volume::{isosurface as iso, Derivatives, Sweep, Volume};
-use nalgebra::Matrix3;
+use nalgebra::Matrix4;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
@@ -50,14 +50,8 @@ fn read_volume<'py>(py: Python<'py>, path: &str) -> PyResult<ImageArrays<'py>> {
     let [nx, ny, nz] = volume.dims();
     let samples = Array3::from_shape_vec((nz, ny, nx), volume.samples().to_vec())
         .expect("x fastest, one sample per voxel");
-    let mut affine = Array2::<f64>::eye(4);
-    let origin = volume.origin();
-    for row in 0..3 {
-        for column in 0..3 {
-            affine[(row, column)] = volume.direction()[(row, column)] * volume.spacing()[column];
-        }
-        affine[(row, 3)] = origin[row];
-    }
+    let placed = volume.affine();
+    let affine = Array2::from_shape_fn((4, 4), |(r, c)| placed[(r, c)]);
     Ok((samples.into_pyarray(py), affine.into_pyarray(py)))
 }
 
@@ -67,17 +61,9 @@ fn volume_of(samples: &PyReadonlyArray3<f32>, affine: &PyReadonlyArray2<f64>) ->
     let samples = samples.as_array();
     let affine = affine.as_array();
     let (nz, ny, nx) = samples.dim();
-    let linear = Matrix3::from_fn(|row, column| affine[(row, column)]);
-    let spacing: [f64; 3] = std::array::from_fn(|c| linear.column(c).norm());
-    let mut direction = linear;
-    for (c, s) in spacing.iter().enumerate() {
-        if *s > 0.0 {
-            direction.column_mut(c).unscale_mut(*s);
-        }
-    }
-    let origin = std::array::from_fn(|row| affine[(row, 3)]);
+    let placed = Matrix4::from_fn(|row, column| affine[(row, column)]);
     let flat = samples.iter().copied().collect();
-    Volume::new([nx, ny, nz], spacing, origin, direction, flat).map_err(raised)
+    Volume::from_affine([nx, ny, nz], &placed, flat).map_err(raised)
 }
 
 /// Vertices (n × 3 float64) and faces (m × 3 int64).

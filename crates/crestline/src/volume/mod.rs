@@ -41,7 +41,7 @@ pub use marching_lines::{
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
 use crate::{Error, Point, Result, Vector};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Matrix4};
 
 /// A scalar 3D image: samples on a regular grid with its placement in world space.
 ///
@@ -188,6 +188,31 @@ impl Volume {
         count
     }
 
+    /// The 4 × 4 voxel-to-world affine, `[direction · diag(spacing) | origin]`, as
+    /// NIfTI's sform and nibabel write it.
+    pub fn affine(&self) -> Matrix4<f64> {
+        let mut affine = Matrix4::identity();
+        for c in 0..3 {
+            let column = self.direction.column(c) * self.spacing[c];
+            affine.fixed_view_mut::<3, 1>(0, c).copy_from(&column);
+            affine[(c, 3)] = self.origin[c];
+        }
+        affine
+    }
+
+    /// A volume placed by a voxel-to-world `affine` ([`Volume::affine`]): the
+    /// spacing is the length of each of its first three columns, the direction
+    /// those columns normalised, the origin its last column. Errors as
+    /// [`Volume::new`] (a zero column is a spacing that is not positive).
+    pub fn from_affine(
+        dims: [usize; 3],
+        affine: &Matrix4<f64>,
+        samples: Vec<f32>,
+    ) -> Result<Volume> {
+        let (spacing, origin, direction) = split_affine(affine);
+        Volume::new(dims, spacing, origin, direction, samples)
+    }
+
     /// A volume with this one's grid and placement and other `samples` (e.g. a
     /// filtered copy). Errors if their number differs.
     pub fn with_samples(&self, samples: Vec<f32>) -> Result<Volume> {
@@ -199,6 +224,16 @@ impl Volume {
             samples,
         )
     }
+}
+
+/// The spacing, origin and direction of a voxel-to-world `affine`
+/// ([`Volume::from_affine`]).
+pub fn split_affine(affine: &Matrix4<f64>) -> ([f64; 3], [f64; 3], Matrix3<f64>) {
+    let linear: Matrix3<f64> = affine.fixed_view::<3, 3>(0, 0).into_owned();
+    let spacing: [f64; 3] = std::array::from_fn(|c| linear.column(c).norm());
+    let direction = Matrix3::from_fn(|row, column| linear[(row, column)] / spacing[column]);
+    let origin = std::array::from_fn(|row| affine[(row, 3)]);
+    (spacing, origin, direction)
 }
 
 /// Most voxels a volume may have (2^34, 64 GiB of `f32`): far more than any image
@@ -252,6 +287,34 @@ fn invalid(message: String) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_affine_places_voxels_as_index_to_world_and_gives_the_volume_back() {
+        let turn = nalgebra::Rotation3::from_euler_angles(0.3, -0.2, 0.7).into_inner();
+        let samples: Vec<f32> = (0..24).map(|v| v as f32).collect();
+        let volume = Volume::new(
+            [4, 3, 2],
+            [0.5, 1.0, 2.0],
+            [1.0, -2.0, 3.0],
+            turn,
+            samples.clone(),
+        )
+        .unwrap();
+        let affine = volume.affine();
+        let index = [1.5, 2.0, 0.25];
+        let placed = affine * nalgebra::Vector4::new(index[0], index[1], index[2], 1.0);
+        assert!((placed.xyz() - volume.index_to_world(index).coords).norm() < 1e-12);
+        let again = Volume::from_affine([4, 3, 2], &affine, samples).unwrap();
+        assert!((again.affine() - affine).norm() < 1e-12);
+        assert!(again
+            .spacing()
+            .iter()
+            .zip(volume.spacing())
+            .all(|(a, b)| (a - b).abs() < 1e-12));
+        let mut flat = affine;
+        flat.set_column(1, &nalgebra::Vector4::zeros());
+        assert!(Volume::from_affine([4, 3, 2], &flat, vec![0.0; 24]).is_err());
+    }
 
     fn ramp() -> Volume {
         let samples = (0..24).map(|v| v as f32).collect();

@@ -10,10 +10,10 @@ use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use flate2::read::MultiGzDecoder;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use super::{little_endian_array, read_until_length, DataLayout, SampleType, Skip};
-use crate::volume::Volume;
+use crate::volume::{split_affine, Volume};
 use crate::{Error, Result};
 
 /// Size of a NIfTI-1 header.
@@ -276,11 +276,11 @@ impl Header {
     /// sizes `pixdim[1..4]` alone.
     fn geometry(&self) -> ([f64; 3], [f64; 3], Matrix3<f64>) {
         if self.sform_code > 0 {
-            let affine = Matrix3::from_fn(|row, column| self.srow[row][column]);
-            let spacing: [f64; 3] = std::array::from_fn(|c| affine.column(c).norm());
-            let direction = Matrix3::from_fn(|row, column| affine[(row, column)] / spacing[column]);
-            let origin = std::array::from_fn(|row| self.srow[row][3]);
-            (spacing, origin, direction)
+            let affine = Matrix4::from_fn(|row, column| match row {
+                3 => f64::from(u8::from(column == 3)),
+                _ => self.srow[row][column],
+            });
+            split_affine(&affine)
         } else if self.qform_code > 0 {
             let [b, c, d, x, y, z] = self.quatern;
             let spacing = [self.pixdim[1], self.pixdim[2], self.pixdim[3]];
