@@ -1,31 +1,22 @@
 //! `crestline crest-lines`: crest lines (and parabolic lines) of the isosurfaces of
-//! a 3D image, by the Marching Lines algorithm (Thirion & Gourdon 1993).
+//! a 3D image, by the Marching Lines algorithm (Thirion & Gourdon 1993;
+//! [`crestline::jobs::crest_lines`]).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use crestline::crest_lines::{trace, LineFamily, LineTracing};
-use crestline::lines::{write_lines, FeatureLines, LineFormat, MinLength, MinStrength};
-use crestline::volume::{Sweep, Volume};
+use crestline::crest_lines::LineFamily;
+use crestline::jobs::{crest_lines, CrestLinesOptions, Length};
+use crestline::lines::{write_lines, LineFormat};
 use crestline::Result;
 
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::surface::{default_sigma, naming, read_image, require_image};
+use super::surface::{naming, read_image, require_image};
 use super::ReportArg;
-use crate::report::Report;
 
-/// The `--kind` argument: crest, parabolic or gauss=J.
+/// The `--kind` argument, read by the library.
 fn parse_family(text: &str) -> std::result::Result<LineFamily, String> {
-    match text {
-        "crest" => Ok(LineFamily::Crest),
-        "parabolic" => Ok(LineFamily::Parabolic),
-        _ => text
-            .strip_prefix("gauss=")
-            .and_then(|j| j.parse::<f64>().ok())
-            .filter(|j| j.is_finite())
-            .map(LineFamily::Gauss)
-            .ok_or_else(|| format!("'{text}' is not crest, parabolic or gauss=J (J a number)")),
-    }
+    text.parse().map_err(|e: crestline::Error| e.to_string())
 }
 
 /// Arguments of `crestline crest-lines`.
@@ -46,7 +37,7 @@ pub struct CrestArgs {
     /// iso-Gaussian curves K = J, J in world units⁻²).
     #[arg(
         long,
-        default_value = "crest",
+        default_value_t = CrestLinesOptions::default().family,
         value_name = "crest|parabolic|gauss=J",
         value_parser = parse_family
     )]
@@ -57,16 +48,32 @@ pub struct CrestArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub seeds: Option<u64>,
     /// The seed of the random draw of --seeds (the same seed, the same lines).
-    #[arg(long, default_value_t = 1, value_name = "S", requires = "seeds")]
+    #[arg(long, default_value_t = CrestLinesOptions::default().rng_seed, value_name = "S",
+          requires = "seeds")]
     pub rng_seed: u64,
     /// Keep lines at least this long, in world units (mm); default three voxels.
     #[arg(long, value_name = "L")]
     pub min_length: Option<f64>,
     /// Keep lines whose strength ∫|k| ds (dimensionless) is at least this.
-    #[arg(long, default_value_t = 0.0, value_name = "T")]
+    #[arg(long, default_value_t = CrestLinesOptions::default().min_strength, value_name = "T")]
     pub min_strength: f64,
     #[command(flatten)]
     pub report: ReportArg,
+}
+
+impl CrestArgs {
+    /// The job's options.
+    fn options(&self) -> CrestLinesOptions {
+        let defaults = CrestLinesOptions::default();
+        CrestLinesOptions {
+            sigma: self.sigma.map_or(defaults.sigma, Length::World),
+            family: self.kind,
+            seeds: self.seeds.map(|n| n as usize),
+            rng_seed: self.rng_seed,
+            min_length: self.min_length.map_or(defaults.min_length, Length::World),
+            min_strength: self.min_strength,
+        }
+    }
 }
 
 /// Trace the lines and write them.
@@ -79,48 +86,9 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crest-lines", &args.volume);
     let volume = read_image(&args.volume, &mut report)?;
-    let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
-    let tracing = LineTracing {
-        family: args.kind,
-        sweep: args.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
-            count: count as usize,
-            rng_seed: args.rng_seed,
-        }),
-        ..LineTracing::new(args.level, sigma)
-    };
-    let filters = (args.min_length, args.min_strength);
-    let lines = trace_image_lines(&volume, &args.volume, &tracing, filters, &mut report)?;
+    let mut lines = crest_lines(&volume, args.level, &args.options(), &mut report)
+        .map_err(|e| naming(e, &args.volume))?;
+    lines.source = args.volume.display().to_string();
     args.report
         .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
-}
-
-/// The lines `tracing` asks for in `volume` (read from `path`), at least
-/// `min_length` long (default three voxels) and `min_strength` strong, with the
-/// stage "marching lines" and the counts in `report`, and a warning if none is
-/// left.
-pub fn trace_image_lines(
-    volume: &Volume,
-    path: &Path,
-    tracing: &LineTracing,
-    (min_length, min_strength): (Option<f64>, f64),
-    report: &mut Report,
-) -> Result<FeatureLines> {
-    let traced = report
-        .stage("marching lines", || trace(volume, tracing))
-        .map_err(|e| naming(e, path))?;
-    let mut lines = FeatureLines::new(path.display().to_string());
-    lines.lines = traced;
-    report.count("traced", lines.len());
-    lines.filter(&MinLength(
-        min_length.unwrap_or(3.0 * default_sigma(volume)),
-    ));
-    lines.filter(&MinStrength(min_strength));
-    report.count("lines", lines.len());
-    if lines.is_empty() {
-        super::warn(
-            path,
-            "no line is as long and strong as asked; try a lower --min-length or --min-strength",
-        );
-    }
-    Ok(lines)
 }

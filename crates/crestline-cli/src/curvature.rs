@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
+use crestline::curvature::{write_curvature_ply, Estimator};
+use crestline::jobs::{curvature, CurvatureOptions, Surface};
 use crestline::{Error, Result};
 
 use super::failure::explain;
@@ -22,7 +23,8 @@ pub struct CurvatureArgs {
     /// Curvature estimator: shape-operator is fast and best on regular meshes;
     /// jet-fit (a quartic least-squares fit over a ring neighbourhood) is slower and
     /// accurate on irregular ones.
-    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    #[arg(long, default_value_t = CurvatureOptions::default().estimator,
+          value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     #[command(flatten)]
     pub strict: StrictArg,
@@ -49,22 +51,19 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("curvature", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
-    super::load::warn_repairs(&args.mesh, &repairs);
-    let estimator = args.estimator.build();
-    let field = report
-        .stage("estimate", || estimate_curvature(&mesh, estimator.as_ref()))
-        .map_err(|e| explain(e.in_stage("curvature"), &args.mesh))?;
+    let surface = Surface::of_mesh(mesh);
+    let options = CurvatureOptions {
+        estimator: args.estimator,
+    };
+    let field = curvature(&surface, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;
+    let mesh = &surface.mesh;
     let mut files = OutputSet::default();
     report.stage("write", || {
-        files.write(&args.output, |p| write_curvature_ply(p, &mesh, &field))
+        files.write(&args.output, |p| write_curvature_ply(p, mesh, &field))
     })?;
     if let Some(path) = &args.report.report {
         report.count("vertices", mesh.vertex_count());
         report.count("faces", mesh.face_count());
-        report.count(
-            "unreliable",
-            field.unreliable.iter().filter(|&&u| u).count(),
-        );
         report.section("repairs", &repairs);
         files.write(path, |p| report.write(p))?;
     }

@@ -18,10 +18,9 @@ use super::load::report_with_progress;
 use super::morse::{extract as extract_morse, MorseArgs};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
-use super::surface::{default_sigma, Surface};
+use super::surface::Loaded;
 use super::ReportArg;
-use crestline::crest_lines::crest_lines;
-use crestline::lines::{MinLength, MinStrength};
+use crestline::jobs::{crest_lines, CrestLinesOptions, Length};
 
 /// Which feature lines to draw.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -171,8 +170,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     };
     options.check()?;
     let mut report = report_with_progress("draw", &args.mesh);
-    let surface = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    let mesh = &surface.mesh;
+    let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let mesh = &loaded.surface.mesh;
     let [width, height] = args.size;
     let camera = Camera::framing(
         mesh.positions(),
@@ -184,7 +183,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
 
     let mut extraction = Report::new("draw", &args.mesh);
     extraction.observer = report.observer.clone();
-    let mut lines = report.stage("extraction", || extract(&surface, args, &mut extraction))?;
+    let mut lines = report.stage("extraction", || extract(&loaded, args, &mut extraction))?;
     report.counts.append(&mut extraction.counts);
     report.section("extraction_stages", &extraction.stages);
 
@@ -205,7 +204,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     }
     if let Some(suggestive) = &options.suggestive {
         add_stage(&mut report, &mut lines, LineKind::Suggestive, || {
-            let field = estimate_curvature(mesh, &*surface.estimator)?;
+            let estimator = loaded.surface.estimator(args.tracer.estimator);
+            let field = estimate_curvature(mesh, &*estimator)?;
             suggestive_contours(mesh, &field, &camera, suggestive)
         })?;
     }
@@ -284,31 +284,41 @@ fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: 
 }
 
 /// The feature lines of the surface, by the chosen method.
-fn extract(surface: &Surface, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
+fn extract(loaded: &Loaded, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
+    let surface = &loaded.surface;
     match args.lines {
         LinesChoice::Ridges => trace_loaded(surface, &args.mesh, &args.tracer, report),
         LinesChoice::Morse => {
+            let surface = (surface, args.tracer.estimator);
             extract_morse(surface, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
         }
-        LinesChoice::Crest => marching_crest_lines(surface, args),
+        LinesChoice::Crest => marching_crest_lines(loaded, args, report),
         LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
     }
 }
 
-/// The crest lines of the image the surface was extracted from, at least three
-/// voxels long and as strong as `--threshold` (∫|k| ds, as for ridges).
-fn marching_crest_lines(surface: &Surface, args: &DrawArgs) -> Result<FeatureLines> {
-    let Some(image) = &surface.image else {
+/// The crest lines of the image the surface was extracted from, with its σ, at
+/// least three voxels long and as strong as `--threshold` (∫|k| ds, as for
+/// ridges).
+fn marching_crest_lines(
+    loaded: &Loaded,
+    args: &DrawArgs,
+    report: &mut Report,
+) -> Result<FeatureLines> {
+    let (Some(volume), Some(from)) = (&loaded.volume, loaded.surface.image) else {
         return Err(Error::File {
             path: args.mesh.clone(),
             message: "--lines crest traces lines in a 3D image; for a mesh use ridges or morse"
                 .into(),
         });
     };
-    let mut lines = FeatureLines::new(args.mesh.display().to_string());
-    lines.lines = crest_lines(&image.volume, image.level, image.sigma)?;
-    lines.filter(&MinLength(3.0 * default_sigma(&image.volume)));
-    lines.filter(&MinStrength(args.tracer.threshold));
+    let options = CrestLinesOptions {
+        sigma: Length::World(from.sigma),
+        min_strength: args.tracer.threshold,
+        ..CrestLinesOptions::default()
+    };
+    let mut lines = crest_lines(volume, from.level, &options, report)?;
+    lines.source = args.mesh.display().to_string();
     Ok(lines)
 }
 

@@ -1,10 +1,11 @@
 //! `crestline iso`: the isosurface of a 3D image as a mesh, with the image's
-//! curvature per vertex.
+//! curvature per vertex ([`crestline::jobs::isosurface`]).
 
 use std::path::PathBuf;
 
 use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
 use crestline::io::write_soup;
+use crestline::jobs::IsoOptions;
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::{Error, Result};
 
@@ -26,10 +27,21 @@ pub struct IsoArgs {
     #[command(flatten)]
     pub surface: VolumeArgs,
     /// Mesh curvature estimator, for --curvature mesh.
-    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    #[arg(long, default_value_t = IsoOptions::default().estimator,
+          value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     #[command(flatten)]
     pub report: ReportArg,
+}
+
+impl IsoArgs {
+    /// The job's options.
+    fn options(&self) -> IsoOptions {
+        IsoOptions {
+            estimator: self.estimator,
+            ..self.surface.iso_options()
+        }
+    }
 }
 
 /// Extract the isosurface and write it (with curvature to PLY).
@@ -48,19 +60,21 @@ pub fn run(args: &IsoArgs) -> Result<()> {
         .collect();
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("iso", &args.volume);
+    let options = args.options();
     let surface = load_surface(
         &args.volume,
-        (StrictArg::default(), &args.surface, args.estimator),
+        (StrictArg::default(), &args.surface, options),
         &[],
         &mut report,
-    )?;
+    )?
+    .surface;
     let mesh = &surface.mesh;
     report.count("euler_characteristic", mesh.euler_characteristic());
     report.count("boundary_loops", mesh.boundary_loops().len());
     let field = with_curvature
         .then(|| {
             report.stage("curvature", || {
-                estimate_curvature(mesh, &*surface.estimator)
+                estimate_curvature(mesh, &*surface.estimator(options.estimator))
             })
         })
         .transpose()?;

@@ -4,18 +4,17 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::crest_lines::LineTracing;
 use crestline::io::is_volume_path;
-use crestline::landmarks::{landmarks, write_landmarks, LandmarkFormat, LandmarkOptions, Space};
-use crestline::lines::FeatureLines;
+use crestline::jobs::{
+    landmarks, landmarks_of_lines, CrestLinesOptions, LandmarksOptions, Length, LinesFrom,
+};
+use crestline::landmarks::{write_landmarks, LandmarkFormat, Space};
 use crestline::Result;
 
-use super::crest::trace_image_lines;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::report::Report;
 use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
-use super::surface::{default_sigma, read_image, required_level};
+use super::surface::{naming, read_image, required_level};
 use super::ReportArg;
 
 /// The frame of the input's coordinates.
@@ -61,6 +60,31 @@ pub struct LandmarksArgs {
     pub report: ReportArg,
 }
 
+impl LandmarksArgs {
+    /// The job's options.
+    fn options(&self) -> LandmarksOptions {
+        let defaults = LandmarksOptions::default();
+        LandmarksOptions {
+            radius: self.radius.map_or(defaults.radius, Length::World),
+            persistence: self.persistence.map_or(defaults.persistence, Length::World),
+        }
+    }
+
+    /// How the crest lines of an image are traced: `--sigma` and `--min-length`.
+    fn crest_options(&self) -> CrestLinesOptions {
+        let defaults = CrestLinesOptions::default();
+        CrestLinesOptions {
+            sigma: self
+                .tracer
+                .volume
+                .sigma
+                .map_or(defaults.sigma, Length::World),
+            min_length: self.min_length.map_or(defaults.min_length, Length::World),
+            ..defaults
+        }
+    }
+}
+
 /// Find the landmarks and write them.
 pub fn run(args: &LandmarksArgs) -> Result<()> {
     LandmarkFormat::from_path(&args.output)?;
@@ -69,38 +93,30 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
         .collect();
     check_paths(&args.tracer.inputs(&args.input), &outputs)?;
     let mut report = report_with_progress("landmarks", &args.input);
-    let (lines, scale) = if is_volume_path(&args.input) {
-        image_crest_lines(args, &mut report)?
+    let path: &Path = &args.input;
+    let mut found = if is_volume_path(path) {
+        let level = required_level(path, &args.tracer.volume)?;
+        let volume = read_image(path, &mut report)?;
+        let crest = args.crest_options();
+        let input = LinesFrom::Image {
+            volume: &volume,
+            level,
+            options: &crest,
+        };
+        landmarks(input, &args.options(), &mut report).map_err(|e| naming(e, path))?
     } else {
-        let surface = load_for_tracing(&args.input, &args.tracer, &mut report)?;
-        let lines = trace_loaded(&surface, &args.input, &args.tracer, &mut report)?;
-        (lines, surface.mesh.mean_edge_length())
+        let loaded = load_for_tracing(path, &args.tracer, &mut report)?;
+        let lines = trace_loaded(&loaded.surface, path, &args.tracer, &mut report)?;
+        let unit = loaded.surface.unit();
+        landmarks_of_lines(&lines, unit, &args.options(), &mut report)
+            .map_err(|e| naming(e, path))?
     };
-    let options = LandmarkOptions {
-        radius: args.radius.unwrap_or(5.0 * scale),
-        persistence: args.persistence.unwrap_or(2.0 * scale),
-    };
-    let found = report.stage("landmarks", || landmarks(&lines, &options))?;
-    report.count("landmarks", found.points.len());
-    report.count("crest_lines", found.lines.len());
+    found.source = path.display().to_string();
     let space = input_space(args);
     args.report
         .write_with_output(&mut report, &args.output, |p| {
             write_landmarks(p, &found, space)
         })
-}
-
-/// The crest lines of the image `args.input` by Marching Lines, and its voxel
-/// size.
-fn image_crest_lines(args: &LandmarksArgs, report: &mut Report) -> Result<(FeatureLines, f64)> {
-    let path: &Path = &args.input;
-    let level = required_level(path, &args.tracer.volume)?;
-    let volume = read_image(path, report)?;
-    let voxel = default_sigma(&volume);
-    let sigma = args.tracer.volume.sigma.unwrap_or(voxel);
-    let tracing = LineTracing::new(level, sigma);
-    let lines = trace_image_lines(&volume, path, &tracing, (args.min_length, 0.0), report)?;
-    Ok((lines, voxel))
 }
 
 /// The frame `--space` names.

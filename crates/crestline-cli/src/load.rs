@@ -6,6 +6,7 @@ use std::sync::OnceLock;
 
 use crate::report::{Report, StageObserver};
 use crestline::io::read_mesh_with_progress;
+use crestline::jobs::build_mesh;
 use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
 use crestline::{Error, Result};
 use indicatif::{MultiProgress, ProgressBar, ProgressFinish, ProgressStyle};
@@ -20,7 +21,8 @@ pub struct StrictArg {
 }
 
 /// Read `path` and build the repaired halfedge mesh (refusing unorientable
-/// components if `strict`), recording the stages `read` and `build` in `report`.
+/// components if `strict`), recording the stages `read` and `build` in `report`
+/// and each repair as a warning.
 /// A byte progress bar is drawn on stderr when it is a terminal and the file is
 /// large enough for the wait to be noticeable.
 pub fn load_mesh(
@@ -66,14 +68,7 @@ pub fn load_mesh_with_scalars(
             values,
         });
     }
-    let build = if strict.strict {
-        Mesh::from_soup_strict
-    } else {
-        Mesh::from_soup
-    };
-    report
-        .stage("build", || build(soup))
-        .map_err(|e| e.in_file(path))
+    build_mesh(soup, strict.strict, report).map_err(|e| e.in_file(path))
 }
 
 /// One number per non-empty line.
@@ -104,13 +99,6 @@ fn progress_bar(path: &Path) -> ProgressBar {
     bar.set_style(style);
     bar.set_message(path.display().to_string());
     bar
-}
-
-/// Print each repair as a warning naming the file.
-pub fn warn_repairs(path: &Path, repairs: &RepairReport) {
-    for message in repairs.messages() {
-        eprintln!("warning: {}: {message}", path.display());
-    }
 }
 
 /// A report for `command` on `input` that, on a terminal, shows the running stage

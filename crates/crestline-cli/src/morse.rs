@@ -18,8 +18,9 @@ use super::failure::explain;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
-use super::surface::{load_surface, Surface, VolumeArgs};
+use super::surface::{load_surface, VolumeArgs};
 use super::ReportArg;
+use crestline::jobs::{IsoOptions, Surface};
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
 #[derive(clap::Args, Debug, Clone)]
@@ -103,16 +104,16 @@ pub struct MorseCommand {
     pub report: ReportArg,
 }
 
-/// Extract the Morse-Smale lines of `surface` (read from `mesh_path`), recording in
-/// `report`.
+/// Extract the Morse-Smale lines of `surface` (read from `mesh_path`), its
+/// curvature from `estimator` unless it carries its own, recording in `report`.
 pub fn extract(
-    surface: &Surface,
+    (surface, estimator): (&Surface, Estimator),
     mesh_path: &Path,
     args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, MorseSummary)> {
     let (mut lines, summary) = args
-        .extractor(surface.estimator.clone())
+        .extractor(surface.estimator(estimator))
         .run(&surface.mesh, report)
         .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
@@ -168,13 +169,18 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     .collect();
     check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
     let mut report = report_with_progress("morse", &args.mesh);
-    let surface = load_surface(
+    let iso = IsoOptions {
+        estimator: args.estimator,
+        ..args.volume.iso_options()
+    };
+    let loaded = load_surface(
         &args.mesh,
-        (args.strict, &args.volume, args.estimator),
+        (args.strict, &args.volume, iso),
         &[],
         &mut report,
     )?;
-    let (lines, summary) = extract(&surface, &args.mesh, &args.morse, &mut report)?;
+    let surface = (&loaded.surface, args.estimator);
+    let (lines, summary) = extract(surface, &args.mesh, &args.morse, &mut report)?;
     let mut files = OutputSet::default();
     report.stage("write", || {
         files.write(&args.output, |p| write_lines(p, &lines))

@@ -21,7 +21,8 @@ pub struct Stage {
 }
 
 /// What a command did, as written by `--report`:
-/// `{"command": ..., "input": ..., "stages": [{"name": ..., "seconds": ...}], "counts": {...}}`,
+/// `{"command": ..., "input": ..., "stages": [{"name": ..., "seconds": ...}], "counts": {...},
+/// "warnings": [...]}` (warnings only when there are some),
 /// plus any further top-level sections a command adds with [`Report::section`].
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
@@ -29,6 +30,9 @@ pub struct Report {
     pub input: String,
     pub stages: Vec<Stage>,
     pub counts: BTreeMap<String, Value>,
+    /// The warnings about the input, as printed.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     #[serde(flatten)]
     pub sections: BTreeMap<String, Value>,
     /// Told the name of each stage as it starts (e.g. to show progress).
@@ -74,6 +78,7 @@ impl Report {
             input: input.display().to_string(),
             stages: Vec::new(),
             counts: BTreeMap::new(),
+            warnings: Vec::new(),
             sections: BTreeMap::new(),
             observer: StageObserver::default(),
         }
@@ -125,4 +130,28 @@ impl Observer for Report {
     fn measure(&mut self, key: &str, value: f64) {
         Report::count(self, key, value);
     }
+
+    /// Printed on stderr as `warning: <input>: <message>` with the options it
+    /// names as flags, and kept in the report.
+    fn warning(&mut self, message: &str) {
+        let message = as_flags(message);
+        crate::warn(std::path::Path::new(&self.input), &message);
+        self.warnings.push(message);
+    }
+}
+
+/// `message` with each option named between backticks (`` `min_length` ``)
+/// written as its command-line flag (`--min-length`).
+fn as_flags(message: &str) -> String {
+    let mut parts = message.split('`');
+    let mut text = parts.next().unwrap_or_default().to_string();
+    for (n, part) in parts.enumerate() {
+        if n % 2 == 0 {
+            text.push_str("--");
+            text.push_str(&part.replace('_', "-"));
+        } else {
+            text.push_str(part);
+        }
+    }
+    text
 }

@@ -4,15 +4,17 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
+use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
 use crestline::linalg::Solver;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
-use crestline::ridges::{ExtremalityTracer, Fairing, Kinds};
+use crestline::mesh::Mesh;
+use crestline::ridges::Kinds;
 use crestline::{Error, Result};
 
 use super::failure::explain;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::{check_paths, Role};
-use super::surface::{load_surface, Surface, VolumeArgs};
+use super::surface::{load_surface, Loaded, VolumeArgs};
 use super::ReportArg;
 
 /// Options of extremality tracing, shared by every command that traces ridges.
@@ -20,10 +22,12 @@ use super::ReportArg;
 pub struct TracerArgs {
     /// Which lines to extract: ridges (maxima of k_max: convex crests), valleys
     /// (minima of k_min: concave creases) or both.
-    #[arg(long, default_value_t, value_parser = super::named::<Kinds>(Kinds::NAMES))]
+    #[arg(long, default_value_t = RidgesOptions::default().kind,
+          value_parser = super::named::<Kinds>(Kinds::NAMES))]
     pub kind: Kinds,
     /// Curvature estimator: shape-operator (fast) or jet-fit (accurate on irregular meshes).
-    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    #[arg(long, default_value_t = RidgesOptions::default().estimator,
+          value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     /// Implicit smoothing steps of the extremalities [default: 3]. With jet-fit the
     /// extremalities come from the fitted jets and are smoothed only where the
@@ -36,14 +40,15 @@ pub struct TracerArgs {
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
     /// ∫ |k_min| ds for valleys) is at least this.
-    #[arg(long, default_value_t = ExtremalityTracer::DEFAULT_THRESHOLD, value_name = "T")]
+    #[arg(long, default_value_t = RidgesOptions::default().threshold, value_name = "T")]
     pub threshold: f64,
     /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
-    #[arg(long, default_value_t = 0, value_name = "N")]
+    #[arg(long, default_value_t = RidgesOptions::default().presmooth, value_name = "N")]
     pub presmooth: usize,
     /// Solver of the implicit smoothing systems: auto (a conjugate gradient on large,
     /// well-conditioned meshes, else sparse Cholesky), direct or iterative.
-    #[arg(long, default_value_t, value_parser = super::named::<Solver>(Solver::NAMES))]
+    #[arg(long, default_value_t = RidgesOptions::default().solver,
+          value_parser = super::named::<Solver>(Solver::NAMES))]
     pub solver: Solver,
     /// Fair the lines as space curves (each point moves at most half a mean edge length).
     #[arg(long)]
@@ -69,6 +74,31 @@ impl TracerArgs {
             .chain(weights_file(self).map(|f| ("the --smoothing-weights file", f)))
             .collect()
     }
+
+    /// The options of the ridges job, the smoothing weights not yet read.
+    pub fn options(&self) -> RidgesOptions {
+        RidgesOptions {
+            kind: self.kind,
+            estimator: self.estimator,
+            smooth_steps: self.smooth_steps,
+            smooth_time: self.smooth_time,
+            threshold: self.threshold,
+            presmooth: self.presmooth,
+            solver: self.solver,
+            fair: self.fair,
+            all_extrema: self.all_extrema,
+            smoothing_weights: None,
+        }
+    }
+
+    /// The options of the isosurface of a 3D image: `--sigma`, `--curvature` and
+    /// the mesh `--estimator`.
+    pub fn iso_options(&self) -> IsoOptions {
+        IsoOptions {
+            estimator: self.estimator,
+            ..self.volume.iso_options()
+        }
+    }
 }
 
 /// Arguments of `crestline ridges`.
@@ -93,7 +123,7 @@ const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
 /// Load the surface in `path` (a mesh or a 3D image) for tracing: smoothing
 /// weights given as a text file are attached before the repairs, and the repairs
 /// are reported as warnings.
-pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Surface> {
+pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Loaded> {
     let weights_file = weights_file(args);
     let extra: Vec<(&str, &Path)> = weights_file
         .map(|f| (WEIGHTS_FROM_FILE, f))
@@ -101,7 +131,7 @@ pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> 
         .collect();
     load_surface(
         path,
-        (args.strict, &args.volume, args.estimator),
+        (args.strict, &args.volume, args.iso_options()),
         &extra,
         report,
     )
@@ -115,6 +145,23 @@ fn weights_file(args: &TracerArgs) -> Option<&Path> {
         .filter(|p| p.is_file())
 }
 
+/// The per-vertex smoothing weights `--smoothing-weights` names on `mesh` (read
+/// from `mesh_path`).
+fn smoothing_weights(mesh: &Mesh, mesh_path: &Path, args: &TracerArgs) -> Result<Option<Vec<f64>>> {
+    match (&args.smoothing_weights, weights_file(args)) {
+        (None, _) => Ok(None),
+        (Some(_), Some(_)) => Ok(mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec)),
+        (Some(name), None) => Ok(Some(
+            mesh.vertex_scalar(name)
+                .ok_or_else(|| Error::File {
+                    path: mesh_path.to_path_buf(),
+                    message: format!("no vertex property '{name}' (and no file of that name) for --smoothing-weights"),
+                })?
+                .to_vec(),
+        )),
+    }
+}
+
 /// Trace the lines of `surface` (loaded by [`load_for_tracing`] from `mesh_path`).
 pub fn trace_loaded(
     surface: &Surface,
@@ -122,67 +169,13 @@ pub fn trace_loaded(
     args: &TracerArgs,
     report: &mut Report,
 ) -> Result<FeatureLines> {
-    let mesh = &surface.mesh;
-    let smoothing_weights = match (&args.smoothing_weights, weights_file(args)) {
-        (None, _) => None,
-        (Some(_), Some(_)) => mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec),
-        (Some(name), None) => Some(
-            mesh.vertex_scalar(name)
-                .ok_or_else(|| Error::File {
-                    path: mesh_path.to_path_buf(),
-                    message: format!("no vertex property '{name}' (and no file of that name) for --smoothing-weights"),
-                })?
-                .to_vec(),
-        ),
+    let options = RidgesOptions {
+        smoothing_weights: smoothing_weights(&surface.mesh, mesh_path, args)?,
+        ..args.options()
     };
-    let (smooth_steps, smooth_time) = ExtremalityTracer::smoothing_defaults(args.estimator);
-    let tracer = ExtremalityTracer {
-        estimator: surface.estimator.clone(),
-        kinds: args.kind,
-        smooth_steps: args.smooth_steps.unwrap_or(smooth_steps),
-        smooth_time: args.smooth_time.unwrap_or(smooth_time),
-        threshold: args.threshold,
-        presmooth_steps: args.presmooth,
-        fairing: args.fair.then(Fairing::default),
-        smoothing_weights,
-        feature_conditions: !args.all_extrema,
-        solver: args.solver,
-    };
-    report.count("vertices", mesh.vertex_count());
-    report.count("faces", mesh.face_count());
-    let mut lines = tracer
-        .trace(mesh, report)
-        .map_err(|e| explain(e, mesh_path))?;
+    let mut lines = ridges(surface, &options, report).map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
-    warn_unreliable(mesh_path, report);
-    if lines.is_empty() {
-        super::warn(
-            mesh_path,
-            &format!(
-                "no line is as strong as --threshold {}; try a lower --threshold",
-                args.threshold
-            ),
-        );
-    }
     Ok(lines)
-}
-
-/// Warn when the curvature estimate was repaired at interior vertices (outliers or
-/// non-finite values, replaced by their neighbourhood's median before tracing).
-fn warn_unreliable(mesh_path: &Path, report: &Report) {
-    let count = report
-        .counts
-        .get("unreliable_vertices")
-        .and_then(|v| v.as_u64());
-    if let Some(count) = count.filter(|&n| n > 0) {
-        super::warn(
-            mesh_path,
-            &format!(
-                "curvature at {count} interior vertices was an outlier or not finite and was \
-                 replaced by its neighbours' median"
-            ),
-        );
-    }
 }
 
 /// Trace the lines and write them.
@@ -193,8 +186,8 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
         .collect();
     check_paths(&args.tracer.inputs(&args.mesh), &outputs)?;
     let mut report = report_with_progress("ridges", &args.mesh);
-    let surface = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    let lines = trace_loaded(&surface, &args.mesh, &args.tracer, &mut report)?;
+    let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let lines = trace_loaded(&loaded.surface, &args.mesh, &args.tracer, &mut report)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
 }

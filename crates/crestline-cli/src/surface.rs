@@ -1,28 +1,16 @@
 //! The surface a command works on: a mesh file, or the isosurface of a 3D image with
-//! the image's own curvature.
+//! the image's own curvature ([`crestline::jobs::isosurface`]).
 
+use std::borrow::Cow;
 use std::path::Path;
-use std::sync::Arc;
 
 use crate::report::Report;
-use crestline::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
 use crestline::io::{is_volume_path, read_volume};
-use crestline::mesh::Mesh;
-use crestline::volume::{isosurface, Volume};
+use crestline::jobs::{self, CurvatureSource, IsoOptions, Length, Surface};
+use crestline::volume::Volume;
 use crestline::{Error, Result};
 
-use super::load::{load_mesh_with_scalars, warn_repairs, StrictArg};
-
-/// Where the curvature of an image's isosurface comes from.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CurvatureSource {
-    /// From the image's derivatives at each vertex (Thirion & Gourdon): the
-    /// curvature of the smooth surface the triangles approximate.
-    #[default]
-    Image,
-    /// From the triangles, by --estimator, as for any mesh.
-    Mesh,
-}
+use super::load::{load_mesh_with_scalars, StrictArg};
 
 /// How a 3D image becomes a surface: options of every command that reads a mesh
 /// or an image.
@@ -39,39 +27,41 @@ pub struct VolumeArgs {
     pub sigma: Option<f64>,
     /// For a 3D image: the curvature of the isosurface from the image or from the
     /// mesh.
-    #[arg(long, value_enum, default_value_t)]
+    #[arg(long, default_value_t = IsoOptions::default().curvature,
+          value_parser = super::named::<CurvatureSource>(CurvatureSource::NAMES))]
     pub curvature: CurvatureSource,
 }
 
-/// A surface to extract lines from, with the curvature estimator that fits it.
-pub struct Surface {
-    /// The mesh (repaired, or an isosurface).
-    pub mesh: Mesh,
-    /// The mesh estimator chosen on the command line, or the image's curvature.
-    pub estimator: Arc<dyn CurvatureEstimator + Send + Sync>,
-    /// For an isosurface: the image, its level and smoothing.
-    pub image: Option<ImageSource>,
+impl VolumeArgs {
+    /// The isosurface options these arguments give, with the library's defaults
+    /// for what they leave out.
+    pub fn iso_options(&self) -> IsoOptions {
+        let defaults = IsoOptions::default();
+        IsoOptions {
+            sigma: self.sigma.map_or(defaults.sigma, Length::World),
+            curvature: self.curvature,
+            ..defaults
+        }
+    }
 }
 
-/// The image an isosurface was extracted from.
-pub struct ImageSource {
-    /// The image (non-finite samples replaced).
-    pub volume: Volume,
-    /// The isosurface level.
-    pub level: f64,
-    /// The Gaussian σ in world units (0: the B-spline).
-    pub sigma: f64,
+/// A surface loaded for a command, with the image it came from.
+pub struct Loaded {
+    /// The mesh and where its curvature comes from.
+    pub surface: Surface,
+    /// For an isosurface: the image, its non-finite samples replaced.
+    pub volume: Option<Volume>,
 }
 
 /// The surface in `path`: a mesh file (with per-vertex `scalars` read from text
-/// files, repairs warned about), or the isosurface of a 3D image as `volume` says.
-/// `estimator` serves meshes (and images with `--curvature mesh`).
+/// files, repairs warned about), or the isosurface of a 3D image as `volume` says
+/// (`iso` choosing the mesh estimator for `--curvature mesh`).
 pub fn load_surface(
     path: &Path,
-    (strict, volume, estimator): (StrictArg, &VolumeArgs, Estimator),
+    (strict, volume, iso): (StrictArg, &VolumeArgs, IsoOptions),
     scalars: &[(&str, &Path)],
     report: &mut Report,
-) -> Result<Surface> {
+) -> Result<Loaded> {
     if is_volume_path(path) {
         if !scalars.is_empty() {
             return Err(argument(
@@ -79,7 +69,17 @@ pub fn load_surface(
                 "per-vertex values from a file apply to meshes, not to 3D images",
             ));
         }
-        return image_surface(path, volume, estimator, report);
+        let level = required_level(path, volume)?;
+        let image = read_image(path, report)?;
+        let surface = jobs::isosurface(&image, level, &iso, report).map_err(|e| naming(e, path))?;
+        if let Some(from) = surface.image {
+            report.section("sigma", from.sigma);
+            report.section("level", from.level);
+        }
+        return Ok(Loaded {
+            surface,
+            volume: Some(image),
+        });
     }
     if volume.level.is_some() || volume.sigma.is_some() {
         return Err(argument(
@@ -87,12 +87,10 @@ pub fn load_surface(
             "--level and --sigma apply to 3D images (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd), not to meshes",
         ));
     }
-    let (mesh, repairs) = load_mesh_with_scalars(path, strict, report, scalars)?;
-    warn_repairs(path, &repairs);
-    Ok(Surface {
-        mesh,
-        estimator: estimator.build(),
-        image: None,
+    let (mesh, _) = load_mesh_with_scalars(path, strict, report, scalars)?;
+    Ok(Loaded {
+        surface: Surface::of_mesh(mesh),
+        volume: None,
     })
 }
 
@@ -106,77 +104,12 @@ pub fn required_level(path: &Path, args: &VolumeArgs) -> Result<f64> {
     })
 }
 
-/// The isosurface of the image at `path` and its curvature, with the stages
-/// `read`, `smoothing` and `isosurface` in `report`.
-fn image_surface(
-    path: &Path,
-    args: &VolumeArgs,
-    estimator: Estimator,
-    report: &mut Report,
-) -> Result<Surface> {
-    let level = required_level(path, args)?;
-    let volume = read_image(path, report)?;
-    let sigma = args.sigma.unwrap_or_else(|| default_sigma(&volume));
-    report.section("sigma", sigma);
-    report.section("level", level);
-    let curvature = report
-        .stage("smoothing", || ImageCurvature::new(&volume, sigma))
-        .map_err(|e| naming(e, path))?;
-    let surface_volume = curvature.surface_volume(&volume)?;
-    let iso = report
-        .stage("isosurface", || isosurface(&surface_volume, level))
-        .map_err(|e| naming(e, path))?;
-    let mesh = report.stage("mesh", || iso.to_mesh())?;
-    report.count("vertices", mesh.vertex_count());
-    report.count("faces", mesh.face_count());
-    let estimator: Arc<dyn CurvatureEstimator + Send + Sync> = match args.curvature {
-        CurvatureSource::Image => Arc::new(curvature),
-        CurvatureSource::Mesh => estimator.build(),
-    };
-    drop(surface_volume);
-    Ok(Surface {
-        mesh,
-        estimator,
-        image: Some(ImageSource {
-            volume,
-            level,
-            sigma,
-        }),
-    })
-}
-
 /// The 3D image at `path` (the stage `read`), its non-finite samples set to the
-/// background with a warning ([`replace_non_finite`]).
+/// background with a warning ([`jobs::prepared_image`]).
 pub fn read_image(path: &Path, report: &mut Report) -> Result<Volume> {
-    let mut volume = report.stage("read", || read_volume(path))?;
-    replace_non_finite(path, &mut volume)?;
-    Ok(volume)
-}
-
-/// Set non-finite samples (NaN outside the mask of a resampled scan, say) to the
-/// smallest finite value, the background, with a warning; an image without a
-/// finite sample is an error.
-fn replace_non_finite(path: &Path, volume: &mut Volume) -> Result<()> {
-    let lowest = volume
-        .samples()
-        .iter()
-        .copied()
-        .filter(|s| s.is_finite())
-        .reduce(f32::min)
-        .ok_or_else(|| argument(path, "the image has no finite sample"))?;
-    let count = volume.replace_non_finite(lowest);
-    if count > 0 {
-        super::warn(
-            path,
-            &format!("{count} samples are not finite (NaN or infinite); they were set to the smallest value, {lowest}"),
-        );
-    }
-    Ok(())
-}
-
-/// One voxel: the largest spacing.
-pub fn default_sigma(volume: &Volume) -> f64 {
-    volume.spacing().into_iter().fold(0.0, f64::max)
+    let volume = report.stage("read", || read_volume(path))?;
+    let prepared = jobs::prepared_image(Cow::Owned(volume), report).map_err(|e| naming(e, path))?;
+    Ok(prepared.into_owned())
 }
 
 /// An error unless `path` names a 3D image; `command` is the one that needs it.

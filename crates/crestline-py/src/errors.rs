@@ -17,6 +17,11 @@ pub fn raised(error: crestline::Error) -> PyErr {
         crestline::Error::Mesh(_) => ("MeshError", None),
         crestline::Error::Argument(_) => ("ArgumentError", None),
         crestline::Error::Stage { stage, .. } => ("StageError", Some(("stage", stage.clone()))),
+        // A computation stopped from Python raises what stopped it (see
+        // `progress::Callback::outcome`); one stopped otherwise is a Ctrl-C.
+        crestline::Error::Cancelled => {
+            return pyo3::exceptions::PyKeyboardInterrupt::new_err(message);
+        }
     };
     Python::attach(|py| {
         let exception = || -> PyResult<Bound<'_, PyAny>> {

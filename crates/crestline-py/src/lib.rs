@@ -7,6 +7,7 @@
 mod arrays;
 mod draw;
 mod errors;
+mod jobs;
 mod lines;
 mod mesh;
 mod progress;
@@ -20,6 +21,7 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     mesh::register(m)?;
     draw::register(m)?;
     volume::register(m)?;
+    jobs::register(m)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
     m.add_function(wrap_pyfunction!(arrays::write_mesh, m)?)?;
     Ok(())

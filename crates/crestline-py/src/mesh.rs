@@ -2,11 +2,11 @@
 
 use std::path::Path;
 
-use crestline::curvature::{estimate_curvature, CurvatureField, Estimator};
+use crestline::curvature::{CurvatureField, Estimator};
+use crestline::jobs::{self, Surface};
 use crestline::lines::{LineExtractor, SurfaceWithValues};
 use crestline::mesh::Mesh;
 use crestline::morse::{Indicator, MorseSmale, Simplification};
-use crestline::ridges::ExtremalityTracer;
 use crestline::Vector;
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -16,14 +16,17 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{faces, mesh_of, points, report_json, rows};
 use crate::errors::raised;
+use crate::jobs::job_options;
 use crate::lines::line_dicts;
 use crate::progress::Callback;
+use crate::volume::landmarks_json;
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(curvature, m)?)?;
     m.add_function(wrap_pyfunction!(ridges, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_landmarks, m)?)?;
     m.add_function(wrap_pyfunction!(morse, m)?)?;
     m.add_function(wrap_pyfunction!(mean_edge_length, m)?)?;
     Ok(())
@@ -63,19 +66,20 @@ fn mean_edge_length(
     Ok(mesh_of(vertices.as_array(), faces.as_array())?.mean_edge_length())
 }
 
-/// Principal curvatures and directions per vertex, as a dict of arrays.
+/// Principal curvatures and directions per vertex ([`jobs::curvature`] with the
+/// JSON `options` of [`jobs::CurvatureOptions`]), as a dict of arrays.
 #[pyfunction]
 fn curvature<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
-    estimator: &str,
+    options: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
-    let field = py
-        .detach(|| estimate_curvature(&mesh, estimator.build().as_ref()))
-        .map_err(raised)?;
-    field_dict(py, field)
+    let options: jobs::CurvatureOptions = job_options("curvature", options)?;
+    let surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    let mut observer = Callback::new(None);
+    let field = py.detach(|| jobs::curvature(&surface, &options, &mut observer));
+    field_dict(py, observer.outcome(field)?)
 }
 
 /// The arrays of a curvature field (its per-vertex values moved, not copied).
@@ -153,47 +157,83 @@ fn field_of(field: &Bound<'_, PyDict>) -> PyResult<CurvatureField> {
     })
 }
 
-/// Ridge and valley lines by extremality tracing, each a dict of kind, closed,
+/// The surface of the arrays and the ridges options of the JSON `options`
+/// ([`jobs::RidgesOptions`]) with the per-vertex smoothing `weights`.
+fn ridges_inputs(
+    vertices: &PyReadonlyArray2<f64>,
+    faces: &PyReadonlyArray2<i64>,
+    options: &str,
+    weights: Option<PyReadonlyArray1<f64>>,
+) -> PyResult<(Surface, jobs::RidgesOptions)> {
+    let mut options: jobs::RidgesOptions = job_options("ridges", options)?;
+    options.smoothing_weights = weights.map(|w| w.as_array().to_vec());
+    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
+    Ok((Surface::of_mesh(mesh), options))
+}
+
+/// Ridge and valley lines by extremality tracing ([`jobs::ridges`]) as the JSON
+/// `options` of [`jobs::RidgesOptions`] say, each a dict of kind, closed,
 /// strength, points (k × 3), per-point values and surface locations. With
-/// `field`, the curvature is that one (from a callable estimator) instead of
-/// `estimator`'s. The smoothing steps and time default to those of the
-/// estimator's extremalities (fitted ones when `field` has them).
+/// `field`, the curvature is that one (from a callable estimator) instead of the
+/// estimator's, and the smoothing defaults are those of its extremalities (the
+/// jet fit's when it has fitted ones).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, estimator, smooth_steps, smooth_time, threshold, field=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (vertices, faces, options, weights=None, field=None, progress=None))]
 fn ridges<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
-    estimator: &str,
-    smooth_steps: Option<usize>,
-    smooth_time: Option<f64>,
-    threshold: f64,
+    options: &str,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
     field: Option<Bound<'py, PyDict>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
+    let (surface, mut options) = ridges_inputs(&vertices, &faces, options, weights)?;
     let field = field.as_ref().map(field_of).transpose()?;
-    let fitted = match &field {
-        Some(field) if field.extremality.is_some() => Estimator::JetFit,
-        Some(_) => Estimator::ShapeOperator,
-        None => estimator,
-    };
-    let (steps, time) = ExtremalityTracer::smoothing_defaults(fitted);
-    let tracer = ExtremalityTracer {
-        smooth_steps: smooth_steps.unwrap_or(steps),
-        smooth_time: smooth_time.unwrap_or(time),
-        threshold,
-        ..ExtremalityTracer::with_estimator(estimator)
-    };
-    let mut observer = Callback(progress);
-    let lines = py
-        .detach(|| match &field {
-            Some(field) => tracer.trace_with_curvature(&mesh, field, &mut observer),
-            None => tracer.trace(&mesh, &mut observer),
-        })
-        .map_err(raised)?;
-    line_dicts(py, &lines.lines, Some(&mesh))
+    if let Some(field) = &field {
+        options.estimator = if field.extremality.is_some() {
+            Estimator::JetFit
+        } else {
+            Estimator::ShapeOperator
+        };
+    }
+    let mut observer = Callback::new(progress);
+    let lines = py.detach(|| match &field {
+        Some(field) => {
+            options
+                .tracer(&surface)
+                .trace_with_curvature(&surface.mesh, field, &mut observer)
+        }
+        None => jobs::ridges(&surface, &options, &mut observer),
+    });
+    line_dicts(py, &observer.outcome(lines)?.lines, Some(&surface.mesh))
+}
+
+/// The landmarks of the ridges and valleys of the mesh ([`jobs::landmarks`]
+/// from [`jobs::LinesFrom::Surface`]), as the JSON the library writes; `ridges`
+/// and `options` are the JSON options of the tracing and of the landmarks.
+#[pyfunction]
+#[pyo3(signature = (vertices, faces, ridges, options, weights=None, progress=None))]
+fn mesh_landmarks(
+    py: Python<'_>,
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+    ridges: &str,
+    options: &str,
+    weights: Option<PyReadonlyArray1<'_, f64>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<String> {
+    let (surface, ridges) = ridges_inputs(&vertices, &faces, ridges, weights)?;
+    let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
+    let mut observer = Callback::new(progress);
+    let found = py.detach(|| {
+        let input = jobs::LinesFrom::Surface {
+            surface: &surface,
+            options: &ridges,
+        };
+        jobs::landmarks(input, &options, &mut observer)
+    });
+    landmarks_json(&observer.outcome(found)?)
 }
 
 /// Feature lines as ascending 1-cells of a simplified Morse-Smale complex (Sahner

@@ -7,14 +7,10 @@
 
 use std::path::Path;
 
-use crestline::crest_lines::{trace, LineFamily, LineTracing};
-use crestline::landmarks::{landmarks as find_landmarks, LandmarkOptions};
-use crestline::lines::{FeatureLines, MinLength, MinStrength};
+use crestline::jobs;
 use crestline::mesh::TriangleSoup;
-use crestline::progress::{try_stage, Observer};
 use crestline::register::{register as align, PointSet, RegistrationOptions};
-use crestline::volume::crease::{crease_surface_with, CreaseField, DEFAULT_STRENGTH_FRACTION};
-use crestline::volume::{isosurface as iso, Derivatives, Sweep, Volume};
+use crestline::volume::Volume;
 use nalgebra::Matrix4;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
@@ -23,6 +19,7 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{points, rows};
 use crate::errors::raised;
+use crate::jobs::job_options;
 use crate::lines::{feature_lines, line_dicts, LineParts};
 use crate::progress::Callback;
 
@@ -32,7 +29,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(isosurface, m)?)?;
     m.add_function(wrap_pyfunction!(crest_lines, m)?)?;
     m.add_function(wrap_pyfunction!(crease_surface, m)?)?;
-    m.add_function(wrap_pyfunction!(landmarks, m)?)?;
+    m.add_function(wrap_pyfunction!(image_landmarks, m)?)?;
+    m.add_function(wrap_pyfunction!(lines_landmarks, m)?)?;
+    m.add_function(wrap_pyfunction!(write_landmarks, m)?)?;
+    m.add_function(wrap_pyfunction!(voxel_size, m)?)?;
     m.add_function(wrap_pyfunction!(register_lines, m)?)?;
     Ok(())
 }
@@ -69,20 +69,26 @@ fn volume_of(samples: &PyReadonlyArray3<f32>, affine: &PyReadonlyArray2<f64>) ->
 /// Vertices (n × 3 float64) and faces (m × 3 int64).
 type SurfaceArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>);
 
-/// The isosurface `f = level` (inside is `f ≥ level`) by marching cubes, as
-/// vertices and faces.
+/// The isosurface `f = level` (inside is `f ≥ level`) of the image smoothed as
+/// the JSON `options` of [`jobs::IsoOptions`] say, as vertices and faces
+/// ([`jobs::isosurface`]).
 #[pyfunction]
+#[pyo3(signature = (samples, affine, level, options, progress=None))]
 fn isosurface<'py>(
     py: Python<'py>,
     samples: PyReadonlyArray3<'py, f32>,
     affine: PyReadonlyArray2<'py, f64>,
     level: f64,
+    options: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<SurfaceArrays<'py>> {
     let volume = volume_of(&samples, &affine)?;
-    let soup = py
-        .detach(|| iso(&volume, level).map(|surface| surface.into_soup()))
-        .map_err(raised)?;
-    Ok(soup_arrays(py, &soup))
+    let options: jobs::IsoOptions = job_options("isosurface", options)?;
+    let mut observer = Callback::new(progress);
+    let surface = py.detach(|| jobs::isosurface(&volume, level, &options, &mut observer));
+    let mesh = observer.outcome(surface)?.mesh;
+    let vertices = rows(py, mesh.positions().iter().map(|p| [p.x, p.y, p.z]));
+    Ok((vertices, crate::arrays::faces(py, &mesh)))
 }
 
 /// The vertices and faces of a triangle soup.
@@ -92,88 +98,43 @@ fn soup_arrays<'py>(py: Python<'py>, soup: &TriangleSoup) -> SurfaceArrays<'py> 
     (vertices, faces)
 }
 
-/// Lines of the isosurface `level` of the image smoothed by `sigma` (world
-/// units) by Marching Lines (Thirion & Gourdon 1993): crest lines, or the
-/// iso-Gaussian curves `K = gauss` (parabolic lines for 0) when `gauss` is given;
-/// from `seeds` random cells when given; lines shorter than `min_length` or
-/// weaker than `min_strength` dropped.
+/// Lines of the isosurface `level` of the image by Marching Lines (Thirion &
+/// Gourdon 1993) as the JSON `options` of [`jobs::CrestLinesOptions`] say
+/// ([`jobs::crest_lines`]).
 #[pyfunction]
-#[pyo3(signature = (samples, affine, level, sigma, min_length, min_strength, gauss=None, seeds=None, rng_seed=0))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (samples, affine, level, options, progress=None))]
 fn crest_lines<'py>(
     py: Python<'py>,
     samples: PyReadonlyArray3<'py, f32>,
     affine: PyReadonlyArray2<'py, f64>,
     level: f64,
-    sigma: f64,
-    min_length: f64,
-    min_strength: f64,
-    gauss: Option<f64>,
-    seeds: Option<usize>,
-    rng_seed: u64,
+    options: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let volume = volume_of(&samples, &affine)?;
-    let tracing = LineTracing {
-        family: gauss.map_or(LineFamily::Crest, LineFamily::Gauss),
-        sweep: seeds.map_or(Sweep::Every, |count| Sweep::Seeds { count, rng_seed }),
-        ..LineTracing::new(level, sigma)
-    };
-    let lines = py
-        .detach(|| -> crestline::Result<FeatureLines> {
-            let mut lines = FeatureLines::new("arrays");
-            lines.lines = trace(&volume, &tracing)?;
-            lines.filter(&MinLength(min_length));
-            lines.filter(&MinStrength(min_strength));
-            Ok(lines)
-        })
-        .map_err(raised)?;
-    line_dicts(py, &lines.lines, None)
+    let options: jobs::CrestLinesOptions = job_options("crest_lines", options)?;
+    let mut observer = Callback::new(progress);
+    let lines = py.detach(|| jobs::crest_lines(&volume, level, &options, &mut observer));
+    line_dicts(py, &observer.outcome(lines)?.lines, None)
 }
 
-/// The ridge (or valley) surface of the image (Schultz, Theisel & Seidel 2010):
-/// vertices, faces and the per-vertex values `strength` (−λ3) and `degenerate`
-/// (1 on the degenerate lines where the surface ends). `sigma` 0 differentiates
-/// the cubic B-spline of the samples, else a Gaussian of that width; `strength`
-/// is the least −λ3 as a fraction of the strongest in the image. `progress` is
-/// told of each stage.
+/// The ridge (or valley) surface of the image (Schultz, Theisel & Seidel 2010)
+/// as the JSON `options` of [`jobs::CreaseOptions`] say ([`jobs::crease`]):
+/// vertices, faces and the per-vertex values `strength` (−λ3) and `degenerate`.
 #[pyfunction]
-#[pyo3(signature = (samples, affine, valley, sigma, strength, min_component, progress=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (samples, affine, options, progress=None))]
 fn crease_surface<'py>(
     py: Python<'py>,
     samples: PyReadonlyArray3<'py, f32>,
     affine: PyReadonlyArray2<'py, f64>,
-    valley: bool,
-    sigma: f64,
-    strength: f64,
-    min_component: usize,
+    options: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let volume = volume_of(&samples, &affine)?;
-    let mut observer = Callback(progress);
-    let soup = py
-        .detach(|| -> crestline::Result<TriangleSoup> {
-            let derivatives = try_stage(&mut observer, "reconstruction", || {
-                if sigma == 0.0 {
-                    Derivatives::cubic_spline(&volume, 2)
-                } else {
-                    Derivatives::new(&volume, sigma, 2)
-                }
-            })?;
-            let field = try_stage(&mut observer, "eigenframes", || {
-                CreaseField::new(&volume, &derivatives, !valley)
-            })?;
-            drop(derivatives);
-            let mut options = field.default_options();
-            options.strength *= strength / DEFAULT_STRENGTH_FRACTION;
-            Ok(crease_surface_with(
-                &field,
-                &options,
-                min_component,
-                |stage, took| observer.stage_finished(stage.name(), took.as_secs_f64()),
-            ))
-        })
-        .map_err(raised)?;
+    let options: jobs::CreaseOptions = job_options("crease", options)?;
+    let mut observer = Callback::new(progress);
+    let soup = py.detach(|| jobs::crease(&volume, &options, &mut observer));
+    let soup = observer.outcome(soup)?;
     let (vertices, faces) = soup_arrays(py, &soup);
     let dict = PyDict::new(py);
     dict.set_item("vertices", vertices)?;
@@ -187,17 +148,72 @@ fn crease_surface<'py>(
     Ok(dict)
 }
 
-/// Landmarks of ridge and valley lines (extremal points, curvature maxima, ends,
-/// and a descriptor per line) as the JSON the library writes.
+/// The landmarks of the crest lines of the image's isosurface `level`
+/// ([`jobs::landmarks`] from [`jobs::LinesFrom::Image`]), as the JSON the library
+/// writes; `crest` and `options` are the JSON options of the tracing and of the
+/// landmarks.
 #[pyfunction]
-fn landmarks(lines: Vec<LineParts<'_>>, radius: f64, persistence: f64) -> PyResult<String> {
+#[pyo3(signature = (samples, affine, level, crest, options, progress=None))]
+fn image_landmarks(
+    py: Python<'_>,
+    samples: PyReadonlyArray3<'_, f32>,
+    affine: PyReadonlyArray2<'_, f64>,
+    level: f64,
+    crest: &str,
+    options: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<String> {
+    let volume = volume_of(&samples, &affine)?;
+    let crest: jobs::CrestLinesOptions = job_options("crest_lines", crest)?;
+    let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
+    let mut observer = Callback::new(progress);
+    let found = py.detach(|| {
+        let input = jobs::LinesFrom::Image {
+            volume: &volume,
+            level,
+            options: &crest,
+        };
+        jobs::landmarks(input, &options, &mut observer)
+    });
+    landmarks_json(&observer.outcome(found)?)
+}
+
+/// The landmarks of `lines`, whose relative lengths are in `unit`s
+/// ([`jobs::landmarks_of_lines`]), as the JSON the library writes.
+#[pyfunction]
+fn lines_landmarks(lines: Vec<LineParts<'_>>, unit: f64, options: &str) -> PyResult<String> {
     let lines = feature_lines(lines)?;
-    let options = LandmarkOptions {
-        radius,
-        persistence,
-    };
-    let found = find_landmarks(&lines, &options).map_err(raised)?;
-    serde_json::to_string(&found).map_err(|e| raised(crestline::Error::Argument(e.to_string())))
+    let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
+    let mut observer = Callback::new(None);
+    let found = jobs::landmarks_of_lines(&lines, unit, &options, &mut observer);
+    landmarks_json(&observer.outcome(found)?)
+}
+
+/// Write landmarks given as the JSON the library serializes them to, in the
+/// format of the file's extension (`.mrk.json`, `.json`, `.csv`), their
+/// positions in the frame `space` (`RAS` or `LPS`).
+#[pyfunction]
+fn write_landmarks(path: &str, landmarks: &str, space: &str) -> PyResult<()> {
+    let invalid = |e: serde_json::Error| raised(crestline::Error::Argument(e.to_string()));
+    let found: crestline::landmarks::Landmarks =
+        serde_json::from_str(landmarks).map_err(invalid)?;
+    let space: crestline::landmarks::Space =
+        serde_json::from_value(serde_json::Value::from(space.to_uppercase())).map_err(invalid)?;
+    crestline::landmarks::write_landmarks(Path::new(path), &found, space).map_err(raised)
+}
+
+/// One voxel of an image placed by `affine`: its largest spacing, the unit of
+/// the relative lengths of the image jobs.
+#[pyfunction]
+fn voxel_size(affine: PyReadonlyArray2<'_, f64>) -> f64 {
+    let affine = affine.as_array();
+    let placed = Matrix4::from_fn(|row, column| affine[(row, column)]);
+    jobs::largest_spacing(crestline::volume::split_affine(&placed).0)
+}
+
+/// Landmarks as the JSON the library writes.
+pub fn landmarks_json(found: &crestline::landmarks::Landmarks) -> PyResult<String> {
+    serde_json::to_string(found).map_err(|e| raised(crestline::Error::Argument(e.to_string())))
 }
 
 /// The rigid motion taking the `moving` points onto the `fixed` ones by trimmed

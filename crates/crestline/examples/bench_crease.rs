@@ -13,16 +13,17 @@
 //! 2π (i, j, k) / P` at sample `(i, j, k)` (default P = 40). Each field is run with
 //! the default options (cubic B-spline derivatives, default ε, θ and strength) and
 //! no component filter; one line per field gives the seconds of each stage —
-//! reconstruction (derivatives), eigenframes ([`CreaseField::new`]), and the stages
-//! of [`crease_surface_with`] — the total, and the triangle count.
+//! reconstruction (derivatives), eigenframes, and the [`STAGES`] of the surface
+//! ([`crestline::jobs::crease`]) — the total, and the triangle count.
 
 use std::path::PathBuf;
-use std::time::Instant;
 
 use clap::Parser;
 use crestline::io::read_volume;
-use crestline::volume::crease::{crease_surface_with, CreaseField, Stage};
-use crestline::volume::{Derivatives, Volume};
+use crestline::jobs::{crease, CreaseOptions};
+use crestline::progress::Timings;
+use crestline::volume::crease::STAGES;
+use crestline::volume::Volume;
 use crestline::Result;
 use nalgebra::Matrix3;
 
@@ -73,30 +74,22 @@ fn main() -> Result<()> {
 
 /// Times the ridge surface of `volume` and prints a row.
 fn run(name: &str, volume: &Volume) -> Result<()> {
-    let start = Instant::now();
-    let derivatives = Derivatives::cubic_spline(volume, 2)?;
-    let reconstruction = start.elapsed().as_secs_f64();
-    let start = Instant::now();
-    let field = CreaseField::new(volume, &derivatives, true)?;
-    let eigenframes = start.elapsed().as_secs_f64();
-    drop(derivatives);
-    let mut stages = [0.0; 4];
-    let soup = crease_surface_with(&field, &field.default_options(), 0, |stage, took| {
-        let slot = match stage {
-            Stage::Crossings => 0,
-            Stage::DegeneratePoints => 1,
-            Stage::Normals => 2,
-            Stage::Triangulation => 3,
-        };
-        stages[slot] += took.as_secs_f64();
-    });
-    let total = reconstruction + eigenframes + stages.iter().sum::<f64>();
+    let mut timings = Timings::default();
+    let options = CreaseOptions {
+        min_component: 0,
+        ..CreaseOptions::default()
+    };
+    let soup = crease(volume, &options, &mut timings)?;
+    let columns: Vec<String> = ["reconstruction", "eigenframes"]
+        .into_iter()
+        .chain(STAGES)
+        .zip([8, 8, 9, 10, 9, 11])
+        .map(|(stage, width)| format!("{:>width$.3}", timings.seconds(stage)))
+        .collect();
+    let total: f64 = timings.stages.iter().map(|(_, seconds)| seconds).sum();
     println!(
-        "{name:<22} {reconstruction:>8.3} {eigenframes:>8.3} {:>9.3} {:>10.3} {:>9.3} {:>11.3} {total:>8.3} {:>10}",
-        stages[0],
-        stages[1],
-        stages[2],
-        stages[3],
+        "{name:<22} {} {total:>8.3} {:>10}",
+        columns.join(" "),
         soup.triangles.len()
     );
     Ok(())

@@ -1,7 +1,7 @@
 //! Crest lines of the isosurfaces of a 3D image, by the Marching Lines algorithm
 //! (Thirion & Gourdon 1993, "The 3D marching lines algorithm", §5): the lines where
 //! the isosurface `f = I` of the smoothed image meets the zero set of an
-//! extremality, with the conventions of DESIGN.md ("Isosurfaces and implicit
+//! extremality, with the conventions of docs/design.md ("Isosurfaces and implicit
 //! curvature").
 //!
 //! - The image is smoothed by a Gaussian of standard deviation σ (world units) and
@@ -37,6 +37,7 @@ use std::sync::OnceLock;
 use crate::differential::IsoCurvature;
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::{LineKind, Polyline};
+use crate::progress::{try_stage, Observer, Silent};
 use crate::volume::marching_lines::{cell_corners, BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Partial, Volume};
@@ -217,6 +218,62 @@ pub enum LineFamily {
     Gauss(f64),
 }
 
+impl LineFamily {
+    /// The names of the families, as [`std::str::FromStr`] reads them (`gauss=J`
+    /// with `J` a number).
+    pub const NAMES: &'static [&'static str] = &["crest", "parabolic", "gauss=J"];
+}
+
+impl std::fmt::Display for LineFamily {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LineFamily::Crest => f.write_str("crest"),
+            LineFamily::Parabolic => f.write_str("parabolic"),
+            LineFamily::Gauss(j) => write!(f, "gauss={j}"),
+        }
+    }
+}
+
+impl std::str::FromStr for LineFamily {
+    type Err = Error;
+
+    /// `crest`, `parabolic` or `gauss=J` (`J` a finite number, in world units⁻²).
+    fn from_str(text: &str) -> Result<LineFamily> {
+        match text {
+            "crest" => Ok(LineFamily::Crest),
+            "parabolic" => Ok(LineFamily::Parabolic),
+            _ => text
+                .strip_prefix("gauss=")
+                .and_then(|j| j.parse::<f64>().ok())
+                .filter(|j| j.is_finite())
+                .map(LineFamily::Gauss)
+                .ok_or_else(|| {
+                    Error::Argument(format!(
+                        "'{text}' is not a line family: crest, parabolic or gauss=J (J a number)"
+                    ))
+                }),
+        }
+    }
+}
+
+impl serde::Serialize for LineFamily {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for LineFamily {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        let text = <std::borrow::Cow<'de, str>>::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 /// What [`trace`] traces, and how.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineTracing {
@@ -265,6 +322,18 @@ impl LineTracing {
 /// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions),
 /// and for a non-finite `J`.
 pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
+    trace_observed(volume, tracing, &mut Silent)
+}
+
+/// [`trace`], telling `observer` of the stages `derivatives` (the smoothed image's
+/// derivatives to order 3) and `ridges` and `valleys` (crest lines) or `lines`
+/// (the other families), and asking it between them whether to go on
+/// ([`Error::Cancelled`] if not).
+pub fn trace_observed(
+    volume: &Volume,
+    tracing: &LineTracing,
+    observer: &mut dyn Observer,
+) -> Result<Vec<Polyline>> {
     if let LineFamily::Gauss(j) = tracing.family {
         if !j.is_finite() {
             return Err(Error::Argument(format!(
@@ -272,11 +341,14 @@ pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
             )));
         }
     }
-    let derivatives = Derivatives::new(volume, tracing.sigma, 3)?;
-    let smoothed = derivatives
-        .grid(Partial::new([0, 0, 0])?)
-        .expect("order 0 is computed");
-    let smoothed = volume.with_samples(smoothed.to_vec())?;
+    let (derivatives, smoothed) = try_stage(observer, "derivatives", || {
+        let derivatives = Derivatives::new(volume, tracing.sigma, 3)?;
+        let smoothed = derivatives
+            .grid(Partial::new([0, 0, 0])?)
+            .expect("order 0 is computed");
+        let smoothed = volume.with_samples(smoothed.to_vec())?;
+        Ok((derivatives, smoothed))
+    })?;
     let curvatures = Curvatures::new(&derivatives, volume);
     let (level, sweep) = (tracing.level, tracing.sweep);
     let polylines = |lines: Vec<BiIsoLine>, kind| -> Vec<Polyline> {
@@ -286,12 +358,15 @@ pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
     let gauss = match tracing.family {
         LineFamily::Crest => {
             let mut crests = Vec::new();
-            for kind in [LineKind::Ridge, LineKind::Valley] {
+            for (kind, stage) in [(LineKind::Ridge, "ridges"), (LineKind::Valley, "valleys")] {
                 let field = Extremality {
                     curvatures: &curvatures,
                     kind,
                 };
-                crests.extend(polylines(sweep.lines(&smoothed, level, &field, 0.0)?, kind));
+                let lines = try_stage(observer, stage, || {
+                    sweep.lines(&smoothed, level, &field, 0.0)
+                })?;
+                crests.extend(polylines(lines, kind));
             }
             return Ok(crests);
         }
@@ -306,10 +381,10 @@ pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
     let field = GaussianCurvature {
         curvatures: &curvatures,
     };
-    Ok(polylines(
-        sweep.lines(&smoothed, level, &field, gauss)?,
-        kind,
-    ))
+    let lines = try_stage(observer, "lines", || {
+        sweep.lines(&smoothed, level, &field, gauss)
+    })?;
+    Ok(polylines(lines, kind))
 }
 
 /// The crest lines (ridges, then valleys) of the isosurface `f = level` of

@@ -39,6 +39,10 @@ pub enum Error {
         /// What went wrong.
         message: String,
     },
+    /// The computation was stopped because its [`crate::progress::Observer`] asked
+    /// for it (Ctrl-C, a progress callback that raised).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl Error {

@@ -33,6 +33,7 @@ pub mod differential;
 pub mod draw;
 pub mod error;
 pub mod io;
+pub mod jobs;
 pub mod landmarks;
 pub mod linalg;
 pub mod lines;

@@ -1,11 +1,12 @@
 //! Names for the options of the library's algorithms (estimators, line kinds,
 //! criteria), so that a command line, a configuration file or a Python caller
-//! spells them the same way: `NAMES`, `name()`, [`std::fmt::Display`] and
-//! [`std::str::FromStr`] from one table per enum.
+//! spells them the same way: `NAMES`, `name()`, [`std::fmt::Display`],
+//! [`std::str::FromStr`] and serde's (de)serialization as that name, from one
+//! table per enum.
 
 /// Give a fieldless enum its names: `named!(Kinds, "line kind", { Ridges =>
-/// "ridges", ... })` adds `Kinds::NAMES`, `Kinds::name`, `Display` and a `FromStr`
-/// whose error lists the names.
+/// "ridges", ... })` adds `Kinds::NAMES`, `Kinds::name`, `Display`, a `FromStr`
+/// whose error lists the names, and `Serialize`/`Deserialize` as the name.
 macro_rules! named {
     ($ty:ident, $what:literal, { $($variant:ident => $name:literal),+ $(,)? }) => {
         impl $ty {
@@ -34,6 +35,19 @@ macro_rules! named {
                     $($name => Ok($ty::$variant),)+
                     _ => Err($crate::Error::unknown_name($what, name, $ty::NAMES)),
                 }
+            }
+        }
+
+        impl serde::Serialize for $ty {
+            fn serialize<S: serde::Serializer>(&self, serializer: S) -> std::result::Result<S::Ok, S::Error> {
+                serializer.serialize_str(self.name())
+            }
+        }
+
+        impl<'de> serde::Deserialize<'de> for $ty {
+            fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> std::result::Result<$ty, D::Error> {
+                let name = <std::borrow::Cow<'de, str>>::deserialize(deserializer)?;
+                name.parse().map_err(serde::de::Error::custom)
             }
         }
     };

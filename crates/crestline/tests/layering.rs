@@ -1,5 +1,6 @@
 //! The core crate's modules form layers along the data flow
-//! (base helpers → mesh → volume → io → curvature → lines → extractors → drawing),
+//! (base helpers → mesh → volume → io → curvature → lines → extractors → drawing →
+//! jobs, which assemble them for the command-line tool and the Python package),
 //! and no module imports from a layer above its own: volumes produce meshes
 //! (isosurfaces), so `volume` sits above `mesh`. This test reads every `crate::`
 //! path in `src/` and fails on an upward (or sideways, between extractors) edge.
@@ -27,6 +28,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("landmarks", 6),
     ("register", 6),
     ("draw", 7),
+    ("jobs", 8),
 ];
 
 fn layer(module: &str) -> Option<u32> {

@@ -17,23 +17,57 @@ and pyvista (a triangulated ``PolyData``) are accepted where the two arrays are.
 Images are indexed ``[i, j, k]`` with a 4 × 4 voxel-to-world affine, as nibabel
 has them; nibabel images are accepted where a :class:`Volume` is.
 
+Every option left at ``None`` takes the library's default, the same as the
+command-line tool's; :func:`defaults` lists them.
+
 Bad arguments raise ``ValueError`` or ``TypeError`` naming the argument; errors of
-the library raise a subclass of :class:`crestline.Error`. The computations release
-the GIL.
+the library raise a subclass of :class:`crestline.Error`; warnings about the input
+(repaired samples, no line found) are shown as ``UserWarning``. The computations release
+the GIL; Ctrl-C stops them (``KeyboardInterrupt``), and so does an exception
+raised by a ``progress`` callback, which propagates.
 """
+
+import copy
+from typing import Any, Dict
+
+from ._crestline import __version__
 
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
 from ._mesh import Curvature, Estimator, Progress, curvature, draw, morse, read_mesh, ridges, write_mesh
-from ._volume import Image, Volume, crease_surface, crest_lines, isosurface, landmarks, read_volume, register
+from ._jobs import DEFAULTS as _DEFAULTS
+from ._volume import (
+    Image,
+    Landmarks,
+    Volume,
+    crease_surface,
+    crest_lines,
+    isosurface,
+    landmarks,
+    read_volume,
+    register,
+    write_landmarks,
+)
+
+
+def defaults() -> Dict[str, Dict[str, Any]]:
+    """The defaults of every option, by job (``"iso"``, ``"crest_lines"``,
+    ``"crease"``, ``"ridges"``, ``"landmarks"``) and option, as the library and
+    the command-line tool apply them. A length relative to the input is
+    ``{"units": x}``: x voxels of an image (its largest spacing), or x mean edge
+    lengths of a mesh."""
+    return copy.deepcopy(_DEFAULTS)
+
 
 __all__ = [
+    "__version__",
     "ArgumentError",
     "Curvature",
     "Error",
     "Estimator",
     "FileError",
     "Image",
+    "Landmarks",
     "Line",
     "Lines",
     "MeshError",
@@ -43,6 +77,7 @@ __all__ = [
     "crease_surface",
     "crest_lines",
     "curvature",
+    "defaults",
     "draw",
     "isosurface",
     "landmarks",
@@ -51,5 +86,6 @@ __all__ = [
     "read_volume",
     "register",
     "ridges",
+    "write_landmarks",
     "write_mesh",
 ]

@@ -7,10 +7,10 @@ from typing import Any, Callable, Optional, Tuple, TypeVar
 import numpy as np
 import numpy.typing as npt
 
+from ._jobs import NAMES
+
 Vertices = npt.NDArray[np.float64]
 Faces = npt.NDArray[np.int64]
-
-ESTIMATORS = ("shape-operator", "jet-fit")
 
 T = TypeVar("T")
 
@@ -84,8 +84,8 @@ def per_vertex(array: Any, name: str, count: int, columns: Optional[int] = None)
 
 
 def estimator_name(estimator: Any) -> str:
-    if estimator not in ESTIMATORS:
-        raise ValueError(f"estimator: expected one of {ESTIMATORS} or a callable, got {estimator!r}")
+    if estimator not in NAMES["estimator"]:
+        raise ValueError(f"estimator: expected one of {NAMES['estimator']} or a callable, got {estimator!r}")
     return str(estimator)
 
 

@@ -10,18 +10,24 @@ I64 = npt.NDArray[np.int64]
 LineParts = tuple[str, bool, float, F64, list[tuple[str, list[float]]]]
 
 def read_mesh(path: str) -> tuple[F64, I64, str]: ...
-def curvature(vertices: F64, faces: I64, estimator: str) -> dict[str, Any]: ...
+def curvature(vertices: F64, faces: I64, options: str) -> dict[str, Any]: ...
 def mean_edge_length(vertices: F64, faces: I64) -> float: ...
 def ridges(
     vertices: F64,
     faces: I64,
-    estimator: str,
-    smooth_steps: Optional[int],
-    smooth_time: Optional[float],
-    threshold: float,
+    options: str,
+    weights: Optional[F64] = None,
     field: Optional[dict[str, Any]] = None,
     progress: Optional[Any] = None,
 ) -> list[dict[str, Any]]: ...
+def mesh_landmarks(
+    vertices: F64,
+    faces: I64,
+    ridges: str,
+    options: str,
+    weights: Optional[F64] = None,
+    progress: Optional[Any] = None,
+) -> str: ...
 def morse(
     vertices: F64, faces: I64, estimator: str, keep_saddles: int, indicator: str, values: Optional[F64] = None
 ) -> list[dict[str, Any]]: ...
@@ -37,28 +43,28 @@ def draw(
     png: bool,
 ) -> tuple[str, Optional[bytes]]: ...
 def read_volume(path: str) -> tuple[npt.NDArray[np.float32], F64]: ...
-def isosurface(samples: npt.NDArray[np.float32], affine: F64, level: float) -> tuple[F64, I64]: ...
+def isosurface(
+    samples: npt.NDArray[np.float32], affine: F64, level: float, options: str, progress: Optional[Any] = None
+) -> tuple[F64, I64]: ...
 def crest_lines(
+    samples: npt.NDArray[np.float32], affine: F64, level: float, options: str, progress: Optional[Any] = None
+) -> list[dict[str, Any]]: ...
+def crease_surface(
+    samples: npt.NDArray[np.float32], affine: F64, options: str, progress: Optional[Any] = None
+) -> dict[str, Any]: ...
+def image_landmarks(
     samples: npt.NDArray[np.float32],
     affine: F64,
     level: float,
-    sigma: float,
-    min_length: float,
-    min_strength: float,
-    gauss: Optional[float] = None,
-    seeds: Optional[int] = None,
-    rng_seed: int = 0,
-) -> list[dict[str, Any]]: ...
-def crease_surface(
-    samples: npt.NDArray[np.float32],
-    affine: F64,
-    valley: bool,
-    sigma: float,
-    strength: float,
-    min_component: int,
+    crest: str,
+    options: str,
     progress: Optional[Any] = None,
-) -> dict[str, Any]: ...
-def landmarks(
-    lines: list[LineParts], values: list[list[tuple[str, list[float]]]], radius: float, persistence: float
 ) -> str: ...
+def write_landmarks(path: str, landmarks: str, space: str) -> None: ...
+def voxel_size(affine: F64) -> float: ...
+def lines_landmarks(lines: list[LineParts], unit: float, options: str) -> str: ...
 def register_lines(fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, min_overlap: float) -> dict[str, Any]: ...
+def defaults() -> str: ...
+def names() -> dict[str, list[str]]: ...
+
+__version__: str

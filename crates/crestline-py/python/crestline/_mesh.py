@@ -20,6 +20,7 @@ from ._checks import (
     pair,
     per_vertex,
 )
+from ._jobs import choice, documented, options
 from ._lines import Lines
 
 Curvature = Dict[str, npt.NDArray[Any]]
@@ -90,14 +91,17 @@ def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curva
     return checked
 
 
-def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: Estimator = "shape-operator") -> Curvature:
-    """Principal curvatures and directions at every vertex.
+@documented("curvature", unit="mean edge length")
+def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: Optional[Estimator] = None) -> Curvature:
+    """Principal curvatures and directions at every vertex, as the command-line
+    tool's ``curvature`` estimates them.
 
     Returns a dict of arrays: ``k_max``, ``k_min`` (n,), ``d_max``, ``d_min``,
     ``normal`` (n, 3) and ``unreliable`` (n,) bool; the jet fit adds the
-    extremalities ``e_max``, ``e_min`` from its cubic terms and ``fit_residual``. ``estimator`` is
-    ``"shape-operator"`` (fast), ``"jet-fit"`` (accurate on irregular meshes) or a
-    callable (see ``Estimator``), whose result is checked and returned.
+    extremalities ``e_max``, ``e_min`` from its cubic terms and ``fit_residual``.
+    ``estimator`` (default {estimator}) is ``"shape-operator"`` (fast),
+    ``"jet-fit"`` (accurate on irregular meshes) or a callable (see
+    ``Estimator``), whose result is checked and returned.
     Positive curvature is convex (a sphere with outward faces has ``k > 0``).
     Raises ``ValueError`` naming the argument for bad arrays, and for a mesh that
     needs repairs which renumber its vertices (use :func:`read_mesh`).
@@ -105,24 +109,41 @@ def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: E
     v, f = mesh_arrays(vertices, faces)
     if callable(estimator):
         return _custom_field(estimator, v, f)
-    result: Curvature = _crestline.curvature(v, f, estimator_name(estimator))
+    given = options(estimator=None if estimator is None else estimator_name(estimator))
+    result: Curvature = _crestline.curvature(v, f, given)
     return result
 
 
+@documented("ridges", unit="mean edge length")
 def ridges(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = None,
-    estimator: Estimator = "shape-operator",
+    estimator: Optional[Estimator] = None,
     smooth_steps: Optional[int] = None,
     smooth_time: Optional[float] = None,
-    threshold: float = 2.0,
+    threshold: Optional[float] = None,
     progress: Progress = None,
+    *,
+    kind: Optional[Literal["ridges", "valleys", "both"]] = None,
+    presmooth: Optional[int] = None,
+    solver: Optional[str] = None,
+    fair: Optional[bool] = None,
+    all_extrema: Optional[bool] = None,
+    smoothing_weights: Optional[npt.ArrayLike] = None,
 ) -> Lines:
     """Ridge and valley lines by extremality tracing (Hildebrandt, Polthier,
-    Wardetzky 2005), with the command-line tool's defaults: the extremalities
-    smoothed in 3 steps of time 2 (discrete ones) or 3 (the jet fit's, and only
-    where its residual shows noise) unless ``smooth_steps`` and ``smooth_time``
-    say otherwise.
+    Wardetzky 2005), as the command-line tool's ``ridges`` traces them.
+
+    ``estimator`` (default {estimator}) is a name or a callable (see
+    ``Estimator``). The extremalities are smoothed in ``smooth_steps`` steps of
+    time ``smooth_time`` (in mean edge lengths squared; by default those the
+    library sets for the estimator's extremalities, discrete or fitted, the fitted
+    ones smoothed only where the fit's residual shows noise), with optional
+    per-vertex ``smoothing_weights``. Lines weaker than ``threshold`` (default
+    {threshold}) are dropped. ``kind`` (default {kind}), ``presmooth`` (surface
+    smoothing steps; default {presmooth}), ``solver`` (default {solver}), ``fair``
+    (default {fair}) and ``all_extrema`` (default {all_extrema}) are the tool's
+    options of the same names.
 
     Returns :class:`Lines` of kind ``"ridge"`` (convex crests) and ``"valley"``
     (concave creases), with per-point ``k_max``, ``k_min``, ``e_max``, ``e_min``
@@ -130,15 +151,20 @@ def ridges(
     told of each stage.
     """
     v, f = mesh_arrays(vertices, faces)
-    smooth_steps = None if smooth_steps is None else count(smooth_steps, "smooth_steps", 0, 1000)
-    smooth_time = None if smooth_time is None else number(smooth_time, "smooth_time")
-    threshold = number(threshold, "threshold")
-    progress = callback(progress, "progress")
-    if callable(estimator):
-        field, name = _custom_field(estimator, v, f), "shape-operator"
-    else:
-        field, name = None, estimator_name(estimator)
-    dicts = _crestline.ridges(v, f, name, smooth_steps, smooth_time, threshold, field, progress)
+    given = options(
+        estimator=None if estimator is None or callable(estimator) else estimator_name(estimator),
+        smooth_steps=None if smooth_steps is None else count(smooth_steps, "smooth_steps", 0, 1000),
+        smooth_time=None if smooth_time is None else number(smooth_time, "smooth_time"),
+        threshold=None if threshold is None else number(threshold, "threshold"),
+        kind=choice(kind, "kind", "kind"),
+        presmooth=None if presmooth is None else count(presmooth, "presmooth", 0, 1000),
+        solver=choice(solver, "solver", "solver"),
+        fair=None if fair is None else bool(fair),
+        all_extrema=None if all_extrema is None else bool(all_extrema),
+    )
+    weights = None if smoothing_weights is None else per_vertex(smoothing_weights, "smoothing_weights", len(v))
+    field = _custom_field(estimator, v, f) if callable(estimator) else None
+    dicts = _crestline.ridges(v, f, given, weights, field, callback(progress, "progress"))
     return Lines._from_dicts(dicts)
 
 

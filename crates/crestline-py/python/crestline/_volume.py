@@ -16,7 +16,8 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _crestline
-from ._checks import Faces, Vertices, callback, count, number, points
+from ._checks import Faces, Vertices, callback, count, estimator_name, mesh_arrays, number, points
+from ._jobs import documented, options
 from ._lines import Lines
 from ._mesh import Progress
 
@@ -34,6 +35,12 @@ class Volume:
     def spacing(self) -> npt.NDArray[np.float64]:
         """The voxel size along i, j and k."""
         return np.linalg.norm(self.affine[:3, :3], axis=0)
+
+    @property
+    def voxel(self) -> float:
+        """One voxel: the largest spacing, the unit of the relative lengths of the
+        image functions' defaults."""
+        return float(_crestline.voxel_size(np.ascontiguousarray(self.affine, dtype=np.float64)))
 
     @property
     def origin(self) -> npt.NDArray[np.float64]:
@@ -76,8 +83,6 @@ def _image(volume: Image, spacing: Optional[Sequence[float]], origin: Optional[S
         raise TypeError(f"volume: not an array of numbers ({e})") from None
     if samples.ndim != 3 or min(samples.shape) < 2:
         raise ValueError(f"volume: expected a 3-D image at least 2 voxels wide, got shape {samples.shape}")
-    if not np.isfinite(samples).all():
-        raise ValueError(f"volume: {int((~np.isfinite(samples)).sum())} samples are not finite")
     affine = np.ascontiguousarray(affine, dtype=np.float64)
     if affine.shape != (4, 4) or not np.isfinite(affine).all():
         raise ValueError(f"affine: expected a finite 4 × 4 matrix, got shape {affine.shape}")
@@ -97,129 +102,238 @@ def pair3(value: Any, name: str, positive: bool) -> npt.NDArray[np.float64]:
     return v
 
 
+@documented("iso")
 def isosurface(
     volume: Image,
     level: float,
+    sigma: Optional[float] = None,
+    progress: Progress = None,
     *,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
 ) -> Tuple[Vertices, Faces]:
-    """The isosurface ``f = level`` by marching cubes with the asymptotic decider,
-    inside being ``f ≥ level``: vertices (world coordinates) and faces,
-    counter-clockwise seen from outside, ready for :func:`crestline.ridges`."""
+    """The isosurface ``f = level`` of the image smoothed by a Gaussian of
+    ``sigma`` (world units; default {sigma}; 0: none, the cubic B-spline of the
+    samples), by marching cubes with the asymptotic decider, inside being
+    ``f ≥ level``, as the command-line tool's ``iso`` extracts it: vertices (world
+    coordinates) and faces, counter-clockwise seen from outside, ready for
+    :func:`crestline.ridges`. Non-finite samples are set to the smallest value
+    with a ``UserWarning``.
+    """
     samples, affine = _image(volume, spacing, origin)
-    vertices, faces = _crestline.isosurface(samples, affine, number(level, "level", low=-np.inf))
+    given = options(sigma=None if sigma is None else number(sigma, "sigma"))
+    vertices, faces = _crestline.isosurface(
+        samples, affine, number(level, "level", low=-np.inf), given, callback(progress, "progress")
+    )
     return vertices, faces
 
 
+def _family(kind: Optional[str], gauss: Optional[float]) -> Optional[str]:
+    """The library's name of the line family ``kind`` (``"gauss"`` with the value
+    ``gauss``)."""
+    if kind is None:
+        return None
+    kinds = ("crest", "parabolic", "gauss")
+    if kind not in kinds:
+        raise ValueError(f"kind: expected one of {kinds}, got {kind!r}")
+    if kind != "gauss":
+        return kind
+    if gauss is None or number(gauss, "gauss", low=-np.inf) == 0.0:
+        raise ValueError("gauss: the iso-Gaussian curves need a nonzero value (kind='parabolic' is K = 0)")
+    return f"gauss={float(gauss)!r}"
+
+
+@documented("crest_lines")
 def crest_lines(
     volume: Image,
     level: float,
     sigma: Optional[float] = None,
-    kind: Literal["crest", "parabolic", "gauss"] = "crest",
-    gauss: float = 0.0,
+    kind: Optional[Literal["crest", "parabolic", "gauss"]] = None,
+    gauss: Optional[float] = None,
     min_length: Optional[float] = None,
-    min_strength: float = 0.0,
+    min_strength: Optional[float] = None,
     seeds: Optional[int] = None,
-    rng_seed: int = 0,
+    rng_seed: Optional[int] = None,
+    progress: Progress = None,
     *,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
 ) -> Lines:
     """Lines of the isosurface ``f = level`` of the image smoothed by a Gaussian of
-    ``sigma`` (world units; the largest voxel size by default), traced in the image
-    by Marching Lines (Thirion & Gourdon 1993), as the command-line tool's
-    ``crest-lines`` does.
+    ``sigma`` (world units; default {sigma}), traced in the image by Marching
+    Lines (Thirion & Gourdon 1993), as the command-line tool's ``crest-lines``
+    does.
 
-    ``kind="crest"`` gives crest lines, of kind ``"ridge"`` (convex) and
-    ``"valley"`` (concave); ``"parabolic"`` the lines where the Gaussian curvature
-    is 0; ``"gauss"`` those where it is ``gauss``. With ``seeds``, only the lines
-    through that many random cells (``rng_seed``), longest first. Lines shorter
-    than ``min_length`` (three voxels by default, as the tool's) or weaker than
-    ``min_strength`` are dropped. Each point carries ``k_max``, ``k_min``,
-    ``e_max``, ``e_min``.
+    ``kind="crest"`` (the default, {family}) gives crest lines, of kind
+    ``"ridge"`` (convex) and ``"valley"`` (concave); ``"parabolic"`` the lines
+    where the Gaussian curvature is 0; ``"gauss"`` those where it is ``gauss``.
+    With ``seeds``, only the lines through that many random cells, longest first,
+    drawn with ``rng_seed`` (default {rng_seed}). Lines shorter than
+    ``min_length`` (world units; default {min_length}) or weaker than
+    ``min_strength`` (default {min_strength}) are dropped. Each point carries
+    ``k_max``, ``k_min``, ``e_max``, ``e_min``. ``progress`` (see ``Progress``) is
+    told of each stage.
     """
     samples, affine = _image(volume, spacing, origin)
-    voxel = float(np.linalg.norm(affine[:3, :3], axis=0).max())
-    sigma = voxel if sigma is None else number(sigma, "sigma", strict=True)
-    min_length = 3.0 * voxel if min_length is None else number(min_length, "min_length")
-    kinds = {"crest": None, "parabolic": 0.0, "gauss": number(gauss, "gauss", low=-np.inf)}
-    if kind not in kinds:
-        raise ValueError(f"kind: expected one of {tuple(kinds)}, got {kind!r}")
-    if kind == "gauss" and gauss == 0.0:
-        raise ValueError("gauss: the iso-Gaussian curves need a nonzero value (kind='parabolic' is K = 0)")
-    seeds = None if seeds is None else count(seeds, "seeds", 1)
-    dicts = _crestline.crest_lines(
-        samples,
-        affine,
-        number(level, "level", low=-np.inf),
-        sigma,
-        min_length,
-        number(min_strength, "min_strength"),
-        kinds[kind],
-        seeds,
-        count(rng_seed, "rng_seed", 0, 2**64 - 1),
+    given = options(
+        sigma=None if sigma is None else number(sigma, "sigma", strict=True),
+        family=_family(kind, gauss),
+        min_length=None if min_length is None else number(min_length, "min_length"),
+        min_strength=None if min_strength is None else number(min_strength, "min_strength"),
+        seeds=None if seeds is None else count(seeds, "seeds", 1),
+        rng_seed=None if rng_seed is None else count(rng_seed, "rng_seed", 0, 2**64 - 1),
     )
+    level = number(level, "level", low=-np.inf)
+    dicts = _crestline.crest_lines(samples, affine, level, given, callback(progress, "progress"))
     return Lines._from_dicts(dicts)
 
 
+@documented("crease")
 def crease_surface(
     volume: Image,
-    valley: bool = False,
-    sigma: float = 0.0,
-    strength: float = 0.1,
-    min_component: int = 20,
+    valley: Optional[bool] = None,
+    sigma: Optional[float] = None,
+    strength: Optional[float] = None,
+    min_component: Optional[int] = None,
     progress: Progress = None,
     *,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
 ) -> Dict[str, npt.NDArray[Any]]:
-    """The ridge surface of the image (its valley surface with ``valley=True``) by
-    Schultz, Theisel & Seidel (2010), as the command-line tool's ``crease`` does:
-    ``sigma`` 0 differentiates the cubic B-spline of the samples, else a Gaussian
-    of that width; only where −λ3 is at least ``strength`` times the strongest in
-    the image; pieces of fewer than ``min_component`` triangles dropped.
+    """The ridge surface of the image (its valley surface with ``valley=True``;
+    default {valley}) by Schultz, Theisel & Seidel (2010), as the command-line
+    tool's ``crease`` does: ``sigma`` (default {sigma}) 0 differentiates the cubic
+    B-spline of the samples, else a Gaussian of that width; only where −λ3 is at
+    least ``strength`` (default {strength}) times the strongest in the image;
+    pieces of fewer than ``min_component`` (default {min_component}) triangles
+    dropped.
 
     Returns a dict: ``vertices`` (n, 3), ``faces`` (m, 3) (the surface need not be
     orientable), and per vertex ``strength`` (−λ3) and ``degenerate`` (1 on the
     degenerate lines where the surface ends, else 0). ``progress`` (see
-    ``Progress``) is told when each stage ends (and when the first two start).
+    ``Progress``) is told of each stage.
     """
     samples, affine = _image(volume, spacing, origin)
-    if not (isinstance(strength, (int, float)) and 0.0 <= strength <= 1.0):
+    if strength is not None and not (isinstance(strength, (int, float)) and 0.0 <= strength <= 1.0):
         raise ValueError(f"strength: expected a fraction from 0 to 1, got {strength!r}")
+    given = options(
+        valley=None if valley is None else bool(valley),
+        sigma=None if sigma is None else number(sigma, "sigma"),
+        strength=None if strength is None else float(strength),
+        min_component=None if min_component is None else count(min_component, "min_component", 0),
+    )
     result: Dict[str, npt.NDArray[Any]] = _crestline.crease_surface(
-        samples,
-        affine,
-        bool(valley),
-        number(sigma, "sigma"),
-        float(strength),
-        count(min_component, "min_component", 0),
-        callback(progress, "progress"),
+        samples, affine, given, callback(progress, "progress")
     )
     return result
 
 
-def landmarks(lines: Lines, radius: float, persistence: float) -> Dict[str, Any]:
-    """Anatomical landmarks of ridge and valley lines (as the command-line tool's
-    ``landmarks``): extremal points, where both principal curvatures are extremal
-    (the other extremality keeps each sign for ``persistence`` of arc length on
-    each side); curvature maxima, the largest within ``radius`` on both sides; and
-    the ends of open lines.
+Landmarks = Dict[str, Any]
+"""``{"source": str, "points": {"id": (n,) int, "kind": (n,) str, "position": (n,
+3), "curvature": (n,), "line": (n,) int}, "lines": [dict per crest line: id,
+kind, closed, length, mean_curvature, strength, convex, points]}``; ids number
+points and lines from 1, and ``line`` is the id of a point's line."""
 
-    Returns ``{"points": {"kind": (n,) str, "position": (n, 3), "curvature": (n,),
-    "line": (n,) int}, "lines": [dict per crest line: id, kind, closed, length,
-    mean_curvature, strength, convex, points]}``; ``line`` numbers lines from 1.
+
+def write_landmarks(path: Union[str, "PathLike[str]"], found: Landmarks, space: Literal["ras", "lps"]) -> None:
+    """Write landmarks (as :func:`landmarks` returns them) as the command-line
+    tool's ``landmarks`` does, in the format of the file's extension: ``.mrk.json``
+    (3D Slicer markups, in LPS), ``.json`` (every landmark and line) or ``.csv``
+    (the point landmarks: id, kind, x, y, z, curvature, line). ``space`` is the
+    frame of the positions: ``"ras"`` (NIfTI) or ``"lps"`` (DICOM, NRRD, 3D
+    Slicer's models). The file is written under a temporary name and renamed."""
+    if space not in ("ras", "lps"):
+        raise ValueError(f"space: expected 'ras' or 'lps', got {space!r}")
+    points = found["points"]
+    document = {
+        "source": str(found.get("source", "")),
+        "points": [
+            {"id": int(i), "kind": str(kind), "position": [float(c) for c in position],
+             "curvature": float(k), "line": int(line)}
+            for i, kind, position, k, line in zip(points["id"], points["kind"], points["position"],
+                                                 points["curvature"], points["line"])
+        ],
+        "lines": [{**line, "points": np.asarray(line["points"], dtype=np.float64).tolist()}
+                  for line in found["lines"]],
+    }
+    _crestline.write_landmarks(str(path), json.dumps(document), space)
+
+
+@documented("landmarks", unit="unit")
+def landmarks(
+    source: Any,
+    faces: Optional[npt.ArrayLike] = None,
+    *,
+    level: Optional[float] = None,
+    radius: Optional[float] = None,
+    persistence: Optional[float] = None,
+    sigma: Optional[float] = None,
+    min_length: Optional[float] = None,
+    estimator: Optional[str] = None,
+    threshold: Optional[float] = None,
+    unit: Optional[float] = None,
+    progress: Progress = None,
+    spacing: Optional[Sequence[float]] = None,
+    origin: Optional[Sequence[float]] = None,
+) -> Landmarks:
+    """Anatomical landmarks of crest lines, as the command-line tool's
+    ``landmarks`` finds them: extremal points, where both principal curvatures
+    are extremal (the other extremality keeps each sign for ``persistence`` of arc
+    length on each side; default {persistence}); curvature maxima, the largest
+    within ``radius`` on both sides (default {radius}); and the ends of open
+    lines. A unit is one voxel of an image (its largest spacing), or the mean edge
+    length of a mesh.
+
+    ``source`` is what the tool takes:
+
+    - an image (a :class:`Volume`, a nibabel image or an array) with ``level``:
+      the crest lines of its isosurface by Marching Lines, smoothed by ``sigma``
+      and at least ``min_length`` long, as :func:`crest_lines` has them;
+    - a mesh (``vertices`` and ``faces``, or a mesh object): its ridges and
+      valleys, by ``estimator`` and ``threshold`` as :func:`ridges` has them;
+    - or :class:`Lines` already traced, with ``unit``, the length of one unit of
+      the defaults (the voxel of their image, :attr:`Volume.voxel`, or the mean
+      edge length of their mesh), or with both ``radius`` and ``persistence``.
+
+    Returns ``Landmarks`` (see there).
     """
-    if not isinstance(lines, Lines):
-        raise TypeError(f"lines: expected crestline.Lines, got {type(lines).__name__}")
-    found = json.loads(
-        _crestline.landmarks(lines._parts(), number(radius, "radius", strict=True),
-                             number(persistence, "persistence", strict=True))
+    marks = options(
+        radius=None if radius is None else number(radius, "radius", strict=True),
+        persistence=None if persistence is None else number(persistence, "persistence", strict=True),
     )
+    progress = callback(progress, "progress")
+    if isinstance(source, Lines):
+        if unit is None and (radius is None or persistence is None):
+            raise ValueError("unit: lines carry no scale; give their unit (a voxel or mean edge length), "
+                             "or both radius and persistence, or pass the mesh or the image")
+        scale = 1.0 if unit is None else number(unit, "unit", strict=True)
+        found = _crestline.lines_landmarks(source._parts(), scale, marks)
+    elif level is not None:
+        samples, affine = _image(source, spacing, origin)
+        crest = options(
+            sigma=None if sigma is None else number(sigma, "sigma", strict=True),
+            min_length=None if min_length is None else number(min_length, "min_length"),
+        )
+        found = _crestline.image_landmarks(samples, affine, number(level, "level", low=-np.inf), crest, marks, progress)
+    else:
+        if sigma is not None or min_length is not None:
+            raise ValueError("sigma, min_length: for an image (with level), not for a mesh")
+        v, f = mesh_arrays(source, faces)
+        tracing = options(
+            estimator=None if estimator is None else estimator_name(estimator),
+            threshold=None if threshold is None else number(threshold, "threshold"),
+        )
+        found = _crestline.mesh_landmarks(v, f, tracing, marks, None, progress)
+    return _landmark_arrays(json.loads(found))
+
+
+def _landmark_arrays(found: Dict[str, Any]) -> Landmarks:
+    """The library's landmarks JSON with numpy arrays."""
     marks = found["points"]
     return {
+        "source": found["source"],
         "points": {
+            "id": np.array([p["id"] for p in marks], dtype=np.int64),
             "kind": np.array([p["kind"] for p in marks], dtype=str),
             "position": np.array([p["position"] for p in marks], dtype=np.float64).reshape(-1, 3),
             "curvature": np.array([p["curvature"] for p in marks], dtype=np.float64),

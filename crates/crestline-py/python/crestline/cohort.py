@@ -30,8 +30,9 @@ the package's functions):
 
 - ``landmarks``: images (``level`` required, ``sigma``, ``min_length``) or meshes
   (``estimator``, ``smooth_steps``, ``smooth_time``, ``threshold``), then
-  ``radius`` and ``persistence`` (5 and 2 voxels or mean edge lengths by default):
-  ``landmarks.csv`` (kind, x, y, z, curvature, line) and ``lines.json``;
+  ``radius`` and ``persistence`` (the library's defaults, in voxels or mean edge
+  lengths, when not given): ``landmarks.csv`` (id, kind, x, y, z, curvature,
+  line, as the command-line tool writes it) and ``lines.json``;
 - ``ridges`` (meshes), ``crest_lines`` (images; ``level`` required): ``lines.json``;
 - ``isosurface`` (images; ``level`` required): ``surface.ply``;
 - ``curvature`` (meshes; ``estimator``): ``curvature.ply`` with k_max, k_min.
@@ -59,7 +60,7 @@ from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tupl
 from . import _crestline
 from ._lines import Lines
 from ._mesh import curvature, read_mesh, ridges, write_mesh
-from ._volume import crest_lines, isosurface, landmarks, read_volume
+from ._volume import crest_lines, isosurface, landmarks, read_volume, write_landmarks
 
 PathLike = Union[str, "os.PathLike[str]"]
 TASKS = ("landmarks", "ridges", "crest_lines", "isosurface", "curvature")
@@ -145,7 +146,7 @@ def _image_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     image = read_volume(path)
     keys = ("level", "sigma", "min_length", "min_strength", "kind", "gauss", "seeds", "rng_seed")
     found = crest_lines(image, **{k: v for k, v in options.items() if k in keys})
-    return found, float(image.spacing.max())
+    return found, image.voxel
 
 
 def _mesh_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
@@ -163,19 +164,10 @@ def _save_lines(lines: Lines, folder: Path) -> Tuple[Dict[str, int], List[str]]:
 
 def _task_landmarks(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Dict[str, int], List[str]]:
     lines, scale = _image_lines(path, options) if _is_image(path) else _mesh_lines(path, options)
-    found = landmarks(lines, radius=options.get("radius", 5.0 * scale),
-                      persistence=options.get("persistence", 2.0 * scale))
+    found = landmarks(lines, unit=scale, radius=options.get("radius"), persistence=options.get("persistence"))
     points = found["points"]
-
-    def write(partial: Path) -> None:
-        with open(partial, "w", newline="") as f:
-            table = csv.writer(f)
-            table.writerow(["kind", "x", "y", "z", "curvature", "line"])
-            for kind, (x, y, z), k, line in zip(points["kind"], points["position"], points["curvature"],
-                                                 points["line"]):
-                table.writerow([kind, repr(float(x)), repr(float(y)), repr(float(z)), repr(float(k)), int(line)])
-
-    _write_atomically(folder / "landmarks.csv", write)
+    # The positions are as the input has them: the frame only matters to .mrk.json.
+    write_landmarks(folder / "landmarks.csv", found, "ras")
     counts, outputs = _save_lines(lines, folder)
     return {"points": len(points["kind"]), "lines": counts["lines"]}, ["landmarks.csv", *outputs]
 
@@ -191,14 +183,14 @@ def _task_crest_lines(path: str, options: Dict[str, Any], folder: Path) -> Tuple
 def _task_isosurface(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Dict[str, int], List[str]]:
     if "level" not in options:
         raise ValueError("the option 'level' (the isosurface's value) is needed")
-    vertices, faces = isosurface(read_volume(path), options["level"])
+    vertices, faces = isosurface(read_volume(path), options["level"], sigma=options.get("sigma"))
     write_mesh(folder / "surface.ply", vertices, faces)
     return {"points": len(vertices), "lines": 0}, ["surface.ply"]
 
 
 def _task_curvature(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Dict[str, int], List[str]]:
     vertices, faces, _ = read_mesh(path)
-    field = curvature(vertices, faces, estimator=options.get("estimator", "shape-operator"))
+    field = curvature(vertices, faces, estimator=options.get("estimator"))
     write_mesh(folder / "curvature.ply", vertices, faces, {"k_max": field["k_max"], "k_min": field["k_min"]})
     return {"points": len(vertices), "lines": 0}, ["curvature.ply"]
 
@@ -301,7 +293,7 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
             if row["status"] == "ok":
                 with open(out / row["subject"] / "landmarks.csv", newline="") as f:
                     records += [[row["subject"], *r] for r in list(csv.reader(f))[1:]]
-        columns = ("subject", "kind", "x", "y", "z", "curvature", "line")
+        columns = ("subject", "id", "kind", "x", "y", "z", "curvature", "line")
         write_csv(out / "landmarks.csv", columns, records)
         tables["landmarks"] = [dict(zip(columns, r)) for r in records]
     try:
@@ -311,8 +303,8 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
         return
     for name, records_of in tables.items():
         if name == "landmarks":
-            records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "curvature")}, "line": int(r["line"])}
-                          for r in records_of]
+            records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "curvature")},
+                           **{c: int(r[c]) for c in ("id", "line")}} for r in records_of]
         _write_atomically(out / f"{name}.parquet",
                           lambda partial, t=records_of: pq.write_table(pa.Table.from_pylist(t), partial))
 

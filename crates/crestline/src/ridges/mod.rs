@@ -306,7 +306,14 @@ impl ExtremalityTracer {
         input: &Mesh,
         observer: &mut dyn Observer,
     ) -> Result<FeatureLines> {
-        observer.count("unreliable_vertices", unreliable_interior(input, field));
+        let unreliable = unreliable_interior(input, field);
+        observer.count("unreliable_vertices", unreliable);
+        if unreliable > 0 {
+            observer.warning(&format!(
+                "curvature at {unreliable} interior vertices was an outlier or not finite and was \
+                 replaced by its neighbours' median"
+            ));
+        }
         let fields = self.kinds.fields();
         let mut values = stage(observer, "extremality", || {
             fields

@@ -1,6 +1,6 @@
 //! Crease (ridge and valley) surfaces of 3D scalar fields after Schultz, Theisel and
 //! Seidel (2010), "Crease Surfaces: From Theory to Extraction and Application to
-//! Diffusion Tensor MRI", §3–4, with the rules of DESIGN.md ("Crease surfaces").
+//! Diffusion Tensor MRI", §3–4, with the rules of docs/design.md ("Crease surfaces").
 //!
 //! A ridge surface is where g·e3 = 0 and λ3 < 0 (λ1 ≥ λ2 ≥ λ3 the Hessian's
 //! eigenvalues, e3 the eigenvector of λ3); valleys are ridges of −f. The building
@@ -28,7 +28,7 @@ mod trim;
 pub use baseline::oriented_marching_cubes;
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
 pub use field::{CreaseField, Sample};
-pub use surface::{crease_surface, crease_surface_with, Stage, DEGENERATE, STRENGTH};
+pub use surface::{crease_surface, crease_surface_observed, DEGENERATE, STAGES, STRENGTH};
 pub use tensor::{similarity, Eigenframe};
 
 /// The default ε of the tensor T, as a fraction of the range of the Hessian's

@@ -1,25 +1,25 @@
 //! Crease surfaces from the edge crossings and the degenerate points: per face, the
 //! points are paired into segments; per cell, the segments of its six faces and the
 //! pairs of its degenerate points close into polygons, which are triangulated
-//! (Schultz, Theisel and Seidel 2010, §4.3–4.5; DESIGN.md, "Crease surfaces").
+//! (Schultz, Theisel and Seidel 2010, §4.3–4.5; docs/design.md, "Crease surfaces").
 //! Only the cells with a corner as strong as the strength are built, from
 //! crossings of any strength, and the surface is then trimmed along −λ3 = s.
 
 use std::collections::HashMap;
-use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
 use super::cells::{cell_polygons, CellInput};
-use super::degenerate::degenerate_points;
-use super::edges::{crossings_in_strong_cells, CrossingOptions};
+use super::degenerate::{degenerate_points, DegeneratePoint};
+use super::edges::{crossings_in_strong_cells, CrossingOptions, EdgeCrossing};
 use super::field::CreaseField;
 use super::grid::{EdgeIndex, Grid};
 use super::points::Points;
 use super::strong::StrongCells;
 use super::trim::trimmed;
 use crate::mesh::{ScalarProperty, TriangleSoup};
-use crate::{Point, Vector};
+use crate::progress::{try_stage, Observer, Silent};
+use crate::{Point, Result, Vector};
 
 /// The name of the per-vertex ridge strength −λ3 in the surface's soup.
 pub const STRENGTH: &str = "strength";
@@ -31,32 +31,18 @@ pub const STRENGTH: &str = "strength";
 /// was found) are 0.
 pub const DEGENERATE: &str = "degenerate";
 
-/// The stages of [`crease_surface_with`], in order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
-    /// The crossings of the grid edges ([`super::edge_crossings`]).
-    Crossings,
-    /// The degenerate points of the faces crossed an odd number of times, with
-    /// their edges searched again at raised θ.
-    DegeneratePoints,
-    /// The normals at every point.
-    Normals,
-    /// The pairing per face and per cell, the triangulation, the trimming to the
-    /// strength and the component filter.
-    Triangulation,
-}
-
-impl Stage {
-    /// A short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Stage::Crossings => "crossings",
-            Stage::DegeneratePoints => "degenerate points",
-            Stage::Normals => "normals",
-            Stage::Triangulation => "pairing and triangulation",
-        }
-    }
-}
+/// The stages of [`crease_surface_observed`], in order, as its observer is told
+/// them: the crossings of the grid edges ([`super::edge_crossings`]); the
+/// degenerate points of the faces crossed an odd number of times, with their edges
+/// searched again at raised θ; the normals at every point; and the pairing per face
+/// and per cell, the triangulation, the trimming to the strength and the component
+/// filter.
+pub const STAGES: [&str; 4] = [
+    "crossings",
+    "degenerate points",
+    "normals",
+    "pairing and triangulation",
+];
 
 /// The crease surface of `field` with `options`: triangles that need not be
 /// consistently orientable, with the ridge strength −λ3 of each vertex as the
@@ -68,30 +54,65 @@ pub fn crease_surface(
     options: &CrossingOptions,
     min_component: usize,
 ) -> TriangleSoup {
-    crease_surface_with(field, options, min_component, |_, _| {})
+    crease_surface_observed(field, options, min_component, &mut Silent)
+        .expect("a silent observer never cancels")
 }
 
-/// [`crease_surface`], telling `observe` the time each [`Stage`] took.
-pub fn crease_surface_with(
+/// [`crease_surface`], telling `observer` of each of the [`STAGES`] and asking it
+/// between them whether to go on ([`crate::Error::Cancelled`] if not).
+pub fn crease_surface_observed(
     field: &CreaseField,
     options: &CrossingOptions,
     min_component: usize,
-    mut observe: impl FnMut(Stage, Duration),
+    observer: &mut dyn Observer,
+) -> Result<TriangleSoup> {
+    let [crossings_stage, degenerate_stage, normals_stage, triangulation_stage] = STAGES;
+    let (strong, crossings) = try_stage(observer, crossings_stage, || {
+        let strong = StrongCells::new(field, options.strength);
+        let crossings = crossings_in_strong_cells(field, options, &strong);
+        Ok((strong, crossings))
+    })?;
+    let (crossings, degenerate) = try_stage(observer, degenerate_stage, || {
+        Ok(degenerate_points(field, options, crossings, &strong))
+    })?;
+    let points = try_stage(observer, normals_stage, || {
+        Ok(Points::new(field, options.epsilon, &crossings, &degenerate))
+    })?;
+    try_stage(observer, triangulation_stage, || {
+        let pieces = Pieces {
+            strong: &strong,
+            crossings: &crossings,
+            degenerate: &degenerate,
+            points: &points,
+        };
+        Ok(triangulated(field, options, &pieces, min_component))
+    })
+}
+
+/// What the first three stages of [`crease_surface_observed`] found.
+struct Pieces<'a> {
+    strong: &'a StrongCells,
+    crossings: &'a [EdgeCrossing],
+    degenerate: &'a [DegeneratePoint],
+    points: &'a Points,
+}
+
+/// The last stage of [`crease_surface_observed`]: the polygons of the strong cells,
+/// triangulated, trimmed to the strength, the small pieces dropped.
+fn triangulated(
+    field: &CreaseField,
+    options: &CrossingOptions,
+    pieces: &Pieces<'_>,
+    min_component: usize,
 ) -> TriangleSoup {
-    let mut timed = |stage: Stage, started: Instant| observe(stage, started.elapsed());
-    let started = Instant::now();
-    let strong = StrongCells::new(field, options.strength);
-    let crossings = crossings_in_strong_cells(field, options, &strong);
-    timed(Stage::Crossings, started);
-    let started = Instant::now();
-    let (crossings, degenerate) = degenerate_points(field, options, crossings, &strong);
-    timed(Stage::DegeneratePoints, started);
-    let started = Instant::now();
-    let points = Points::new(field, options.epsilon, &crossings, &degenerate);
-    timed(Stage::Normals, started);
-    let started = Instant::now();
+    let Pieces {
+        strong,
+        crossings,
+        degenerate,
+        points,
+    } = *pieces;
     let grid = Grid { dims: field.dims() };
-    let index = EdgeIndex::new(&crossings);
+    let index = EdgeIndex::new(crossings);
     let on_face: HashMap<u64, usize> = degenerate
         .iter()
         .enumerate()
@@ -100,7 +121,7 @@ pub fn crease_surface_with(
     let input = CellInput {
         grid,
         index: &index,
-        points: &points,
+        points,
         degenerate: &on_face,
     };
     let polygons: Vec<Vec<Vec<usize>>> = index
@@ -110,13 +131,11 @@ pub fn crease_surface_with(
         .map(|&cell| cell_polygons(cell, &input))
         .collect();
     let mesh = trimmed(
-        triangulate(&points, polygons.into_iter().flatten()),
+        triangulate(points, polygons.into_iter().flatten()),
         options.strength,
     );
     let triangles = large_components(mesh.triangles, mesh.positions.len(), min_component);
-    let soup = compact(Mesh { triangles, ..mesh });
-    timed(Stage::Triangulation, started);
-    soup
+    compact(Mesh { triangles, ..mesh })
 }
 
 /// The triangles of the connected pieces (sharing vertices) of at least `min`

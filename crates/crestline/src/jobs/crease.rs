@@ -1,0 +1,89 @@
+//! Ridge and valley surfaces of a 3D image (`crestline crease`; Schultz, Theisel
+//! and Seidel 2010).
+
+use std::borrow::Cow;
+
+use serde::{Deserialize, Serialize};
+
+use super::image::prepared_image;
+use crate::mesh::TriangleSoup;
+use crate::progress::{try_stage, Observer};
+use crate::volume::crease::{crease_surface_observed, CreaseField, DEFAULT_STRENGTH_FRACTION};
+use crate::volume::{Derivatives, Volume};
+use crate::{Error, Result};
+
+/// Options of [`crease`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CreaseOptions {
+    /// Valley surfaces (ridges of −f) instead of ridge surfaces. Default: ridges.
+    pub valley: bool,
+    /// Gaussian smoothing σ in world units; 0 differentiates the approximating
+    /// cubic B-spline of the samples, which smooths least. Default: 0.
+    pub sigma: f64,
+    /// Least ridge strength −λ3, as a fraction of the strongest in the image.
+    /// Default: [`DEFAULT_STRENGTH_FRACTION`].
+    pub strength: f64,
+    /// Drop connected pieces of fewer triangles than this. Default: 20.
+    pub min_component: usize,
+}
+
+impl Default for CreaseOptions {
+    fn default() -> Self {
+        CreaseOptions {
+            valley: false,
+            sigma: 0.0,
+            strength: DEFAULT_STRENGTH_FRACTION,
+            min_component: 20,
+        }
+    }
+}
+
+impl CreaseOptions {
+    /// An error unless the strength is a fraction from 0 to 1.
+    pub fn check(&self) -> Result<()> {
+        if self.strength.is_finite() && (0.0..=1.0).contains(&self.strength) {
+            Ok(())
+        } else {
+            Err(Error::Argument(format!(
+                "strength is a fraction of the strongest ridge, from 0 to 1, not {}",
+                self.strength
+            )))
+        }
+    }
+}
+
+/// The ridge (or valley) surface of `volume` as `options` say: triangles that need
+/// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
+/// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction`,
+/// `eigenframes` and those of [`crease_surface_observed`]; the counts `vertices`
+/// and `triangles`, and a warning when the surface is empty. Non-finite samples
+/// are replaced first ([`prepared_image`]).
+pub fn crease(
+    volume: &Volume,
+    options: &CreaseOptions,
+    observer: &mut dyn Observer,
+) -> Result<TriangleSoup> {
+    options.check()?;
+    let volume = prepared_image(Cow::Borrowed(volume), observer)?;
+    let derivatives = try_stage(observer, "reconstruction", || {
+        if options.sigma == 0.0 {
+            Derivatives::cubic_spline(&volume, 2)
+        } else {
+            Derivatives::new(&volume, options.sigma, 2)
+        }
+    })?;
+    let field = try_stage(observer, "eigenframes", || {
+        CreaseField::new(&volume, &derivatives, !options.valley)
+    })?;
+    drop(derivatives);
+    let mut crossing = field.default_options();
+    crossing.strength *= options.strength / DEFAULT_STRENGTH_FRACTION;
+    let soup = crease_surface_observed(&field, &crossing, options.min_component, observer)?;
+    observer.count("vertices", soup.positions.len());
+    observer.count("triangles", soup.triangles.len());
+    if soup.triangles.is_empty() {
+        observer.warning("no crease surface is as strong as asked; try a lower `strength`");
+    }
+    Ok(soup)
+}

@@ -1,0 +1,87 @@
+//! Crest lines of a 3D image's isosurface by Marching Lines (`crestline
+//! crest-lines`).
+
+use std::borrow::Cow;
+
+use serde::{Deserialize, Serialize};
+
+use super::image::{prepared_image, voxel_size};
+use super::Length;
+use crate::crest_lines::{trace_observed, LineFamily, LineTracing};
+use crate::lines::{FeatureLines, MinLength, MinStrength};
+use crate::progress::Observer;
+use crate::volume::{Sweep, Volume};
+use crate::Result;
+
+/// Options of [`crest_lines`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CrestLinesOptions {
+    /// Standard deviation of the Gaussian smoothing of the image. Default: one
+    /// voxel.
+    pub sigma: Length,
+    /// Which lines: crest lines (ridges and valleys), parabolic lines or
+    /// iso-Gaussian curves. Default: crest lines.
+    pub family: LineFamily,
+    /// The randomized Marching Lines: follow only the lines through this many
+    /// cells drawn at random on the isosurface, longest first. Default: `None`,
+    /// every cell.
+    pub seeds: Option<usize>,
+    /// The seed of the random draw of `seeds` (the same seed, the same lines).
+    /// Default: 1.
+    pub rng_seed: u64,
+    /// Keep lines at least this long. Default: three voxels.
+    pub min_length: Length,
+    /// Keep lines whose strength ∫|k| ds (dimensionless) is at least this.
+    /// Default: 0.
+    pub min_strength: f64,
+}
+
+impl Default for CrestLinesOptions {
+    fn default() -> Self {
+        CrestLinesOptions {
+            sigma: Length::units(1.0),
+            family: LineFamily::Crest,
+            seeds: None,
+            rng_seed: 1,
+            min_length: Length::units(3.0),
+            min_strength: 0.0,
+        }
+    }
+}
+
+/// The lines `options` ask for on the isosurface `f = level` of `volume` (inside
+/// is `f ≥ level`), by Marching Lines (Thirion & Gourdon 1993;
+/// [`crate::crest_lines::trace`]), at least `min_length` long and `min_strength`
+/// strong: the stages of [`trace_observed`], the counts `traced` and `lines`, and
+/// a warning when no line is left. Non-finite samples are replaced first
+/// ([`prepared_image`]).
+pub fn crest_lines(
+    volume: &Volume,
+    level: f64,
+    options: &CrestLinesOptions,
+    observer: &mut dyn Observer,
+) -> Result<FeatureLines> {
+    let volume = prepared_image(Cow::Borrowed(volume), observer)?;
+    let voxel = voxel_size(&volume);
+    let tracing = LineTracing {
+        family: options.family,
+        sweep: options.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
+            count,
+            rng_seed: options.rng_seed,
+        }),
+        ..LineTracing::new(level, options.sigma.resolve(voxel))
+    };
+    let mut lines = FeatureLines::new("image");
+    lines.lines = trace_observed(&volume, &tracing, observer)?;
+    observer.count("traced", lines.len());
+    lines.filter(&MinLength(options.min_length.resolve(voxel)));
+    lines.filter(&MinStrength(options.min_strength));
+    observer.count("lines", lines.len());
+    if lines.is_empty() {
+        observer.warning(
+            "no line is as long and strong as asked; try a lower `min_length` or `min_strength`",
+        );
+    }
+    Ok(lines)
+}

@@ -1,0 +1,36 @@
+//! Principal curvatures per vertex (`crestline curvature`).
+
+use serde::{Deserialize, Serialize};
+
+use super::image::Surface;
+use crate::curvature::{estimate_curvature, CurvatureField, Estimator};
+use crate::progress::{try_stage, Observer};
+use crate::Result;
+
+/// Options of [`curvature`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CurvatureOptions {
+    /// The estimator of a mesh (an isosurface may carry its image's curvature
+    /// instead). Default: the shape operator.
+    pub estimator: Estimator,
+}
+
+/// The principal curvatures and directions at every vertex of `surface`: the
+/// stage `curvature`, and the count `unreliable` of vertices whose estimate was
+/// flagged (the boundary, outliers).
+pub fn curvature(
+    surface: &Surface,
+    options: &CurvatureOptions,
+    observer: &mut dyn Observer,
+) -> Result<CurvatureField> {
+    let estimator = surface.estimator(options.estimator);
+    let field = try_stage(observer, "curvature", || {
+        estimate_curvature(&surface.mesh, estimator.as_ref())
+    })?;
+    observer.count(
+        "unreliable",
+        field.unreliable.iter().filter(|&&u| u).count(),
+    );
+    Ok(field)
+}

@@ -1,0 +1,175 @@
+//! A 3D image made ready for the jobs, and its isosurface (`crestline iso`).
+
+use std::borrow::Cow;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::Length;
+use crate::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
+use crate::mesh::Mesh;
+use crate::progress::{try_stage, Observer};
+use crate::volume::{isosurface as marching_cubes, Volume};
+use crate::{Error, Result};
+
+/// One voxel: the largest spacing of `volume`, the unit of the image jobs'
+/// relative [`Length`]s.
+pub fn voxel_size(volume: &Volume) -> f64 {
+    largest_spacing(volume.spacing())
+}
+
+/// One voxel of an image of voxel size `spacing`: the largest.
+pub fn largest_spacing(spacing: [f64; 3]) -> f64 {
+    spacing.into_iter().fold(0.0, f64::max)
+}
+
+/// `volume` with its non-finite samples (NaN outside the mask of a resampled scan,
+/// say) set to its smallest finite value, the background, with a warning to
+/// `observer`; returned as it is when every sample is finite. An image without a
+/// finite sample is an error.
+pub fn prepared_image<'v>(
+    volume: Cow<'v, Volume>,
+    observer: &mut dyn Observer,
+) -> Result<Cow<'v, Volume>> {
+    if volume.samples().iter().all(|s| s.is_finite()) {
+        return Ok(volume);
+    }
+    let lowest = volume
+        .samples()
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite())
+        .reduce(f32::min)
+        .ok_or_else(|| Error::Argument("the image has no finite sample".into()))?;
+    let mut repaired = volume.into_owned();
+    let count = repaired.replace_non_finite(lowest);
+    observer.warning(&format!(
+        "{count} samples are not finite (NaN or infinite); they were set to the smallest value, {lowest}"
+    ));
+    Ok(Cow::Owned(repaired))
+}
+
+/// Where the curvature of an image's isosurface comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurvatureSource {
+    /// From the image's derivatives at each vertex (Thirion & Gourdon 1993): the
+    /// curvature of the smooth surface the triangles approximate.
+    #[default]
+    Image,
+    /// From the triangles, by the job's mesh estimator, as for any mesh.
+    Mesh,
+}
+
+crate::named::named!(CurvatureSource, "curvature source", {
+    Image => "image",
+    Mesh => "mesh",
+});
+
+/// Options of [`isosurface`] (`crestline iso`, and every job that works on an
+/// image's isosurface).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct IsoOptions {
+    /// Standard deviation of the Gaussian smoothing of the image, for the surface
+    /// and its curvature; 0: none (the cubic B-spline through the samples).
+    /// Default: one voxel.
+    pub sigma: Length,
+    /// Where the surface's curvature comes from. Default: the image.
+    pub curvature: CurvatureSource,
+    /// The mesh estimator of the surface's curvature for [`CurvatureSource::Mesh`]
+    /// (the line jobs use their own options' estimator). Default: the shape
+    /// operator.
+    pub estimator: Estimator,
+}
+
+impl Default for IsoOptions {
+    fn default() -> Self {
+        IsoOptions {
+            sigma: Length::units(1.0),
+            curvature: CurvatureSource::Image,
+            estimator: Estimator::default(),
+        }
+    }
+}
+
+/// A surface for the line jobs: a mesh, and where its curvature comes from.
+pub struct Surface {
+    /// The mesh (repaired, or an isosurface).
+    pub mesh: Mesh,
+    /// The estimator to use on it; `None`: the one a job's options name.
+    pub curvature: Option<Arc<dyn CurvatureEstimator + Send + Sync>>,
+    /// For an isosurface: the level, the image's unit and the σ used.
+    pub image: Option<FromImage>,
+}
+
+/// How an isosurface was extracted from its image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FromImage {
+    /// The isosurface level.
+    pub level: f64,
+    /// One voxel (the largest spacing).
+    pub voxel: f64,
+    /// The Gaussian σ the image was smoothed by (0: the B-spline).
+    pub sigma: f64,
+}
+
+impl Surface {
+    /// A mesh whose curvature the jobs estimate by the estimator their options
+    /// name.
+    pub fn of_mesh(mesh: Mesh) -> Surface {
+        Surface {
+            mesh,
+            curvature: None,
+            image: None,
+        }
+    }
+
+    /// The estimator of this surface's curvature: its own, or `choice`.
+    pub fn estimator(&self, choice: Estimator) -> Arc<dyn CurvatureEstimator + Send + Sync> {
+        self.curvature.clone().unwrap_or_else(|| choice.build())
+    }
+
+    /// The unit of the relative [`Length`]s on this surface: one voxel for an
+    /// isosurface, the mean edge length for a mesh.
+    pub fn unit(&self) -> f64 {
+        self.image
+            .map_or_else(|| self.mesh.mean_edge_length(), |image| image.voxel)
+    }
+}
+
+/// The isosurface `f = level` of `volume` (inside is `f ≥ level`) smoothed as
+/// `options` say, as a closed oriented mesh with the curvature `options` choose:
+/// the stages `smoothing`, `isosurface` and `mesh`, and the counts `vertices` and
+/// `faces`. Non-finite samples are replaced first ([`prepared_image`]).
+pub fn isosurface(
+    volume: &Volume,
+    level: f64,
+    options: &IsoOptions,
+    observer: &mut dyn Observer,
+) -> Result<Surface> {
+    let volume = prepared_image(Cow::Borrowed(volume), observer)?;
+    let voxel = voxel_size(&volume);
+    let sigma = options.sigma.resolve(voxel);
+    let curvature = try_stage(observer, "smoothing", || {
+        ImageCurvature::new(&volume, sigma)
+    })?;
+    let surface = try_stage(observer, "isosurface", || {
+        marching_cubes(&*curvature.surface_volume(&volume)?, level)
+    })?;
+    let mesh = try_stage(observer, "mesh", || surface.to_mesh())?;
+    observer.count("vertices", mesh.vertex_count());
+    observer.count("faces", mesh.face_count());
+    let curvature: Option<Arc<dyn CurvatureEstimator + Send + Sync>> = match options.curvature {
+        CurvatureSource::Image => Some(Arc::new(curvature)),
+        CurvatureSource::Mesh => None,
+    };
+    Ok(Surface {
+        mesh,
+        curvature,
+        image: Some(FromImage {
+            level,
+            voxel,
+            sigma,
+        }),
+    })
+}

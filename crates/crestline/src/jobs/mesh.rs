@@ -1,0 +1,25 @@
+//! A mesh built from its triangles for the jobs, its repairs told as warnings.
+
+use crate::mesh::{Mesh, RepairReport, TriangleSoup};
+use crate::progress::{try_stage, Observer};
+use crate::Result;
+
+/// The half-edge mesh of `soup`, repaired as [`Mesh::from_soup`] does (or, if
+/// `strict`, refusing a component that cannot be oriented consistently, as
+/// [`Mesh::from_soup_strict`]): the stage `build`, and each repair as a warning.
+pub fn build_mesh(
+    soup: TriangleSoup,
+    strict: bool,
+    observer: &mut dyn Observer,
+) -> Result<(Mesh, RepairReport)> {
+    let build = if strict {
+        Mesh::from_soup_strict
+    } else {
+        Mesh::from_soup
+    };
+    let (mesh, repairs) = try_stage(observer, "build", || build(soup))?;
+    for message in repairs.messages() {
+        observer.warning(&message);
+    }
+    Ok((mesh, repairs))
+}
