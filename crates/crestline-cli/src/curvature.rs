@@ -3,8 +3,9 @@
 use std::path::PathBuf;
 
 use crestline::curvature::{write_curvature_ply, Estimator};
+use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, Surface};
-use crestline::{Error, Result};
+use crestline::Result;
 
 use super::failure::explain;
 use super::load::{load_mesh, report_with_progress, StrictArg};
@@ -34,17 +35,7 @@ pub struct CurvatureArgs {
 
 /// Estimate curvature and write the annotated mesh.
 pub fn run(args: &CurvatureArgs) -> Result<()> {
-    let is_ply = args
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
-    if !is_ply {
-        return Err(Error::File {
-            path: args.output.clone(),
-            message: "curvature output must be a .ply file (it carries per-vertex properties)"
-                .into(),
-        });
-    }
+    choose_format(&args.output, "per-vertex curvature", &[FileFormat::Ply])?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();

@@ -4,38 +4,17 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::report::Report;
-use crestline::curvature::estimate_curvature;
-use crestline::draw::{
-    borders, check_taper, creases, group_name, runs_along_outlines, silhouettes,
-    suggestive_contours, svg_document, visible_drawing, with_facing, write_png, write_svg, Camera,
-    DepthBuffer, DrawOptions, Projection, Style, SuggestiveOptions, View,
-};
-use crestline::lines::{FeatureLines, LineKind};
-use crestline::{Error, Point, Result, Vector};
+use crestline::draw::{svg_document, write_png, write_svg, Style};
+use crestline::io::{choose_format, FileFormat};
+use crestline::jobs::{draw, DrawingOptions, LinesChoice};
+use crestline::Result;
 
+use super::failure::explain;
 use super::load::report_with_progress;
-use super::morse::{extract as extract_morse, MorseArgs};
+use super::morse::MorseArgs;
 use super::outputs::{check_paths, OutputSet, Role};
-use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
-use super::surface::Loaded;
+use super::ridges::{load_for_tracing, smoothing_weights, TracerArgs};
 use super::ReportArg;
-use crestline::jobs::{crest_lines, CrestLinesOptions, Length};
-
-/// Which feature lines to draw.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LinesChoice {
-    /// Ridges and valleys by extremality tracing (the options of `crestline ridges`).
-    #[default]
-    Ridges,
-    /// Ascending and descending lines of the Morse-Smale complex.
-    Morse,
-    /// For a 3D image: crest lines of its isosurface by Marching Lines (Thirion &
-    /// Gourdon), traced in the image rather than on the triangles.
-    Crest,
-    /// No feature lines (e.g. silhouettes only).
-    None,
-}
 
 /// Arguments of `crestline draw`.
 #[derive(clap::Args, Debug)]
@@ -45,15 +24,18 @@ pub struct DrawArgs {
     /// Output drawing (.svg).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which feature lines to draw.
-    #[arg(long, value_enum, default_value_t)]
+    /// Which feature lines to draw: ridges (the options of `crestline ridges`),
+    /// morse (those of `crestline morse`), crest (for a 3D image: its crest lines
+    /// by Marching Lines, traced in the image) or none (e.g. silhouettes only).
+    #[arg(long, default_value_t = DrawingOptions::default().lines,
+          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
     pub lines: LinesChoice,
     /// Also draw the silhouettes (smooth occluding contours).
     #[arg(long)]
     pub silhouettes: bool,
     /// Feature lines are left out where they run beside a visible silhouette
     /// (nearly parallel) closer than this many pixels; 0 keeps them.
-    #[arg(long, value_name = "PX", default_value_t = DrawOptions::default().silhouette_clearance)]
+    #[arg(long, value_name = "PX", default_value_t = DrawingOptions::default().silhouette_clearance)]
     pub silhouette_clearance: f64,
     /// Borders, creases and suggestive contours.
     #[command(flatten)]
@@ -73,8 +55,9 @@ pub struct DrawArgs {
     #[arg(long, value_name = "FOV")]
     pub perspective: Option<f64>,
     /// Canvas size in pixels.
-    #[arg(long, value_name = "WxH", default_value = "800x800", value_parser = parse_size)]
-    pub size: [u32; 2],
+    #[arg(long, value_name = "WxH", default_value_t = Size(DrawingOptions::default().size),
+          value_parser = parse_size)]
+    pub size: Size,
     /// JSON file overriding colours and widths per kind of line.
     #[arg(long, value_name = "FILE")]
     pub style: Option<PathBuf>,
@@ -118,18 +101,27 @@ pub struct FamilyArgs {
     pub suggestive: bool,
 }
 
-/// `style` with the line weights asked for on the command line.
-fn line_weights(mut style: Style, args: &DrawArgs) -> Result<Style> {
-    if let Some(taper) = args.taper {
-        check_taper("--taper", taper).map_err(Error::Argument)?;
+impl DrawArgs {
+    /// The job's options.
+    fn options(&self) -> DrawingOptions {
+        DrawingOptions {
+            lines: self.lines,
+            view: self.view.unwrap_or(DrawingOptions::default().view),
+            camera: self.camera,
+            perspective: self.perspective,
+            size: self.size.0,
+            silhouettes: self.silhouettes,
+            silhouette_clearance: self.silhouette_clearance,
+            borders: self.families.borders,
+            creases: self.families.creases,
+            suggestive: self.families.suggestive,
+            taper: self.taper,
+            width_by_depth: self.width_by_depth,
+            fade_by_view: self.fade_by_view,
+            ridges: self.tracer.options(),
+            morse: self.morse.options(self.tracer.estimator),
+        }
     }
-    for kind in LineKind::ALL {
-        let stroke = style.kind_mut(kind);
-        stroke.taper = args.taper.unwrap_or(stroke.taper);
-        stroke.width_by_depth |= args.width_by_depth;
-        stroke.fade_by_view |= args.fade_by_view && runs_along_outlines(kind);
-    }
-    Ok(style)
 }
 
 /// The files `draw` reads: the mesh, the smoothing weights and the style.
@@ -152,83 +144,24 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     .flatten()
     .collect();
     check_paths(&inputs(args), &outputs)?;
-    let style = line_weights(
-        args.style
-            .as_deref()
-            .map(Style::read)
-            .transpose()?
-            .unwrap_or_default(),
-        args,
-    )?;
-    let options = DrawOptions {
-        silhouettes: args.silhouettes,
-        silhouette_clearance: args.silhouette_clearance,
-        borders: args.families.borders,
-        crease_angle: args.families.creases,
-        suggestive: args.families.suggestive.then(SuggestiveOptions::default),
-        ..DrawOptions::default()
-    };
-    options.check()?;
+    let mut options = args.options();
+    let base = args.style.as_deref().map(Style::read).transpose()?;
+    let style = options.style(base.unwrap_or_default())?;
+    options.draw_options().check()?;
     let mut report = report_with_progress("draw", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    let mesh = &loaded.surface.mesh;
-    let [width, height] = args.size;
-    let camera = Camera::framing(
-        mesh.positions(),
-        view(args),
-        projection(args),
-        width,
-        height,
-    )?;
-
-    let mut extraction = Report::new("draw", &args.mesh);
-    extraction.observer = report.observer.clone();
-    let mut lines = report.stage("extraction", || extract(&loaded, args, &mut extraction))?;
-    report.counts.append(&mut extraction.counts);
-    report.section("extraction_stages", &extraction.stages);
-
-    if options.silhouettes {
-        add_stage(&mut report, &mut lines, LineKind::Silhouette, || {
-            Ok(silhouettes(mesh, &camera, options.silhouette_min_length))
-        })?;
-    }
-    if options.borders {
-        add_stage(&mut report, &mut lines, LineKind::Border, || {
-            Ok(borders(mesh))
-        })?;
-    }
-    if let Some(angle) = options.crease_angle {
-        add_stage(&mut report, &mut lines, LineKind::Crease, || {
-            creases(mesh, angle)
-        })?;
-    }
-    if let Some(suggestive) = &options.suggestive {
-        add_stage(&mut report, &mut lines, LineKind::Suggestive, || {
-            let estimator = loaded.surface.estimator(args.tracer.estimator);
-            let field = estimate_curvature(mesh, &*estimator)?;
-            suggestive_contours(mesh, &field, &camera, suggestive)
-        })?;
-    }
-    let drawing = report.stage("visibility", || {
-        // n · v per point is only drawn by lines faded by view.
-        if LineKind::ALL
-            .into_iter()
-            .any(|kind| style.kind(kind).fade_by_view)
-        {
-            with_facing(mesh, &camera, &mut lines);
-        }
-        let buffer = DepthBuffer::render(mesh, &camera, options.supersampling);
-        visible_drawing(&lines, &camera, &buffer, &options)
-    })?;
+    options.ridges.smoothing_weights =
+        smoothing_weights(&loaded.surface.mesh, &args.mesh, &args.tracer)?;
+    let input = (loaded.volume.as_ref(), None);
+    let mut drawing =
+        draw(&loaded.surface, input, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;
+    drawing.source = args.mesh.display().to_string();
     let paths: serde_json::Map<String, serde_json::Value> = drawing
         .path_counts()
         .into_iter()
         .map(|(group, count)| (group.to_string(), count.into()))
         .collect();
     report.count("paths", serde_json::Value::Object(paths));
-
-    warn_if_empty(args, &drawing, lines.is_empty());
-
     let svg = svg_document(&drawing, &style);
     let mut files = OutputSet::default();
     report.stage("write", || {
@@ -243,119 +176,9 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     files.commit()
 }
 
-/// Run `trace` as the stage named after the SVG group of `kind`, count its lines
-/// as `<kind>_lines` and add them to `lines`.
-fn add_stage(
-    report: &mut Report,
-    lines: &mut FeatureLines,
-    kind: LineKind,
-    trace: impl FnOnce() -> Result<FeatureLines>,
-) -> Result<()> {
-    let traced = report.stage(group_name(kind), trace)?;
-    report.count(&format!("{}_lines", kind.name()), traced.len());
-    lines.lines.extend(traced.lines);
-    Ok(())
-}
-
-/// Warn when the drawing has no path, saying why where it can (an empty result
-/// of the feature lines is warned about where they are extracted).
-fn warn_if_empty(args: &DrawArgs, drawing: &crestline::draw::Drawing, no_lines: bool) {
-    if drawing
-        .path_counts()
-        .into_iter()
-        .any(|(_, count)| count > 0)
-    {
-        return;
-    }
-    let FamilyArgs {
-        borders,
-        creases,
-        suggestive,
-    } = args.families;
-    let families = args.silhouettes || borders || creases.is_some() || suggestive;
-    let why = if args.lines == LinesChoice::None && !families {
-        "the drawing is empty: --lines none without --silhouettes, --borders, --creases or --suggestive draws nothing"
-    } else if no_lines {
-        "the drawing is empty: no lines were found"
-    } else {
-        "the drawing is empty: every line is hidden in this view; try another --view"
-    };
-    super::warn(&args.mesh, why);
-}
-
-/// The feature lines of the surface, by the chosen method.
-fn extract(loaded: &Loaded, args: &DrawArgs, report: &mut Report) -> Result<FeatureLines> {
-    let surface = &loaded.surface;
-    match args.lines {
-        LinesChoice::Ridges => trace_loaded(surface, &args.mesh, &args.tracer, report),
-        LinesChoice::Morse => {
-            let surface = (surface, args.tracer.estimator);
-            extract_morse(surface, &args.mesh, &args.morse, report).map(|(lines, _)| lines)
-        }
-        LinesChoice::Crest => marching_crest_lines(loaded, args, report),
-        LinesChoice::None => Ok(FeatureLines::new(args.mesh.display().to_string())),
-    }
-}
-
-/// The crest lines of the image the surface was extracted from, with its σ, at
-/// least three voxels long and as strong as `--threshold` (∫|k| ds, as for
-/// ridges).
-fn marching_crest_lines(
-    loaded: &Loaded,
-    args: &DrawArgs,
-    report: &mut Report,
-) -> Result<FeatureLines> {
-    let (Some(volume), Some(from)) = (&loaded.volume, loaded.surface.image) else {
-        return Err(Error::File {
-            path: args.mesh.clone(),
-            message: "--lines crest traces lines in a 3D image; for a mesh use ridges or morse"
-                .into(),
-        });
-    };
-    let options = CrestLinesOptions {
-        sigma: Length::World(from.sigma),
-        min_strength: args.tracer.threshold,
-        ..CrestLinesOptions::default()
-    };
-    let mut lines = crest_lines(volume, from.level, &options, report)?;
-    lines.source = args.mesh.display().to_string();
-    Ok(lines)
-}
-
 /// The drawing must be an `.svg` file.
 fn check_output(path: &Path) -> Result<()> {
-    let is_svg = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if is_svg {
-        Ok(())
-    } else {
-        Err(Error::File {
-            path: path.to_path_buf(),
-            message: "drawings are written as SVG: give a .svg file name".into(),
-        })
-    }
-}
-
-/// The view from `--view` or `--camera` (the default orbit view without either).
-fn view(args: &DrawArgs) -> View {
-    match (args.view, args.camera) {
-        (_, Some([ex, ey, ez, tx, ty, tz, ux, uy, uz])) => View::LookAt {
-            eye: Point::new(ex, ey, ez),
-            target: Point::new(tx, ty, tz),
-            up: Vector::new(ux, uy, uz),
-        },
-        (Some([azimuth, elevation]), None) => View::Orbit { azimuth, elevation },
-        (None, None) => View::default(),
-    }
-}
-
-/// Perspective with `--perspective FOV`, orthographic otherwise.
-fn projection(args: &DrawArgs) -> Projection {
-    args.perspective
-        .map_or(Projection::Orthographic, |fov| Projection::Perspective {
-            fov,
-        })
+    choose_format(path, "a drawing (SVG)", &[FileFormat::Svg]).map(drop)
 }
 
 /// `N` comma-separated numbers.
@@ -381,8 +204,18 @@ fn parse_camera(text: &str) -> std::result::Result<[f64; 9], String> {
     parse_numbers(text)
 }
 
+/// A canvas size in pixels, shown as `WIDTHxHEIGHT`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size(pub [u32; 2]);
+
+impl std::fmt::Display for Size {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.0[0], self.0[1])
+    }
+}
+
 /// `WIDTHxHEIGHT` in pixels, e.g. `800x600`.
-fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
+fn parse_size(text: &str) -> std::result::Result<Size, String> {
     let (w, h) = text
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT, e.g. 800x600"))?;
@@ -391,5 +224,5 @@ fn parse_size(text: &str) -> std::result::Result<[u32; 2], String> {
             .parse::<u32>()
             .map_err(|_| format!("'{}' is not a whole number of pixels", s.trim()))
     };
-    Ok([side(w)?, side(h)?])
+    Ok(Size([side(w)?, side(h)?]))
 }

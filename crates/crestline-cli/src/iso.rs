@@ -4,10 +4,10 @@
 use std::path::PathBuf;
 
 use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
-use crestline::io::write_soup;
+use crestline::io::{soup_format, write_soup, FileFormat};
 use crestline::jobs::IsoOptions;
 use crestline::mesh::{Mesh, TriangleSoup};
-use crestline::{Error, Result};
+use crestline::Result;
 
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::check_paths;
@@ -47,14 +47,7 @@ impl IsoArgs {
 /// Extract the isosurface and write it (with curvature to PLY).
 pub fn run(args: &IsoArgs) -> Result<()> {
     require_image(&args.volume, "iso")?;
-    let with_curvature = has_extension(&args.output, "ply");
-    if !with_curvature && !has_extension(&args.output, "obj") && !has_extension(&args.output, "vtk")
-    {
-        return Err(Error::File {
-            path: args.output.clone(),
-            message: "the surface is written as .ply, .obj or .vtk".into(),
-        });
-    }
+    let with_curvature = soup_format(&args.output)? == FileFormat::Ply;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();
@@ -92,9 +85,4 @@ fn soup(mesh: &Mesh) -> TriangleSoup {
         triangles: mesh.triangles(),
         vertex_scalars: Vec::new(),
     }
-}
-
-fn has_extension(path: &std::path::Path, extension: &str) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case(extension))
 }

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::io::is_volume_path;
+use crestline::io::{choose_format, is_volume_path, FileFormat};
 use crestline::jobs::{
     landmarks, landmarks_of_lines, CrestLinesOptions, LandmarksOptions, Length, LinesFrom,
 };
@@ -129,8 +129,7 @@ pub fn space_of(arg: SpaceArg) -> Space {
 
 /// `--space`, or the frame the input's format implies.
 fn input_space(args: &LandmarksArgs) -> Space {
-    let name = args.input.to_string_lossy().to_lowercase();
-    let nifti = name.ends_with(".nii") || name.ends_with(".nii.gz");
+    let nifti = choose_format(&args.input, "", &[FileFormat::Nifti, FileFormat::NiftiGz]).is_ok();
     match args.space {
         Some(space) => space_of(space),
         None if nifti => Space::Ras,

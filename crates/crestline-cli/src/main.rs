@@ -135,7 +135,7 @@ fn main() -> ExitCode {
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err}");
+            eprintln!("error: {}", as_flags(&err.to_string()));
             ExitCode::from(1)
         }
     }
@@ -149,6 +149,22 @@ where
 {
     use clap::builder::TypedValueParser;
     clap::builder::PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
+}
+
+/// `message` of the library with each option it names between backticks
+/// (`` `min_length` ``) written as its command-line flag (`--min-length`).
+pub fn as_flags(message: &str) -> String {
+    let mut parts = message.split('`');
+    let mut text = parts.next().unwrap_or_default().to_string();
+    for (n, part) in parts.enumerate() {
+        if n % 2 == 0 {
+            text.push_str("--");
+            text.push_str(&part.replace('_', "-"));
+        } else {
+            text.push_str(part);
+        }
+    }
+    text
 }
 
 /// Print `text` to stdout; a closed pipe (e.g. `| head`) is not an error.

@@ -1,17 +1,12 @@
 //! `crestline morse`: feature lines from the Morse-Smale complex of a curvature
 //! indicator (Sahner et al. 2008).
 
-use std::sync::Arc;
-
-use crestline::curvature::CurvatureEstimator;
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
-use crestline::morse::{
-    Cancellation, Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simplification,
-};
+use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
 use crestline::Result;
 
 use super::failure::explain;
@@ -20,16 +15,17 @@ use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
 use super::surface::{load_surface, VolumeArgs};
 use super::ReportArg;
-use crestline::jobs::{IsoOptions, Surface};
+use crestline::jobs::{morse, IsoOptions, MorseOptions, Surface};
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MorseArgs {
     /// Indicator: curvedness, kmax, kmin, or the name of a PLY vertex property.
-    #[arg(long, default_value = "curvedness", value_name = "NAME")]
+    #[arg(long, default_value_t = MorseOptions::default().indicator, value_name = "NAME")]
     pub indicator: Indicator,
     /// Cancellation criterion: feature (the paper's significance) or persistence.
-    #[arg(long, default_value_t, value_parser = super::named::<Criterion>(Criterion::NAMES))]
+    #[arg(long, default_value_t = MorseOptions::default().criterion,
+          value_parser = super::named::<Criterion>(Criterion::NAMES))]
     pub criterion: Criterion,
     /// Number of cancellations to make.
     #[arg(long, value_name = "N", conflicts_with = "keep_saddles")]
@@ -37,35 +33,34 @@ pub struct MorseArgs {
     /// Cancel until at most this many saddles that could be cancelled remain
     /// (saddles forced by topology, e.g. 2g on a closed surface of genus g, are
     /// kept besides).
-    #[arg(long, value_name = "N", default_value_t = MorseSmale::DEFAULT_KEEP_SADDLES)]
+    #[arg(long, value_name = "N", default_value_t = MorseOptions::default().keep_saddles)]
     pub keep_saddles: usize,
     /// Which 1-cells to output: ascending (saddle to maximum: crests of the
     /// indicator), descending (saddle to minimum: troughs) or both.
-    #[arg(long, default_value_t, value_parser = super::named::<Cells>(Cells::NAMES))]
+    #[arg(long, default_value_t = MorseOptions::default().cells,
+          value_parser = super::named::<Cells>(Cells::NAMES))]
     pub cells: Cells,
     /// Keep lines forced by topology (no valid cancellation, low significance).
     #[arg(long)]
     pub keep_forced: bool,
     /// Fairing iterations of the output lines on the surface, keeping them on
     /// their crest (at most 1000; 0 leaves the staircases of mesh edges).
-    #[arg(long, default_value_t = MorseSmale::DEFAULT_SMOOTH_ITERATIONS, value_name = "N")]
+    #[arg(long, default_value_t = MorseOptions::default().smooth, value_name = "N")]
     pub smooth: usize,
 }
 
 impl MorseArgs {
-    /// The extractor these options describe, estimating curvature with `estimator`.
-    pub fn extractor(&self, estimator: Arc<dyn CurvatureEstimator + Send + Sync>) -> MorseSmale {
-        MorseSmale {
-            estimator,
+    /// The job's options, with the curvature `estimator`.
+    pub fn options(&self, estimator: Estimator) -> MorseOptions {
+        MorseOptions {
             indicator: self.indicator.clone(),
+            estimator,
             criterion: self.criterion,
-            simplification: match self.cancel {
-                Some(n) => Simplification::Cancel(n),
-                None => Simplification::KeepSaddles(self.keep_saddles),
-            },
+            cancel: self.cancel,
+            keep_saddles: self.keep_saddles,
             cells: self.cells,
-            hide_forced: !self.keep_forced,
-            smooth_iterations: self.smooth,
+            keep_forced: self.keep_forced,
+            smooth: self.smooth,
         }
     }
 }
@@ -82,7 +77,8 @@ pub struct MorseCommand {
     pub output: PathBuf,
     /// Curvature estimator for curvature indicators (jet-fit is steadier on
     /// irregular meshes, where the shape operator's spikes become long-lived maxima).
-    #[arg(long, default_value_t, value_parser = super::named::<Estimator>(Estimator::NAMES))]
+    #[arg(long, default_value_t = MorseOptions::default().estimator,
+          value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     #[command(flatten)]
     pub morse: MorseArgs,
@@ -112,14 +108,9 @@ pub fn extract(
     args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, MorseSummary)> {
-    let (mut lines, summary) = args
-        .extractor(surface.estimator(estimator))
-        .run(&surface.mesh, report)
+    let (mut lines, summary) = morse(surface, None, &args.options(estimator), report)
         .map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
-    if lines.is_empty() {
-        super::warn(mesh_path, &empty_result_advice(args, &summary));
-    }
     let after = summary.after;
     report.section(
         "counts_after",
@@ -130,27 +121,7 @@ pub fn extract(
             "forced_saddles": summary.forced_saddles,
         }),
     );
-    report.count("minima", summary.initial.minima);
-    report.count("saddles", summary.initial.saddles);
-    report.count("maxima", summary.initial.maxima);
-    report.count("lines", lines.len());
     Ok((lines, summary))
-}
-
-/// Why no line came out, and which option to change.
-fn empty_result_advice(args: &MorseArgs, summary: &MorseSummary) -> String {
-    let simplify = if args.cancel.is_some() {
-        "fewer --cancel"
-    } else {
-        "a larger --keep-saddles"
-    };
-    match summary.after.saddles {
-        0 => format!("no saddle is left after the cancellations, so no lines; try {simplify}"),
-        n => format!(
-            "no lines: the {n} saddles left are forced by topology and hidden; \
-             show them with --keep-forced, or try {simplify}"
-        ),
-    }
 }
 
 /// Extract and write the lines (and the hierarchy).

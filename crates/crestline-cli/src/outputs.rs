@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crestline::io::{choose_format, FileFormat};
 use crestline::{Error, Result};
 use tempfile::TempPath;
 
@@ -95,20 +96,15 @@ fn check_writable(role: &str, path: &Path) -> Result<()> {
     })
 }
 
-/// A new empty file with a hidden name in `dir` ending in `suffix`.
-/// The file name of `path` from its first dot on (`.mrk.json`, `.nii.gz`, `.ply`;
-/// a leading dot of a hidden file does not count), empty without one.
+/// The extension of the format `path` names, with its dot (`.mrk.json`,
+/// `.nii.gz`, `.ply`), so that a temporary file stands for `path` to the writers
+/// that choose the format by the file name; empty for a name of no known format.
 fn suffix(path: &Path) -> String {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let start = usize::from(name.starts_with('.'));
-    name[start..]
-        .find('.')
-        .map_or(String::new(), |dot| name[start + dot..].to_string())
+    choose_format(path, "an output", &FileFormat::ALL)
+        .map_or(String::new(), |format| format!(".{}", format.extension()))
 }
 
+/// A new empty file with a hidden name in `dir` ending in `suffix`.
 fn temporary_in(dir: &Path, suffix: &str) -> std::io::Result<TempPath> {
     tempfile::Builder::new()
         .prefix(".crestline-")

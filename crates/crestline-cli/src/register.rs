@@ -4,11 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
+use crestline::jobs::register;
 use crestline::landmarks::export::FORMAT as LANDMARKS;
 use crestline::landmarks::{read_landmarks, LandmarkKind, Space};
 use crestline::lines::read_json;
 use crestline::register::{
-    register, write_transform, PointSet, Registration, RegistrationOptions, TransformFormat,
+    write_transform, PointSet, Registration, RegistrationOptions, TransformFormat,
 };
 use crestline::{Error, Result};
 
@@ -136,10 +137,7 @@ pub fn run(args: &RegisterArgs) -> Result<()> {
     let space = space_of(args.space);
     let fixed = report.stage("read fixed", || enough_points(&args.fixed, space))?;
     let moving = report.stage("read moving", || enough_points(&args.moving, space))?;
-    let registration = report.stage("registration", || register(&fixed, &moving, &options))?;
-    report.count("fixed_points", fixed.line_points.len());
-    report.count("moving_points", moving.line_points.len());
-    report.count("matched", registration.matched);
+    let registration = register(&fixed, &moving, &options, &mut report)?;
     report.count("matched_share", registration.matched_share);
     report.count("rms", registration.rms);
     report.count("rotation_degrees", registration.transform.angle_degrees());

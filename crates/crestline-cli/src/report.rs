@@ -134,24 +134,8 @@ impl Observer for Report {
     /// Printed on stderr as `warning: <input>: <message>` with the options it
     /// names as flags, and kept in the report.
     fn warning(&mut self, message: &str) {
-        let message = as_flags(message);
+        let message = crate::as_flags(message);
         crate::warn(std::path::Path::new(&self.input), &message);
         self.warnings.push(message);
     }
-}
-
-/// `message` with each option named between backticks (`` `min_length` ``)
-/// written as its command-line flag (`--min-length`).
-fn as_flags(message: &str) -> String {
-    let mut parts = message.split('`');
-    let mut text = parts.next().unwrap_or_default().to_string();
-    for (n, part) in parts.enumerate() {
-        if n % 2 == 0 {
-            text.push_str("--");
-            text.push_str(&part.replace('_', "-"));
-        } else {
-            text.push_str(part);
-        }
-    }
-    text
 }

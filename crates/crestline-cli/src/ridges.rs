@@ -147,7 +147,11 @@ fn weights_file(args: &TracerArgs) -> Option<&Path> {
 
 /// The per-vertex smoothing weights `--smoothing-weights` names on `mesh` (read
 /// from `mesh_path`).
-fn smoothing_weights(mesh: &Mesh, mesh_path: &Path, args: &TracerArgs) -> Result<Option<Vec<f64>>> {
+pub fn smoothing_weights(
+    mesh: &Mesh,
+    mesh_path: &Path,
+    args: &TracerArgs,
+) -> Result<Option<Vec<f64>>> {
     match (&args.smoothing_weights, weights_file(args)) {
         (None, _) => Ok(None),
         (Some(_), Some(_)) => Ok(mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec)),

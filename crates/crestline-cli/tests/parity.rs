@@ -345,6 +345,68 @@ fn landmarks_of_an_image_equal_the_job() {
     }
 }
 
+#[test]
+fn morse_equals_the_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let surface = Surface::of_mesh(bunny());
+    let defaults = jobs::MorseOptions::default();
+    let cases = [
+        (vec![], defaults.clone()),
+        (
+            vec!["--keep-saddles", "20", "--cells", "both"],
+            jobs::MorseOptions {
+                keep_saddles: 20,
+                cells: "both".parse().unwrap(),
+                ..defaults
+            },
+        ),
+    ];
+    for (args, options) in cases {
+        let file = tool(
+            dir.path(),
+            "morse.json",
+            &[&["morse", BUNNY][..], &args].concat(),
+        );
+        let (lines, _) = jobs::morse(&surface, None, &options, &mut Silent).unwrap();
+        assert_same_lines(&read_json(&file).unwrap(), &lines);
+    }
+}
+
+#[test]
+fn draw_equals_the_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let surface = Surface::of_mesh(bunny());
+    let defaults = jobs::DrawingOptions::default();
+    let cases = [
+        (
+            vec!["--view", "20,15", "--silhouettes"],
+            jobs::DrawingOptions {
+                view: [20.0, 15.0],
+                silhouettes: true,
+                ..defaults.clone()
+            },
+        ),
+        (
+            vec!["--lines", "morse", "--suggestive", "--size", "400x300"],
+            jobs::DrawingOptions {
+                lines: jobs::LinesChoice::Morse,
+                suggestive: true,
+                size: [400, 300],
+                ..defaults
+            },
+        ),
+    ];
+    for (args, options) in cases {
+        let file = tool(dir.path(), "d.svg", &[&["draw", BUNNY][..], &args].concat());
+        let mut drawing = jobs::draw(&surface, (None, None), &options, &mut Silent).unwrap();
+        drawing.source = BUNNY.to_string();
+        let style = options.style(crestline::draw::Style::default()).unwrap();
+        let svg = crestline::draw::svg_document(&drawing, &style);
+        assert!(svg.matches("<path").count() > 10);
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), svg);
+    }
+}
+
 /// `volume` as a raw NRRD file (its grid axes along the world axes).
 fn write_nrrd(path: &Path, volume: &Volume) {
     let [nx, ny, nz] = volume.dims();

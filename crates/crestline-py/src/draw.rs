@@ -1,16 +1,16 @@
 //! Line drawings: feature lines and silhouettes of a mesh with hidden lines
-//! removed, as SVG and optionally PNG.
+//! removed, as SVG and optionally PNG ([`jobs::draw`]).
 
-use crestline::draw::{
-    draw as draw_lines, render_png, svg_document, Camera, DrawOptions, Projection, Style, View,
-};
+use crestline::draw::{render_png, svg_document, Style};
+use crestline::jobs::{self, Surface};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use crate::arrays::mesh_of;
-use crate::errors::raised;
+use crate::jobs::job_options;
 use crate::lines::{feature_lines, LineParts};
+use crate::progress::Callback;
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -18,44 +18,31 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// The SVG drawing of `lines` on the mesh seen from `azimuth` and `elevation`
-/// (degrees) on a `width` × `height` canvas, with the silhouettes if asked for,
-/// and its PNG rendering if `png`.
+/// The SVG drawing of the mesh as the JSON `options` of [`jobs::DrawingOptions`]
+/// say, with `lines` drawn instead of those the options choose when given, and
+/// its PNG rendering if `png`.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (vertices, faces, lines, options, png, progress=None))]
 fn draw<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
-    lines: Vec<LineParts<'py>>,
-    azimuth: f64,
-    elevation: f64,
-    width: u32,
-    height: u32,
-    silhouettes: bool,
+    lines: Option<Vec<LineParts<'py>>>,
+    options: &str,
     png: bool,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<(String, Option<Bound<'py, PyBytes>>)> {
-    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
-    let lines = feature_lines(lines)?;
-    let options = DrawOptions {
-        silhouettes,
-        ..DrawOptions::default()
-    };
-    let (svg, image) = py
-        .detach(|| -> crestline::Result<(String, Option<Vec<u8>>)> {
-            let view = View::Orbit { azimuth, elevation };
-            let camera = Camera::framing(
-                mesh.positions(),
-                view,
-                Projection::Orthographic,
-                width,
-                height,
-            )?;
-            let drawing = draw_lines(&mesh, &lines, &camera, &options)?;
-            let svg = svg_document(&drawing, &Style::default());
-            let image = png.then(|| render_png(&svg)).transpose()?;
-            Ok((svg, image))
-        })
-        .map_err(raised)?;
+    let surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    let given = lines.map(feature_lines).transpose()?;
+    let options: jobs::DrawingOptions = job_options("draw", options)?;
+    let mut observer = Callback::new(progress);
+    let drawn = py.detach(|| -> crestline::Result<(String, Option<Vec<u8>>)> {
+        let style = options.style(Style::default())?;
+        let drawing = jobs::draw(&surface, (None, given), &options, &mut observer)?;
+        let svg = svg_document(&drawing, &style);
+        let image = png.then(|| render_png(&svg)).transpose()?;
+        Ok((svg, image))
+    });
+    let (svg, image) = observer.outcome(drawn)?;
     Ok((svg, image.map(|bytes| PyBytes::new(py, &bytes))))
 }

@@ -8,7 +8,8 @@ use pyo3::prelude::*;
 /// A crestline error as the Python exception of its kind, carrying the library's
 /// message.
 pub fn raised(error: crestline::Error) -> PyErr {
-    let message = error.to_string();
+    // Options the message names are between backticks: Python spells them as is.
+    let message = error.to_string().replace('`', "");
     let (class, attribute) = match &error {
         crestline::Error::File { path, .. } => {
             ("FileError", Some(("path", path.display().to_string())))

@@ -3,9 +3,9 @@
 
 use crestline::crest_lines::LineFamily;
 use crestline::curvature::Estimator;
-use crestline::jobs::{self, CurvatureSource};
+use crestline::jobs::{self, CurvatureSource, LinesChoice};
 use crestline::linalg::Solver;
-use crestline::morse::{Cells, Criterion};
+use crestline::morse::{Cells, Criterion, Indicator};
 use crestline::ridges::Kinds;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -37,6 +37,8 @@ fn names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     dict.set_item("family", LineFamily::NAMES)?;
     dict.set_item("criterion", Criterion::NAMES)?;
     dict.set_item("cells", Cells::NAMES)?;
+    dict.set_item("indicator", Indicator::NAMES)?;
+    dict.set_item("lines", LinesChoice::NAMES)?;
     Ok(dict)
 }
 

@@ -1,12 +1,11 @@
 //! The mesh half: reading meshes, curvature, ridges and Morse-Smale lines.
 
 use std::path::Path;
+use std::sync::Arc;
 
-use crestline::curvature::{CurvatureField, Estimator};
+use crestline::curvature::{CurvatureField, Estimator, GivenCurvature};
 use crestline::jobs::{self, Surface};
-use crestline::lines::{LineExtractor, SurfaceWithValues};
 use crestline::mesh::Mesh;
-use crestline::morse::{Indicator, MorseSmale, Simplification};
 use crestline::Vector;
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -30,16 +29,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(morse, m)?)?;
     m.add_function(wrap_pyfunction!(mean_edge_length, m)?)?;
     Ok(())
-}
-
-/// The estimator named `estimator` and the mesh of the arrays ([`mesh_of`]).
-fn inputs(
-    vertices: &PyReadonlyArray2<f64>,
-    faces: &PyReadonlyArray2<i64>,
-    estimator: &str,
-) -> PyResult<(Estimator, Mesh)> {
-    let estimator: Estimator = estimator.parse().map_err(raised)?;
-    Ok((estimator, mesh_of(vertices.as_array(), faces.as_array())?))
 }
 
 /// Vertices (n × 3 float64), faces (m × 3 int64) and the repairs as JSON.
@@ -236,35 +225,29 @@ fn mesh_landmarks(
     landmarks_json(&observer.outcome(found)?)
 }
 
-/// Feature lines as ascending 1-cells of a simplified Morse-Smale complex (Sahner
-/// et al. 2008) of the indicator named `indicator` (`curvedness`, `kmax`,
-/// `kmin`), or of `values` (one per vertex) when given, as dicts like
-/// [`ridges`]'.
+/// Feature lines from the Morse-Smale complex ([`jobs::morse`]) as the JSON
+/// `options` of [`jobs::MorseOptions`] say, of the per-vertex `values` when given
+/// instead of the indicator, the curvature of `field` when given (from a callable
+/// estimator) instead of the estimator's; as dicts like [`ridges`]'.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, estimator, keep_saddles, indicator, values=None))]
+#[pyo3(signature = (vertices, faces, options, values=None, field=None, progress=None))]
 fn morse<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
-    estimator: &str,
-    keep_saddles: usize,
-    indicator: &str,
+    options: &str,
     values: Option<PyReadonlyArray1<'py, f64>>,
+    field: Option<Bound<'py, PyDict>>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let (estimator, mesh) = inputs(&vertices, &faces, estimator)?;
-    let complex = MorseSmale {
-        estimator: estimator.build(),
-        indicator: indicator.parse::<Indicator>().map_err(raised)?,
-        simplification: Simplification::KeepSaddles(keep_saddles),
-        ..MorseSmale::default()
-    };
+    let options: jobs::MorseOptions = job_options("morse", options)?;
+    let mut surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    if let Some(field) = field.as_ref().map(field_of).transpose()? {
+        surface.curvature = Some(Arc::new(GivenCurvature(field)));
+    }
     let values: Option<Vec<f64>> = values.map(|v| v.as_array().to_vec());
-    let lines = py.detach(|| match &values {
-        Some(values) => complex.extract(&SurfaceWithValues {
-            mesh: &mesh,
-            values,
-        }),
-        None => complex.extract(&mesh),
-    });
-    line_dicts(py, &lines.map_err(raised)?.lines, Some(&mesh))
+    let mut observer = Callback::new(progress);
+    let found = py.detach(|| jobs::morse(&surface, values, &options, &mut observer));
+    let (lines, _) = observer.outcome(found)?;
+    line_dicts(py, &lines.lines, Some(&surface.mesh))
 }

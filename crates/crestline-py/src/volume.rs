@@ -9,7 +9,7 @@ use std::path::Path;
 
 use crestline::jobs;
 use crestline::mesh::TriangleSoup;
-use crestline::register::{register as align, PointSet, RegistrationOptions};
+use crestline::register::{PointSet, RegistrationOptions};
 use crestline::volume::Volume;
 use nalgebra::Matrix4;
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -217,30 +217,29 @@ pub fn landmarks_json(found: &crestline::landmarks::Landmarks) -> PyResult<Strin
 }
 
 /// The rigid motion taking the `moving` points onto the `fixed` ones by trimmed
-/// ICP, as its 4 × 4 matrix and figures (rms, matched, matched_share,
-/// iterations).
+/// ICP ([`jobs::register`] with the JSON `options` of
+/// [`crestline::register::RegistrationOptions`]), as its 4 × 4 matrix and
+/// figures (rms, matched, matched_share, iterations).
 #[pyfunction]
-#[pyo3(signature = (fixed, moving, fixed_keys, moving_keys, min_overlap))]
+#[pyo3(signature = (fixed, moving, fixed_keys, moving_keys, options, progress=None))]
 fn register_lines<'py>(
     py: Python<'py>,
     fixed: PyReadonlyArray2<'py, f64>,
     moving: PyReadonlyArray2<'py, f64>,
     fixed_keys: PyReadonlyArray2<'py, f64>,
     moving_keys: PyReadonlyArray2<'py, f64>,
-    min_overlap: f64,
+    options: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let set = |lines: &PyReadonlyArray2<f64>, keys: &PyReadonlyArray2<f64>| PointSet {
         line_points: points(lines.as_array()),
         key_points: points(keys.as_array()),
     };
     let (fixed, moving) = (set(&fixed, &fixed_keys), set(&moving, &moving_keys));
-    let options = RegistrationOptions {
-        min_overlap,
-        ..RegistrationOptions::default()
-    };
-    let found = py
-        .detach(|| align(&fixed, &moving, &options))
-        .map_err(raised)?;
+    let options: RegistrationOptions = job_options("register", options)?;
+    let mut observer = Callback::new(progress);
+    let found = py.detach(|| jobs::register(&fixed, &moving, &options, &mut observer));
+    let found = observer.outcome(found)?;
     let matrix = found.transform.to_matrix4();
     let matrix = Array2::from_shape_fn((4, 4), |(r, c)| matrix[(r, c)]);
     let dict = PyDict::new(py);

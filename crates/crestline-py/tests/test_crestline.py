@@ -106,8 +106,8 @@ def test_morse_lines_follow_the_given_values():
         crestline.morse(vertices, faces, indicator=height[:-1])
     with pytest.raises(ValueError, match=r"indicator: expected one of"):
         crestline.morse(vertices, faces, indicator="height")
-    # k_max by name is k_max of the estimator.
-    by_name = crestline.morse(vertices, faces, indicator="k_max", keep_saddles=5)
+    # kmax by name (the library's and the tool's name) is k_max of the estimator.
+    by_name = crestline.morse(vertices, faces, indicator="kmax", keep_saddles=5)
     k_max = crestline.curvature(vertices, faces)["k_max"]
     by_values = crestline.morse(vertices, faces, indicator=k_max, keep_saddles=5)
     assert len(by_name) == len(by_values) > 0

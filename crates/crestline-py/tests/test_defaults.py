@@ -22,7 +22,17 @@ FUNCTIONS = [
      {"estimator", "smooth_steps", "smooth_time", "threshold", "kind", "presmooth", "solver", "fair", "all_extrema"}),
     (crestline.landmarks, "landmarks", "unit", {"radius", "persistence"}),
     (crestline.curvature, "curvature", "mean edge length", {"estimator"}),
+    (crestline.morse, "morse", "mean edge length",
+     {"indicator", "estimator", "keep_saddles", "criterion", "cancel", "cells", "keep_forced", "smooth"}),
+    (crestline.register, "register", "unit", {"min_overlap", "max_iterations"}),
 ]
+# The library's options a function leaves at their defaults on purpose: the
+# isosurface returns the surface alone (its curvature is crestline.curvature's),
+# and registration's inner schedule is the library's to tune.
+NOT_ARGUMENTS = {
+    "iso": {"curvature", "estimator"},
+    "register": {"coarse_iterations", "coarse_points", "tolerance"},
+}
 
 
 def test_the_defaults_are_the_librarys():
@@ -42,13 +52,30 @@ def test_every_option_defaults_to_none_and_is_documented_with_the_librarys_value
         if name in DEFAULTS[job] and DEFAULTS[job][name] is not None:
             assert f"{describe(DEFAULTS[job][name], unit)}" in function.__doc__, (function.__name__, name)
     # Every option the library has for the job is an argument, but those the
-    # package spells otherwise (the family is `kind` and `gauss`) and the
-    # isosurface's curvature options (it returns the surface alone; its
-    # curvature is crestline.curvature's).
+    # package spells otherwise (the family is `kind` and `gauss`).
     spelled = {"family": "kind"}
-    surface_alone = {"curvature", "estimator"} if job == "iso" else set()
-    for option in set(DEFAULTS[job]) - surface_alone:
+    for option in set(DEFAULTS[job]) - NOT_ARGUMENTS.get(job, set()):
         assert spelled.get(option, option) in parameters, f"{function.__name__} lacks {option}"
+
+
+def test_draw_takes_every_option_of_the_tool_with_the_librarys_defaults(bunny_small):
+    parameters = inspect.signature(crestline.draw).parameters
+    for name in ("lines", "view", "size", "silhouettes"):
+        assert parameters[name].default is None
+        assert describe(DEFAULTS["draw"][name], "mean edge length") in crestline.draw.__doc__
+    # Passing every default explicitly draws what passing none draws.
+    explicit = {name: value for name, value in DEFAULTS["draw"].items() if value is not None}
+    assert crestline.draw(*bunny_small, **explicit) == crestline.draw(*bunny_small)
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        crestline.draw(*bunny_small, colour="red")
+
+
+@pytest.fixture(scope="module")
+def bunny_small():
+    from pathlib import Path
+
+    vertices, faces, _ = crestline.read_mesh(Path(__file__).resolve().parents[3] / "meshes" / "bunny_small.obj")
+    return vertices, faces
 
 
 def test_relative_defaults_are_described_in_units():

@@ -21,10 +21,12 @@ LEVEL = 80.0
 
 
 def tool(*args):
-    """Run the tool (skipping the test when it is not built)."""
+    """Run the tool from the repository's root (skipping the test when it is not
+    built)."""
     if not TOOL.exists():
         pytest.skip(f"{TOOL} is not built (run cargo build --release)")
-    subprocess.run([TOOL, *map(str, args)], check=True, capture_output=True)
+    paths = [str(a.relative_to(ROOT)) if isinstance(a, Path) and a.is_relative_to(ROOT) else str(a) for a in args]
+    subprocess.run([TOOL, *paths], check=True, capture_output=True, cwd=ROOT)
 
 
 @pytest.fixture(scope="module")
@@ -155,3 +157,28 @@ def test_landmarks_written_by_the_package_are_the_tools(brain, tmp_path):
     tool("landmarks", MNI, "--level", LEVEL, "-o", tmp_path / "tool.csv")
     crestline.write_landmarks(tmp_path / "package.csv", crestline.landmarks(brain, level=LEVEL), "ras")
     assert (tmp_path / "package.csv").read_text() == (tmp_path / "tool.csv").read_text()
+
+
+@pytest.mark.parametrize(
+    "args, kwargs",
+    [([], {}), (["--keep-saddles", 20, "--cells", "both"], {"keep_saddles": 20, "cells": "both"})],
+)
+def test_morse(bunny, tmp_path, args, kwargs):
+    tool("morse", BUNNY, *args, "-o", tmp_path / "morse.json")
+    assert_same_lines(tmp_path / "morse.json", crestline.morse(*bunny, **kwargs))
+
+
+@pytest.mark.parametrize(
+    "args, kwargs",
+    [
+        (["--view", "20,15", "--silhouettes"], {"view": (20, 15), "silhouettes": True}),
+        (["--lines", "morse", "--suggestive", "--size", "400x300"], {"lines": "morse", "suggestive": True, "size": (400, 300)}),
+    ],
+)
+def test_draw(bunny, tmp_path, args, kwargs):
+    tool("draw", BUNNY, *args, "-o", tmp_path / "drawing.svg")
+    ours = crestline.draw(*bunny, **kwargs)
+    assert ours.count("<path") > 10
+    # The tool titles the drawing with the mesh's file name; arrays have none.
+    title = f"<title>{BUNNY.relative_to(ROOT)}</title>"
+    assert ours.replace("<title></title>", title) == (tmp_path / "drawing.svg").read_text()

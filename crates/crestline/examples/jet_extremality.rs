@@ -24,6 +24,7 @@ use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit
 use crestline::lines::{LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Point, Vector};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
@@ -78,7 +79,7 @@ fn coverage(points: &[Point], radius: f64) -> f64 {
 
 fn measure(name: &str, mesh: &Mesh, tracer: &ExtremalityTracer) {
     let start = Instant::now();
-    let lines = tracer.extract(mesh).unwrap();
+    let lines = tracer.extract(mesh, &mut Silent).unwrap();
     let seconds = start.elapsed().as_secs_f64();
     let motion = motion();
     let points: Vec<Point> = lines
@@ -134,7 +135,7 @@ fn compare_on_meshes(paths: &[String]) {
         ];
         for (name, tracer) in tracers {
             let start = Instant::now();
-            let lines = tracer.extract(&mesh).unwrap();
+            let lines = tracer.extract(&mesh, &mut Silent).unwrap();
             let seconds = start.elapsed().as_secs_f64();
             println!(
                 "| {path} | {} | {name} | {seconds:.2} s | {} ({} / {}) | {:.4} |",

@@ -23,6 +23,7 @@ use crestline::lines::{
     SurfaceWithValues,
 };
 use crestline::mesh::Mesh;
+use crestline::progress::{Observer, Silent};
 
 /// Iso-lines of a per-vertex scalar at the given levels.
 struct IsoLines {
@@ -30,7 +31,11 @@ struct IsoLines {
 }
 
 impl LineExtractor<SurfaceWithValues<'_>> for IsoLines {
-    fn extract(&self, surface: &SurfaceWithValues<'_>) -> crestline::Result<FeatureLines> {
+    fn extract(
+        &self,
+        surface: &SurfaceWithValues<'_>,
+        _: &mut dyn Observer,
+    ) -> crestline::Result<FeatureLines> {
         let mesh = surface.mesh;
         let mut lines = FeatureLines::new("iso-lines");
         for &level in &self.levels {
@@ -100,7 +105,7 @@ fn main() -> crestline::Result<()> {
         mesh: &mesh,
         values: &height,
     };
-    let mut lines = IsoLines { levels }.extract(&surface)?;
+    let mut lines = IsoLines { levels }.extract(&surface, &mut Silent)?;
     let found = lines.len();
     lines.filter(&MinPoints(8));
     lines.filter(&crestline::lines::MinStrength(0.02 * (high - low)));

@@ -22,6 +22,7 @@ use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate;
 use crestline::mesh::Mesh;
 use crestline::morse::{MorseSmale, Simplification};
+use crestline::progress::Silent;
 use crestline::{Point, Result};
 
 fn points(lines: &FeatureLines) -> Vec<Point> {
@@ -91,10 +92,11 @@ fn main() -> Result<()> {
             simplification: Simplification::KeepSaddles(keep),
             ..Default::default()
         };
-        let clean = points(&extractor.extract(&mesh)?);
+        let clean = points(&extractor.extract(&mesh, &mut Silent)?);
         println!("{name:<15} {:>5}  {:>6}", 0.0, clean.len());
         for sigma in [0.2, 0.5, 1.0] {
-            let lines = extractor.extract(&generate::with_normal_noise(&mesh, sigma, 7)?)?;
+            let lines =
+                extractor.extract(&generate::with_normal_noise(&mesh, sigma, 7)?, &mut Silent)?;
             let noisy_points = points(&lines);
             let d = mean_distance(&noisy_points, &clean, 2.0 * h);
             println!(

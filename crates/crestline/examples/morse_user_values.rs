@@ -15,6 +15,7 @@ use crestline::io::read_mesh;
 use crestline::lines::{LineExtractor, SurfaceWithValues};
 use crestline::mesh::Mesh;
 use crestline::morse::{Criterion, MorseSmale, Simplification};
+use crestline::progress::Silent;
 
 fn main() -> crestline::Result<()> {
     let path = std::env::args().nth(1).map_or_else(
@@ -28,10 +29,13 @@ fn main() -> crestline::Result<()> {
         simplification: Simplification::KeepSaddles(8),
         ..Default::default()
     };
-    let lines = extractor.extract(&SurfaceWithValues {
-        mesh: &mesh,
-        values: &height,
-    })?;
+    let lines = extractor.extract(
+        &SurfaceWithValues {
+            mesh: &mesh,
+            values: &height,
+        },
+        &mut Silent,
+    )?;
     println!(
         "{}: {} vertices, {} ascending lines of the height",
         path.file_name().unwrap_or_default().to_string_lossy(),

@@ -17,6 +17,7 @@ use crestline::curvature::CurvatureField;
 use crestline::differential::implicit_curvature;
 use crestline::lines::{LineExtractor, SurfaceWithCurvature};
 use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Point, Vector};
 use nalgebra::Matrix3;
@@ -77,7 +78,7 @@ fn main() -> crestline::Result<()> {
         mesh: &mesh,
         curvature: &curvature,
     };
-    let lines = ExtremalityTracer::default().extract(&surface)?;
+    let lines = ExtremalityTracer::default().extract(&surface, &mut Silent)?;
     let points: Vec<&Point> = lines.iter().flat_map(|l| l.points.iter()).collect();
     let off_plane = points.iter().map(|p| p.z.abs()).fold(0.0, f64::max);
     println!(

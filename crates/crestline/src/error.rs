@@ -2,7 +2,9 @@
 //!
 //! Messages are shown on one line: control characters in them (which can come from
 //! a malformed input file quoted in a message) are written as escapes such as `\x07`
-//! when an [`Error`] is displayed.
+//! when an [`Error`] is displayed. An option a message names is written between
+//! backticks as its options struct spells it (`` `taper` ``), for each caller to
+//! show in its own spelling, as warnings do ([`crate::progress::Observer::warning`]).
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};

@@ -86,8 +86,22 @@ pub fn try_stage<T>(
     name: &str,
     work: impl FnOnce() -> crate::Result<T>,
 ) -> crate::Result<T> {
+    try_stage_with(observer, name, |_| work())
+}
+
+/// [`try_stage`] for work that reports stages of its own to the same observer
+/// (its stages nest in this one).
+pub fn try_stage_with<T>(
+    observer: &mut dyn Observer,
+    name: &str,
+    work: impl FnOnce(&mut dyn Observer) -> crate::Result<T>,
+) -> crate::Result<T> {
     checkpoint(observer)?;
-    let result = stage(observer, name, work).map_err(|e| e.in_stage(name))?;
+    observer.stage_started(name);
+    let start = Instant::now();
+    let result = work(observer);
+    observer.stage_finished(name, start.elapsed().as_secs_f64());
+    let result = result.map_err(|e| e.in_stage(name))?;
     checkpoint(observer)?;
     Ok(result)
 }

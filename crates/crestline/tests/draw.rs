@@ -120,7 +120,7 @@ fn svg_has_the_groups_and_every_path_inside_the_viewbox() {
         latitude(LineKind::Ridge, 0.5),
         latitude(LineKind::Valley, -0.3),
     ]);
-    let drawing = draw(&mesh, &input, &camera, &DrawOptions::default()).unwrap();
+    let drawing = draw(&mesh, &input, &camera, &with_silhouettes()).unwrap();
     let svg = svg_document(&drawing, &Style::default());
     let doc = roxmltree::Document::parse(&svg).expect("the SVG is well-formed XML");
     let root = doc.root_element();
@@ -191,7 +191,7 @@ fn a_line_lying_on_the_surface_is_not_hidden_by_it_even_at_grazing_angles() {
 fn the_silhouette_of_a_sphere_is_one_circle_of_its_projected_radius() {
     let mesh = sphere(2.0, 4000, Sampling::jittered(3)).unwrap().mesh;
     let camera = camera(&mesh, 40.0, -25.0, 500, 500);
-    let drawing = draw(&mesh, &lines(vec![]), &camera, &DrawOptions::default()).unwrap();
+    let drawing = draw(&mesh, &lines(vec![]), &camera, &with_silhouettes()).unwrap();
     let contour = drawing.group(LineKind::Silhouette).unwrap();
     assert_eq!(contour.paths.len(), 1);
     assert!(contour.paths[0].closed);
@@ -317,7 +317,7 @@ fn the_png_preview_shows_the_lines() {
     let mesh = unit_sphere();
     let camera = camera(&mesh, 0.0, 0.0, 200, 200);
     let input = lines(vec![latitude(LineKind::Ridge, 0.5)]);
-    let drawing = draw(&mesh, &input, &camera, &DrawOptions::default()).unwrap();
+    let drawing = draw(&mesh, &input, &camera, &with_silhouettes()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("sphere.png");
     write_png(&path, &svg_document(&drawing, &Style::default())).unwrap();
@@ -501,5 +501,13 @@ fn facing_is_the_cosine_between_normal_and_view() {
     let facing = &lines.lines[0].values[FACING];
     for (p, f) in points.iter().zip(facing) {
         assert!((f - p.z / p.coords.norm()).abs() < 0.05, "{p}: {f}");
+    }
+}
+
+/// The default drawing settings with the silhouettes drawn.
+fn with_silhouettes() -> DrawOptions {
+    DrawOptions {
+        silhouettes: true,
+        ..DrawOptions::default()
     }
 }

@@ -429,7 +429,7 @@ fn drawings_have_the_families_only_when_asked_for() {
     let mesh = disk(8, 48);
     let camera = camera(&mesh, 10.0, 20.0);
     let lines = FeatureLines::new("disk");
-    let plain = draw(&mesh, &lines, &camera, &DrawOptions::default()).unwrap();
+    let plain = draw(&mesh, &lines, &camera, &with_silhouettes()).unwrap();
     assert!(plain.groups.is_empty());
     let options = DrawOptions {
         borders: true,
@@ -463,5 +463,13 @@ fn bad_suggestive_settings_are_refused() {
     ];
     for options in bad {
         assert!(options.check().is_err(), "{options:?}");
+    }
+}
+
+/// The default drawing settings with the silhouettes drawn.
+fn with_silhouettes() -> DrawOptions {
+    DrawOptions {
+        silhouettes: true,
+        ..DrawOptions::default()
     }
 }

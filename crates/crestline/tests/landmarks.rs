@@ -14,6 +14,7 @@ use crestline::landmarks::{
 };
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
+use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::volume::Volume;
 use crestline::Point;
@@ -27,7 +28,9 @@ fn ellipsoid_landmarks(motion: &Isometry3<f64>) -> Landmarks {
         .unwrap()
         .mesh;
     let mesh = transformed(&mesh, |p| motion * p);
-    let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+    let lines = ExtremalityTracer::default()
+        .extract(&mesh, &mut Silent)
+        .unwrap();
     let h = mesh.mean_edge_length();
     // Curvature maxima at the scale of the ellipsoid (the ridge is 5.4 long);
     // the estimated curvature's noise makes maxima at the scale of a few edges.

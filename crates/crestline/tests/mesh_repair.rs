@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use crestline::io::read_mesh;
 use crestline::lines::LineExtractor;
 use crestline::mesh::{HalfedgeId, Mesh, RepairReport, TriangleSoup};
+use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Error, Result};
 
@@ -590,7 +591,7 @@ fn dragon_scans_open_with_their_repairs_reported() {
         // scans: the smoothing systems sum them into one entry.
         if name != "dragon_vrip.ply" {
             let lines = ExtremalityTracer::default()
-                .extract(&mesh)
+                .extract(&mesh, &mut Silent)
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(lines.len() > 20, "{name}: {} lines", lines.len());
         }

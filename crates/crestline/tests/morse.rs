@@ -12,6 +12,7 @@ use crestline::morse::gradient::{
     compare, local_maximum_faces, local_minimum_vertices, Gradient, Keys,
 };
 use crestline::morse::Indicator;
+use crestline::progress::Silent;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -393,7 +394,11 @@ fn feature_criterion_keeps_long_ridges_that_persistence_cuts() {
                 simplification: Simplification::KeepSaddles(6),
                 ..Default::default()
             };
-            ridge_coverage(&ridges, &extractor.extract(&mesh).unwrap(), 3.0 * h)
+            ridge_coverage(
+                &ridges,
+                &extractor.extract(&mesh, &mut Silent).unwrap(),
+                3.0 * h,
+            )
         };
         let (feature, persistence) = (
             coverage(Criterion::Feature),
@@ -417,7 +422,6 @@ fn user_values_drive_the_extractor_like_its_own_indicator() {
     use crestline::curvature::{estimate_curvature, CurvatureEstimator};
     use crestline::lines::{LineExtractor, SurfaceWithValues};
     use crestline::morse::{Cells, MorseSmale};
-    use crestline::progress::Silent;
     use std::sync::Arc;
     let mesh = bundled("bunny_small.obj");
     let extractor = MorseSmale {
@@ -425,14 +429,17 @@ fn user_values_drive_the_extractor_like_its_own_indicator() {
         cells: Cells::Both,
         ..Default::default()
     };
-    let own = extractor.extract(&mesh).unwrap();
+    let own = extractor.extract(&mesh, &mut Silent).unwrap();
     let field = estimate_curvature(&mesh, &JetFit::default() as &dyn CurvatureEstimator).unwrap();
     let values = field.curvedness();
     let given = extractor
-        .extract(&SurfaceWithValues {
-            mesh: &mesh,
-            values: &values,
-        })
+        .extract(
+            &SurfaceWithValues {
+                mesh: &mesh,
+                values: &values,
+            },
+            &mut Silent,
+        )
         .unwrap();
     assert!(own.len() > 10, "{}", own.len());
     assert_eq!(own, given);

@@ -4,6 +4,7 @@ use crestline::draw::{draw, Camera, DrawOptions, Projection, View};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::Mesh;
 use crestline::morse::{Indicator, MorseSmale};
+use crestline::progress::Silent;
 
 fn bunny() -> Mesh {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny.obj");
@@ -77,8 +78,8 @@ fn default_morse_lines_are_smooth_and_stay_on_the_crests() {
         ..MorseSmale::default()
     };
     let (lines, raw) = (
-        morse.extract(&mesh).unwrap(),
-        unfaired.extract(&mesh).unwrap(),
+        morse.extract(&mesh, &mut Silent).unwrap(),
+        unfaired.extract(&mesh, &mut Silent).unwrap(),
     );
     let indicator = Indicator::Curvedness
         .values(&mesh, morse.estimator.as_ref())

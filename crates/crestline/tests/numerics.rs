@@ -14,6 +14,7 @@ use crestline::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 use crestline::mesh::generate::{height_field, sphere, Paraboloid, Sampling};
 use crestline::mesh::{Mesh, TriangleSoup, VertexId};
 use crestline::progress::Observer;
+use crestline::progress::Silent;
 use crestline::ridges::smoothing::presmooth_surface;
 use crestline::ridges::ExtremalityTracer;
 use crestline::Point;
@@ -245,9 +246,11 @@ fn spheres_at_extreme_scales_keep_their_faces_and_curvature() {
 fn spheres_at_extreme_scales_give_no_spurious_lines() {
     for radius in [1e154, 1e-160] {
         let (mesh, _) = scaled_sphere(radius);
-        let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+        let lines = ExtremalityTracer::default()
+            .extract(&mesh, &mut Silent)
+            .unwrap();
         let reference = ExtremalityTracer::default()
-            .extract(&scaled_sphere(1.0).0)
+            .extract(&scaled_sphere(1.0).0, &mut Silent)
             .unwrap();
         assert_eq!(lines.len(), reference.len(), "{radius}");
     }
@@ -361,11 +364,19 @@ fn drawing_a_scrambled_mesh_returns() {
     )
     .unwrap();
     let start = Instant::now();
-    let drawing = draw(&mesh, &lines, &camera, &DrawOptions::default()).unwrap();
+    let drawing = draw(&mesh, &lines, &camera, &with_silhouettes()).unwrap();
     eprintln!(
         "draw, scrambled sphere of {} faces: {:.3} s",
         mesh.face_count(),
         start.elapsed().as_secs_f64()
     );
     assert!(drawing.group(LineKind::Ridge).is_some());
+}
+
+/// The default drawing settings with the silhouettes drawn.
+fn with_silhouettes() -> DrawOptions {
+    DrawOptions {
+        silhouettes: true,
+        ..DrawOptions::default()
+    }
 }

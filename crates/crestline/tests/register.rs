@@ -11,6 +11,7 @@ use std::time::Instant;
 
 use crestline::lines::{LineExtractor, Polyline};
 use crestline::mesh::Mesh;
+use crestline::progress::Silent;
 use crestline::register::{
     best_rigid_fit, register, rotation_angle, write_transform, PointSet, Registration,
     RegistrationOptions, RigidTransform,
@@ -308,8 +309,8 @@ fn ridge_lines_of_a_moved_mesh_register_onto_the_original() {
     );
     let moved_mesh = common::transformed(&mesh, |p| truth.inverse().apply(p));
     let tracer = ExtremalityTracer::default();
-    let fixed = all_points(&tracer.extract(&mesh).unwrap().lines);
-    let moving = all_points(&tracer.extract(&moved_mesh).unwrap().lines);
+    let fixed = all_points(&tracer.extract(&mesh, &mut Silent).unwrap().lines);
+    let moving = all_points(&tracer.extract(&moved_mesh, &mut Silent).unwrap().lines);
     let gaps = closest_distances(&moved(&moving, &truth), &fixed);
     let median_gap = median(gaps);
     eprintln!(

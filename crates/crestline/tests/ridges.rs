@@ -110,7 +110,9 @@ fn coverage(points: &[Point], axis: usize, radius: f64) -> f64 {
 fn default_ridge_of_a_rotated_ellipsoid_is_its_sharpest_principal_ellipse() {
     let motion = motion();
     let mesh = transformed(&ellipsoid(), |p| motion * p);
-    let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+    let lines = ExtremalityTracer::default()
+        .extract(&mesh, &mut Silent)
+        .unwrap();
     // Back to the ellipsoid's frame.
     let points: Vec<Point> = all_points(&lines)
         .iter()
@@ -146,7 +148,7 @@ fn all_extremal_lines_of_an_ellipsoid_cover_its_three_principal_ellipses() {
         ..Default::default()
     };
     let mesh = ellipsoid();
-    let lines = tracer.extract(&mesh).unwrap();
+    let lines = tracer.extract(&mesh, &mut Silent).unwrap();
     let points = all_points(&lines);
     let mean = mean_plane_distance(&points) / diagonal();
     let h = mesh.mean_edge_length();
@@ -169,8 +171,8 @@ fn scaling_by_1000_gives_the_same_lines() {
         threshold: 0.5,
         ..Default::default()
     };
-    let small_lines = tracer.extract(&mesh).unwrap();
-    let big_lines = tracer.extract(&big).unwrap();
+    let small_lines = tracer.extract(&mesh, &mut Silent).unwrap();
+    let big_lines = tracer.extract(&big, &mut Silent).unwrap();
     assert_eq!(small_lines.len(), big_lines.len());
     for (s, b) in small_lines.iter().zip(big_lines.iter()) {
         assert_eq!(s.points.len(), b.points.len());
@@ -230,8 +232,12 @@ fn smoothing_and_lines_do_not_depend_on_direction_signs() {
         threshold: 0.0,
         ..Default::default()
     };
-    let lines_a = tracer(Arc::new(ShapeOperator)).extract(&mesh).unwrap();
-    let lines_b = tracer(Arc::new(RandomSigns)).extract(&mesh).unwrap();
+    let lines_a = tracer(Arc::new(ShapeOperator))
+        .extract(&mesh, &mut Silent)
+        .unwrap();
+    let lines_b = tracer(Arc::new(RandomSigns))
+        .extract(&mesh, &mut Silent)
+        .unwrap();
     assert_same_lines(&lines_a, &lines_b);
 }
 
@@ -244,14 +250,14 @@ fn smoothing_recovers_the_ridge_of_a_noisy_ellipsoid() {
         smooth_steps: 0,
         ..Default::default()
     }
-    .extract(&noisy)
+    .extract(&noisy, &mut Silent)
     .unwrap();
     let smoothed = ExtremalityTracer {
         presmooth_steps: 3,
         smooth_steps: 5,
         ..Default::default()
     }
-    .extract(&noisy)
+    .extract(&noisy, &mut Silent)
     .unwrap();
     let points = all_points(&smoothed);
     let mean = mean_plane_distance(&points) / diagonal();
@@ -340,7 +346,9 @@ fn real_meshes_give_lines() {
             .join(name);
         let soup = crestline::io::read_mesh(&path).unwrap();
         let mesh = Mesh::from_soup(soup).unwrap().0;
-        let lines = ExtremalityTracer::default().extract(&mesh).unwrap();
+        let lines = ExtremalityTracer::default()
+            .extract(&mesh, &mut Silent)
+            .unwrap();
         let ridges = lines.of_kind(LineKind::Ridge).count();
         let valleys = lines.of_kind(LineKind::Valley).count();
         eprintln!(
@@ -374,7 +382,9 @@ fn given_exact_curvature_traces_the_sharpest_principal_ellipse() {
         mesh,
         curvature: &field,
     };
-    let lines = ExtremalityTracer::default().extract(&input).unwrap();
+    let lines = ExtremalityTracer::default()
+        .extract(&input, &mut Silent)
+        .unwrap();
     let points = all_points(&lines);
     let mean = mean_plane_distance(&points) / diagonal();
     eprintln!(
@@ -391,7 +401,7 @@ fn given_exact_curvature_traces_the_sharpest_principal_ellipse() {
         estimator: Arc::new(Refuses),
         ..Default::default()
     };
-    assert_eq!(refuses.extract(&input).unwrap(), lines);
+    assert_eq!(refuses.extract(&input, &mut Silent).unwrap(), lines);
 }
 
 /// An estimator that always fails, to show which entry points use the estimator.
@@ -434,7 +444,7 @@ fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
             presmooth_steps,
             ..Default::default()
         };
-        let lines = tracer.extract(mesh).unwrap();
+        let lines = tracer.extract(mesh, &mut Silent).unwrap();
         assert!(lines.len() >= 3);
         for line in &lines {
             assert_eq!(line.locations.len(), line.points.len());
@@ -456,7 +466,7 @@ fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
         fairing: Some(Default::default()),
         ..Default::default()
     };
-    let lines = faired.extract(mesh).unwrap();
+    let lines = faired.extract(mesh, &mut Silent).unwrap();
     assert!(!lines.is_empty() && lines.iter().all(|l| l.locations.is_empty()));
 }
 
@@ -500,7 +510,7 @@ fn jet_tracer() -> ExtremalityTracer {
 #[test]
 fn jet_extremalities_put_the_ridge_on_the_principal_plane() {
     let (mesh, back) = big_rotated_ellipsoid();
-    let lines = jet_tracer().extract(&mesh).unwrap();
+    let lines = jet_tracer().extract(&mesh, &mut Silent).unwrap();
     let (mean, covered) = ridge_accuracy("jet path", &lines, &mesh, &back);
     assert!(mean < 0.00002, "{mean}");
     assert!(covered >= 0.98, "{covered}");
@@ -520,7 +530,7 @@ fn jet_extremalities_recover_the_ridge_of_a_noisy_ellipsoid() {
         smooth_steps: 5,
         ..jet_tracer()
     };
-    let lines = tracer.extract(&noisy).unwrap();
+    let lines = tracer.extract(&noisy, &mut Silent).unwrap();
     let (mean, covered) = ridge_accuracy("jet path, noise 0.2 h", &lines, &mesh, &back);
     assert!(mean < 0.002, "{mean}");
     assert!(covered >= 0.95, "{covered}");
@@ -555,8 +565,12 @@ fn jet_path_lines_do_not_depend_on_direction_signs() {
         threshold: 0.0,
         ..jet_tracer()
     };
-    let lines_a = tracer(Arc::new(JetFit::default())).extract(&mesh).unwrap();
-    let lines_b = tracer(Arc::new(RandomJetSigns)).extract(&mesh).unwrap();
+    let lines_a = tracer(Arc::new(JetFit::default()))
+        .extract(&mesh, &mut Silent)
+        .unwrap();
+    let lines_b = tracer(Arc::new(RandomJetSigns))
+        .extract(&mesh, &mut Silent)
+        .unwrap();
     assert_same_lines(&lines_a, &lines_b);
 }
 
@@ -571,8 +585,8 @@ fn jet_path_scaling_by_1000_gives_the_same_lines() {
         threshold: 0.5,
         ..jet_tracer()
     };
-    let small_lines = tracer.extract(&mesh).unwrap();
-    let big_lines = tracer.extract(&big).unwrap();
+    let small_lines = tracer.extract(&mesh, &mut Silent).unwrap();
+    let big_lines = tracer.extract(&big, &mut Silent).unwrap();
     assert!(!small_lines.is_empty());
     assert_eq!(small_lines.len(), big_lines.len());
     for (s, b) in small_lines.iter().zip(big_lines.iter()) {

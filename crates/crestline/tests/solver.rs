@@ -10,6 +10,7 @@ use crestline::linalg::{
 use crestline::lines::{FeatureLines, LineExtractor};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::{EdgeId, Mesh};
+use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 
 fn lines(mesh: &Mesh, solver: Solver, presmooth_steps: usize) -> FeatureLines {
@@ -18,7 +19,7 @@ fn lines(mesh: &Mesh, solver: Solver, presmooth_steps: usize) -> FeatureLines {
         presmooth_steps,
         ..ExtremalityTracer::default()
     }
-    .extract(mesh)
+    .extract(mesh, &mut Silent)
     .unwrap()
 }
 

@@ -29,18 +29,20 @@ def mesh_landmarks(
     progress: Optional[Any] = None,
 ) -> str: ...
 def morse(
-    vertices: F64, faces: I64, estimator: str, keep_saddles: int, indicator: str, values: Optional[F64] = None
+    vertices: F64,
+    faces: I64,
+    options: str,
+    values: Optional[F64] = None,
+    field: Optional[dict[str, Any]] = None,
+    progress: Optional[Any] = None,
 ) -> list[dict[str, Any]]: ...
 def draw(
     vertices: F64,
     faces: I64,
-    lines: list[LineParts],
-    azimuth: float,
-    elevation: float,
-    width: int,
-    height: int,
-    silhouettes: bool,
+    lines: Optional[list[LineParts]],
+    options: str,
     png: bool,
+    progress: Optional[Any] = None,
 ) -> tuple[str, Optional[bytes]]: ...
 def read_volume(path: str) -> tuple[npt.NDArray[np.float32], F64]: ...
 def isosurface(
@@ -63,7 +65,9 @@ def image_landmarks(
 def write_landmarks(path: str, landmarks: str, space: str) -> None: ...
 def voxel_size(affine: F64) -> float: ...
 def lines_landmarks(lines: list[LineParts], unit: float, options: str) -> str: ...
-def register_lines(fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, min_overlap: float) -> dict[str, Any]: ...
+def register_lines(
+    fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, options: str, progress: Optional[Any] = None
+) -> dict[str, Any]: ...
 def defaults() -> str: ...
 def names() -> dict[str, list[str]]: ...
 

@@ -20,7 +20,7 @@ from ._checks import (
     pair,
     per_vertex,
 )
-from ._jobs import choice, documented, options
+from ._jobs import DEFAULTS, NAMES, choice, documented, options
 from ._lines import Lines
 
 Curvature = Dict[str, npt.NDArray[Any]]
@@ -168,40 +168,52 @@ def ridges(
     return Lines._from_dicts(dicts)
 
 
-INDICATORS = {"curvedness": "curvedness", "k_max": "kmax", "k_min": "kmin"}
-
-
+@documented("morse", unit="mean edge length")
 def morse(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = None,
-    indicator: Union[str, npt.ArrayLike] = "curvedness",
-    estimator: Estimator = "shape-operator",
-    keep_saddles: int = 100,
+    indicator: Union[str, npt.ArrayLike, None] = None,
+    estimator: Optional[Estimator] = None,
+    keep_saddles: Optional[int] = None,
+    progress: Progress = None,
+    *,
+    criterion: Optional[Literal["feature", "persistence"]] = None,
+    cancel: Optional[int] = None,
+    cells: Optional[Literal["ascending", "descending", "both"]] = None,
+    keep_forced: Optional[bool] = None,
+    smooth: Optional[int] = None,
 ) -> Lines:
-    """Feature lines as the ascending 1-cells (saddle to maximum) of a simplified
-    Morse-Smale complex (Sahner et al. 2008) of ``indicator``: ``"curvedness"``,
-    ``"k_max"``, ``"k_min"`` (of ``estimator``'s curvature) or an array with one
-    float per vertex, keeping the ``keep_saddles`` most significant saddles;
-    faired on the surface.
+    """Feature lines as 1-cells of a simplified Morse-Smale complex (Sahner et al.
+    2008), as the command-line tool's ``morse`` extracts them, of ``indicator``
+    (default {indicator}): ``"curvedness"``, ``"kmax"``, ``"kmin"`` (of
+    ``estimator``'s curvature; default {estimator}) or an array with one float per
+    vertex. The complex is simplified by ``criterion`` (default {criterion}) down
+    to ``keep_saddles`` saddles (default {keep_saddles}) that could still be
+    cancelled, or by ``cancel`` cancellations; the ``cells`` (default {cells}) are
+    output, lines forced by topology only with ``keep_forced`` (default
+    {keep_forced}), and faired on the surface in ``smooth`` iterations (default
+    {smooth}).
 
-    Returns :class:`Lines` of kind ``"ascending"``, with the indicator at each point
-    in ``values["indicator"]``.
+    Returns :class:`Lines` of kind ``"ascending"`` (and ``"descending"``), with
+    the indicator at each point in ``values["indicator"]``. ``progress`` (see
+    ``Progress``) is told of each stage.
     """
     v, f = mesh_arrays(vertices, faces)
-    keep_saddles = count(keep_saddles, "keep_saddles", 0)
-    if isinstance(indicator, str):
-        if indicator not in INDICATORS:
-            raise ValueError(f"indicator: expected one of {tuple(INDICATORS)} or one value per vertex, got {indicator!r}")
-        if callable(estimator):
-            c = _custom_field(estimator, v, f)
-            by_name = {"curvedness": np.sqrt(0.5 * (c["k_max"] ** 2 + c["k_min"] ** 2))}
-            values = by_name.get(indicator, c.get(indicator))
-            dicts = _crestline.morse(v, f, "shape-operator", keep_saddles, "curvedness", values)
-        else:
-            dicts = _crestline.morse(v, f, estimator_name(estimator), keep_saddles, INDICATORS[indicator], None)
-    else:
-        values = per_vertex(indicator, "indicator", len(v))
-        dicts = _crestline.morse(v, f, "shape-operator", keep_saddles, "curvedness", values)
+    values = None
+    if indicator is not None and not isinstance(indicator, str):
+        values, indicator = per_vertex(indicator, "indicator", len(v)), None
+    given = options(
+        indicator=choice(indicator, "indicator", "indicator"),
+        estimator=None if estimator is None or callable(estimator) else estimator_name(estimator),
+        keep_saddles=None if keep_saddles is None else count(keep_saddles, "keep_saddles", 0),
+        criterion=choice(criterion, "criterion", "criterion"),
+        cancel=None if cancel is None else count(cancel, "cancel", 0),
+        cells=choice(cells, "cells", "cells"),
+        keep_forced=None if keep_forced is None else bool(keep_forced),
+        smooth=None if smooth is None else count(smooth, "smooth", 0),
+    )
+    field = _custom_field(estimator, v, f) if callable(estimator) else None
+    dicts = _crestline.morse(v, f, given, values, field, callback(progress, "progress"))
     return Lines._from_dicts(dicts)
 
 
@@ -209,46 +221,69 @@ def morse(
 def draw(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = ...,
-    lines: Optional[Lines] = ...,
-    view: Tuple[float, float] = ...,
-    size: Tuple[int, int] = ...,
-    silhouettes: bool = ...,
+    lines: Union[Lines, str, None] = ...,
+    view: Optional[Tuple[float, float]] = ...,
+    size: Optional[Tuple[int, int]] = ...,
+    silhouettes: Optional[bool] = ...,
     png: Literal[False] = ...,
+    **more: Any,
 ) -> str: ...
 @overload
 def draw(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = ...,
-    lines: Optional[Lines] = ...,
-    view: Tuple[float, float] = ...,
-    size: Tuple[int, int] = ...,
-    silhouettes: bool = ...,
+    lines: Union[Lines, str, None] = ...,
+    view: Optional[Tuple[float, float]] = ...,
+    size: Optional[Tuple[int, int]] = ...,
+    silhouettes: Optional[bool] = ...,
     *,
     png: Literal[True],
+    **more: Any,
 ) -> Tuple[str, bytes]: ...
+@documented("draw", unit="mean edge length")
 def draw(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = None,
-    lines: Optional[Lines] = None,
-    view: Tuple[float, float] = (0.0, 0.0),
-    size: Tuple[int, int] = (800, 800),
-    silhouettes: bool = True,
+    lines: Union[Lines, str, None] = None,
+    view: Optional[Tuple[float, float]] = None,
+    size: Optional[Tuple[int, int]] = None,
+    silhouettes: Optional[bool] = None,
     png: bool = False,
+    **more: Any,
 ) -> Union[str, Tuple[str, bytes]]:
-    """A line drawing of the mesh: ``lines`` (the :func:`ridges` with defaults when
-    None) and the silhouettes, with hidden lines removed, seen from ``view`` =
-    (azimuth, elevation) in degrees, on a canvas of ``size`` = (width, height)
-    pixels, in the command-line tool's default style.
+    """A line drawing of the mesh with hidden lines removed, as the command-line
+    tool's ``draw`` makes it: ``lines`` (:class:`Lines` to draw, or which to trace:
+    ``"ridges"``, ``"morse"`` or ``"none"``; default {lines}), and the silhouettes
+    with ``silhouettes=True`` (default {silhouettes}), seen from ``view`` =
+    (azimuth, elevation) in degrees (default {view}), on a canvas of ``size`` =
+    (width, height) pixels (default {size}), in the tool's default style.
+
+    The tool's other options are keyword arguments of the same names: ``camera``
+    (eye, target and up, nine numbers), ``perspective`` (field of view),
+    ``borders``, ``creases`` (an angle in degrees), ``suggestive``, ``taper``,
+    ``width_by_depth``, ``fade_by_view``, ``silhouette_clearance``, and ``ridges``
+    and ``morse`` (dicts of the options of :func:`ridges` and :func:`morse`).
 
     Returns the SVG document, or ``(svg, png_bytes)`` with ``png=True``.
     """
     v, f = mesh_arrays(vertices, faces)
-    if lines is None:
-        lines = ridges(v, f)
-    if not isinstance(lines, Lines):
-        raise TypeError(f"lines: expected crestline.Lines, got {type(lines).__name__}")
-    azimuth, elevation = pair(view, "view", lambda a, name: number(a, name, low=-360.0))
-    width, height = pair(size, "size", lambda s, name: count(s, name, 1, 20000))
-    svg, image = _crestline.draw(v, f, lines._parts(), azimuth, elevation, width, height, bool(silhouettes), bool(png))
+    given_lines = None
+    if isinstance(lines, Lines):
+        given_lines, lines = lines._parts(), None
+    elif isinstance(lines, str):
+        choice(lines, "lines", "lines")
+    elif lines is not None:
+        raise TypeError(f"lines: expected crestline.Lines or one of {NAMES['lines']}, got {type(lines).__name__}")
+    unknown = set(more) - set(DEFAULTS["draw"]) - {"progress"}
+    if unknown:
+        raise TypeError(f"draw: unexpected keyword arguments {sorted(unknown)}; expected some of {sorted(DEFAULTS['draw'])}")
+    progress = callback(more.pop("progress", None), "progress")
+    chosen = dict(
+        lines=lines,
+        view=None if view is None else list(pair(view, "view", lambda a, name: number(a, name, low=-360.0))),
+        size=None if size is None else list(pair(size, "size", lambda s, name: count(s, name, 1, 20000))),
+        silhouettes=None if silhouettes is None else bool(silhouettes),
+        **more,
+    )
+    svg, image = _crestline.draw(v, f, given_lines, options(**chosen), bool(png), progress)
     return (svg, image) if png else svg
-

@@ -351,26 +351,34 @@ def _line_points(value: Any, name: str) -> Vertices:
     return points(value, name)
 
 
+@documented("register")
 def register(
     fixed: Union[Lines, npt.ArrayLike],
     moving: Union[Lines, npt.ArrayLike],
     fixed_keys: Optional[npt.ArrayLike] = None,
     moving_keys: Optional[npt.ArrayLike] = None,
-    min_overlap: float = 0.4,
+    min_overlap: Optional[float] = None,
+    max_iterations: Optional[int] = None,
+    progress: Progress = None,
 ) -> Dict[str, Any]:
     """The rigid motion taking ``moving`` onto ``fixed`` (crest lines, or (n, 3)
     point arrays), by trimmed ICP from the best of the principal-axes guesses, as
     the command-line tool's ``register``; key points (e.g. extremal landmarks) of
-    both, when given, guide the coarse stage. ``min_overlap`` is the least share
-    of moving points expected to match.
+    both, when given, guide the coarse stage. ``min_overlap`` (default
+    {min_overlap}) is the least share of moving points expected to match;
+    ``max_iterations`` (default {max_iterations}) bounds the final ICP.
 
-    Returns ``{"matrix": 4 × 4 (moving → fixed), "rms", "matched",
-    "matched_share", "iterations"}``.
+    Returns ``{{"matrix": 4 × 4 (moving → fixed), "rms", "matched",
+    "matched_share", "iterations"}}``.
     """
     keys = [points(np.zeros((0, 3)) if k is None else k, name) for k, name in
             ((fixed_keys, "fixed_keys"), (moving_keys, "moving_keys"))]
-    overlap = number(min_overlap, "min_overlap")
+    given = options(
+        min_overlap=None if min_overlap is None else number(min_overlap, "min_overlap"),
+        max_iterations=None if max_iterations is None else count(max_iterations, "max_iterations", 1),
+    )
     result: Dict[str, Any] = _crestline.register_lines(
-        _line_points(fixed, "fixed"), _line_points(moving, "moving"), keys[0], keys[1], overlap
+        _line_points(fixed, "fixed"), _line_points(moving, "moving"), keys[0], keys[1], given,
+        callback(progress, "progress"),
     )
     return result

@@ -217,3 +217,16 @@ pub trait CurvatureEstimator {
     /// Estimate principal curvatures, directions and normals at every vertex.
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField>;
 }
+
+/// Curvature computed elsewhere (by a caller's own estimator, or an earlier run),
+/// served as an estimator: [`CurvatureEstimator::estimate`] returns a copy of the
+/// field, checked against the mesh it is asked about.
+#[derive(Clone, Debug)]
+pub struct GivenCurvature(pub CurvatureField);
+
+impl CurvatureEstimator for GivenCurvature {
+    fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
+        self.0.check(mesh)?;
+        Ok(self.0.clone())
+    }
+}

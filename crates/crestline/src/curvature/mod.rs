@@ -24,7 +24,7 @@ mod shape_operator;
 
 pub use accuracy::relative_rms_error;
 pub use choice::Estimator;
-pub use field::{CurvatureEstimator, CurvatureField};
+pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature};
 pub use image::{image_isosurface, ImageCurvature};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply};

@@ -17,7 +17,8 @@
 //!    [`write_svg`]) and optionally rendered to PNG (`write_png`, with the `png`
 //!    feature).
 //!
-//! [`draw`] runs steps 2–4 with [`DrawOptions`].
+//! [`draw`] runs steps 2–4 with [`DrawOptions`] ([`draw_observed`] reporting
+//! each), and [`crate::jobs::draw`] the whole of `crestline draw`.
 //!
 //! Depth tolerances are in mean edge lengths of the mesh, so a drawing does not
 //! depend on the unit of the file.
@@ -38,9 +39,10 @@ mod zero_lines;
 
 use rayon::prelude::*;
 
-use crate::curvature::{estimate_curvature, ShapeOperator};
+use crate::curvature::{estimate_curvature, CurvatureEstimator, ShapeOperator};
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
+use crate::progress::{try_stage, Observer, Silent};
 use crate::{Error, Result};
 
 pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
@@ -163,7 +165,7 @@ pub fn with_facing(mesh: &Mesh, camera: &Camera, lines: &mut FeatureLines) {
 /// The settings of [`draw`] and [`visible_drawing`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrawOptions {
-    /// Trace and draw the silhouettes.
+    /// Trace and draw the silhouettes. Default: no.
     pub silhouettes: bool,
     /// Silhouette lines shorter than this many mean edge lengths are dropped.
     pub silhouette_min_length: f64,
@@ -193,7 +195,7 @@ pub struct DrawOptions {
 impl Default for DrawOptions {
     fn default() -> Self {
         DrawOptions {
-            silhouettes: true,
+            silhouettes: false,
             silhouette_min_length: 3.0,
             borders: false,
             crease_angle: None,
@@ -258,26 +260,57 @@ pub fn draw(
     camera: &Camera,
     options: &DrawOptions,
 ) -> Result<Drawing> {
+    draw_observed(
+        mesh,
+        lines.clone(),
+        camera,
+        options,
+        &ShapeOperator,
+        &mut Silent,
+    )
+}
+
+/// [`draw`] with the suggestive contours' curvature from `estimator`, telling
+/// `observer` of the stages — each family traced (named after its SVG group, with
+/// the count `<kind>_lines`) and `visibility` — and asking it between them
+/// whether to go on.
+pub fn draw_observed(
+    mesh: &Mesh,
+    mut lines: FeatureLines,
+    camera: &Camera,
+    options: &DrawOptions,
+    estimator: &dyn CurvatureEstimator,
+    observer: &mut dyn Observer,
+) -> Result<Drawing> {
     options.check()?;
-    let mut all = lines.clone();
+    let mut add = |kind: LineKind, trace: &dyn Fn() -> Result<FeatureLines>| -> Result<()> {
+        let traced = try_stage(observer, group_name(kind), trace)?;
+        observer.count(&format!("{}_lines", kind.name()), traced.len());
+        lines.lines.extend(traced.lines);
+        Ok(())
+    };
     if options.silhouettes {
-        all.lines
-            .extend(silhouettes(mesh, camera, options.silhouette_min_length).lines);
+        add(LineKind::Silhouette, &|| {
+            Ok(silhouettes(mesh, camera, options.silhouette_min_length))
+        })?;
     }
     if options.borders {
-        all.lines.extend(borders(mesh).lines);
+        add(LineKind::Border, &|| Ok(borders(mesh)))?;
     }
     if let Some(angle) = options.crease_angle {
-        all.lines.extend(creases(mesh, angle)?.lines);
+        add(LineKind::Crease, &|| creases(mesh, angle))?;
     }
     if let Some(suggestive) = &options.suggestive {
-        let field = estimate_curvature(mesh, &ShapeOperator)?;
-        all.lines
-            .extend(suggestive_contours(mesh, &field, camera, suggestive)?.lines);
+        add(LineKind::Suggestive, &|| {
+            let field = estimate_curvature(mesh, estimator)?;
+            suggestive_contours(mesh, &field, camera, suggestive)
+        })?;
     }
-    with_facing(mesh, camera, &mut all);
-    let buffer = DepthBuffer::render(mesh, camera, options.supersampling);
-    visible_drawing(&all, camera, &buffer, options)
+    try_stage(observer, "visibility", || {
+        with_facing(mesh, camera, &mut lines);
+        let buffer = DepthBuffer::render(mesh, camera, options.supersampling);
+        visible_drawing(&lines, camera, &buffer, options)
+    })
 }
 
 /// The visible, simplified pieces of `lines` against `buffer`: one group for

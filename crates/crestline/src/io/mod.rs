@@ -19,21 +19,29 @@
 //!
 //! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage) into a
 //! [`crate::volume::Volume`], and [`read_raw_volume`] headerless samples.
+//!
+//! Every reader and writer of the crate that picks its format by the file name
+//! asks [`choose_format`] for it, among the [`FileFormat`]s it handles. Every PLY
+//! header the crate writes comes from one header writer, and every VTK file from
+//! one legacy VTK writer, both in this module.
 
+mod format;
 mod obj;
 mod off;
 mod ply;
 mod ply_binary;
-mod ply_header;
+pub(crate) mod ply_header;
 mod ply_records;
 mod soup;
 mod stl;
 mod volume;
+pub(crate) mod vtk;
 
+pub use format::{choose_format, FileFormat, FormatChoice};
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
-pub use soup::write_soup;
+pub use soup::{soup_format, write_soup};
 pub use stl::read_stl;
 pub use volume::{
     is_volume_path, read_raw_volume, read_volume, SampleType, SUPPORTED_VOLUME_EXTENSIONS,
@@ -50,8 +58,17 @@ pub(crate) fn fits_f32(value: f64) -> bool {
     value.is_finite() && value.abs() <= f64::from(f32::MAX)
 }
 
+/// The formats [`read_mesh`] reads, each with its parser, in the order listed in
+/// error messages.
+const READERS: [(FileFormat, Parser); 4] = [
+    (FileFormat::Obj, obj::parse),
+    (FileFormat::Ply, ply::parse),
+    (FileFormat::Off, off::parse),
+    (FileFormat::Stl, stl::parse),
+];
+
 /// The file extensions [`read_mesh`] understands (compared case-insensitively).
-pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &["obj", "ply", "off", "stl"];
+pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &format::extensions(&READERS);
 
 /// A callback told how many bytes of a file have been parsed so far and the file's
 /// total size, e.g. to drive a progress bar.
@@ -85,25 +102,7 @@ type Parser = fn(&mut Input<'_>) -> Result<TriangleSoup>;
 
 /// The parser for the extension of `path`.
 fn parser_for(path: &Path) -> Result<Parser> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let problem = match extension.as_deref() {
-        Some("obj") => return Ok(obj::parse),
-        Some("ply") => return Ok(ply::parse),
-        Some("off") => return Ok(off::parse),
-        Some("stl") => return Ok(stl::parse),
-        Some(other) => format!("unsupported file extension '.{other}'"),
-        None => "no file extension to tell the mesh format".to_string(),
-    };
-    Err(Error::File {
-        path: path.to_path_buf(),
-        message: format!(
-            "{problem}; supported mesh formats are .{}",
-            SUPPORTED_MESH_EXTENSIONS.join(", .")
-        ),
-    })
+    choose_format(path, "a mesh", &READERS).map(|(_, parse)| parse)
 }
 
 /// Check that `path` names an existing file, with clear messages for a missing file

@@ -9,7 +9,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::ply_binary::{self, Endian};
-use super::ply_header::{self, Element, Encoding, Header, PropertyType};
+use super::ply_header::{self, Element, Encoding, Header, Property, PropertyType, ScalarType};
 use super::ply_records::read_element;
 use super::{push_polygon, Input};
 use crate::mesh::{Mesh, ScalarProperty, TriangleSoup};
@@ -325,7 +325,7 @@ pub(super) fn write_triangles_ply(
     triangles: &[[u32; 3]],
     attributes: &[VertexAttribute<'_>],
 ) -> Result<()> {
-    let header = ply_header(positions.len(), triangles.len(), attributes)?;
+    let elements = header_elements(positions.len(), triangles.len(), attributes)?;
     if let Some(message) = attributes
         .iter()
         .find_map(VertexAttribute::first_non_finite)
@@ -336,7 +336,7 @@ pub(super) fn write_triangles_ply(
         });
     }
     crate::atomic::write_atomically(path, |w| {
-        w.write_all(header.as_bytes())?;
+        ply_header::write_header(w, &["written by crestline"], &elements)?;
         for (v, p) in positions.iter().enumerate() {
             p.coords
                 .iter()
@@ -348,7 +348,7 @@ pub(super) fn write_triangles_ply(
         for triangle in triangles {
             w.write_all(&[3])?;
             for &v in triangle {
-                // Below i32::MAX: checked by `ply_header`.
+                // Below i32::MAX: checked by `header_elements`.
                 w.write_all(&(v as i32).to_le_bytes())?;
             }
         }
@@ -356,19 +356,18 @@ pub(super) fn write_triangles_ply(
     })
 }
 
-/// The header of [`write_ply`]'s output, after checking the attributes.
-fn ply_header(
+/// The elements of [`write_ply`]'s header, after checking the attributes.
+fn header_elements(
     vertex_count: usize,
     face_count: usize,
     attributes: &[VertexAttribute<'_>],
-) -> Result<String> {
+) -> Result<[Element; 2]> {
     if i32::try_from(vertex_count).is_err() {
         return Err(Error::Argument(format!(
             "{vertex_count} vertices are too many for PLY int indices"
         )));
     }
     let mut names: Vec<String> = ["x", "y", "z"].map(String::from).to_vec();
-    let mut attribute_names = Vec::new();
     for attribute in attributes {
         let name = attribute.name();
         if attribute.len() != vertex_count {
@@ -388,22 +387,28 @@ fn ply_header(
                     "vertex property '{property}' is given twice"
                 )));
             }
-            names.push(property.clone());
-            attribute_names.push(property);
+            names.push(property);
         }
     }
-    let mut header = format!(
-        "ply\nformat binary_little_endian 1.0\ncomment written by crestline\nelement vertex {vertex_count}\n"
-    );
     // Double precision, so that a written mesh and its values read back exactly.
-    for name in ["x", "y", "z"]
-        .iter()
-        .copied()
-        .chain(attribute_names.iter().map(String::as_str))
-    {
-        header += &format!("property double {name}\n");
-    }
-    header +=
-        &format!("element face {face_count}\nproperty list uchar int vertex_indices\nend_header\n");
-    Ok(header)
+    let vertex = Element {
+        name: "vertex".to_string(),
+        count: vertex_count,
+        properties: names
+            .into_iter()
+            .map(|name| Property::scalar(ScalarType::Double, name))
+            .collect(),
+    };
+    let face = Element {
+        name: "face".to_string(),
+        count: face_count,
+        properties: vec![Property {
+            name: "vertex_indices".to_string(),
+            kind: PropertyType::List {
+                count: ScalarType::UChar,
+                item: ScalarType::Int,
+            },
+        }],
+    };
+    Ok([vertex, face])
 }

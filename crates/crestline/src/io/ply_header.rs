@@ -1,5 +1,6 @@
-//! The header of a PLY file: its grammar, checked line by line, and the check that
-//! the element counts it announces fit in the rest of the file.
+//! The header of a PLY file: its grammar, checked line by line, the check that
+//! the element counts it announces fit in the rest of the file, and the writer of
+//! the headers of every PLY file the crate writes ([`write_header`]).
 //!
 //! ```text
 //! ply
@@ -9,6 +10,8 @@
 //! property <type> <name> | property list <count type> <item type> <name>
 //! end_header
 //! ```
+
+use std::io::{self, Write};
 
 use super::ply_binary::Endian;
 use super::{line_error, quoted, truncated, Input};
@@ -25,7 +28,7 @@ pub(super) enum Encoding {
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub(super) enum ScalarType {
+pub(crate) enum ScalarType {
     Char,
     UChar,
     Short,
@@ -105,26 +108,34 @@ impl ScalarType {
 
 /// The type of a property: one value, or a list with its length first.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub(super) enum PropertyType {
+pub(crate) enum PropertyType {
     Scalar(ScalarType),
     List { count: ScalarType, item: ScalarType },
 }
 
 /// A property of an element.
 #[derive(Clone, Debug)]
-pub(super) struct Property {
+pub(crate) struct Property {
     pub name: String,
     pub kind: PropertyType,
 }
 
+impl Property {
+    /// A property of one value of type `scalar`.
+    pub(crate) fn scalar(scalar: ScalarType, name: impl Into<String>) -> Property {
+        Property {
+            name: name.into(),
+            kind: PropertyType::Scalar(scalar),
+        }
+    }
+}
+
 /// An element of the header: `count` records of the same properties.
 #[derive(Clone, Debug)]
-pub(super) struct Element {
+pub(crate) struct Element {
     pub name: String,
     pub count: usize,
     pub properties: Vec<Property>,
-    /// The header line declaring the element.
-    line: usize,
 }
 
 impl Element {
@@ -201,6 +212,8 @@ fn read_magic(input: &mut Input<'_>) -> Result<()> {
 struct HeaderBuilder {
     encoding: Option<Encoding>,
     elements: Vec<Element>,
+    /// The header line declaring each element.
+    element_lines: Vec<usize>,
 }
 
 /// The problem with a header line, without its line number.
@@ -243,11 +256,11 @@ impl HeaderBuilder {
         let name = tokens
             .next()
             .ok_or("an 'element' line needs a name and a count")?;
-        if let Some(first) = self.elements.iter().find(|e| e.name == name) {
+        if let Some(first) = self.elements.iter().position(|e| e.name == name) {
             return Err(format!(
                 "a second element {} (the first is on line {}); element names must be unique",
                 quoted(name),
-                first.line
+                self.element_lines[first]
             ));
         }
         let count = tokens
@@ -259,8 +272,8 @@ impl HeaderBuilder {
             name: name.to_string(),
             count,
             properties: Vec::new(),
-            line,
         });
+        self.element_lines.push(line);
         Ok(())
     }
 
@@ -390,4 +403,37 @@ pub(super) fn check_counts_fit(header: &Header, payload: &[u8]) -> Result<()> {
 fn count_lines(bytes: &[u8]) -> usize {
     let breaks = bytes.iter().filter(|&&b| b == b'\n').count();
     breaks + usize::from(bytes.last().is_some_and(|&b| b != b'\n'))
+}
+
+/// Write the header of a binary little-endian PLY file: `ply`, the format, one
+/// `comment` line per comment, each element with its properties, and
+/// `end_header`.
+pub(crate) fn write_header(
+    w: &mut impl Write,
+    comments: &[impl AsRef<str>],
+    elements: &[Element],
+) -> io::Result<()> {
+    writeln!(w, "ply")?;
+    writeln!(w, "format binary_little_endian 1.0")?;
+    for comment in comments {
+        writeln!(w, "comment {}", comment.as_ref())?;
+    }
+    for element in elements {
+        writeln!(w, "element {} {}", element.name, element.count)?;
+        for property in &element.properties {
+            match property.kind {
+                PropertyType::Scalar(scalar) => {
+                    writeln!(w, "property {} {}", scalar.name(), property.name)?
+                }
+                PropertyType::List { count, item } => writeln!(
+                    w,
+                    "property list {} {} {}",
+                    count.name(),
+                    item.name(),
+                    property.name
+                )?,
+            }
+        }
+    }
+    writeln!(w, "end_header")
 }

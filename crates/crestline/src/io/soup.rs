@@ -2,51 +2,56 @@
 //! surfaces of images may be Möbius-like), saved as they are, without the repairs
 //! of [`crate::mesh::Mesh::from_soup`].
 
-use std::io::Write;
 use std::path::Path;
 
+use crate::atomic::write_atomically;
 use crate::mesh::TriangleSoup;
 use crate::{Error, Result};
 
+use super::format::{choose_format, FileFormat};
 use super::obj::write_triangles_obj;
 use super::ply::write_triangles_ply;
+use super::vtk::{self, Attachment, CellType};
 use super::VertexAttribute;
 
+/// A writer of one format, given a soup already checked.
+type SoupWriter = fn(&Path, &TriangleSoup) -> Result<()>;
+
+/// The formats of [`write_soup`], each with its writer, in the order listed in
+/// error messages.
+const WRITERS: [(FileFormat, SoupWriter); 3] = [
+    (FileFormat::Ply, write_soup_ply),
+    (FileFormat::Obj, write_soup_obj),
+    (FileFormat::Vtk, write_soup_vtk),
+];
+
 /// Write `soup` in the format given by the extension of `path`: `.ply` (binary,
-/// with every vertex scalar as a float property), `.obj`, or `.vtk` (legacy ASCII
+/// with every vertex scalar as a double property), `.obj`, or `.vtk` (legacy ASCII
 /// `POLYDATA` with the vertex scalars as `POINT_DATA`). Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`, before any file is created): an unknown
-/// extension, a non-finite coordinate or scalar, an index out of range, or a scalar
-/// without one value per vertex.
+/// extension ([`soup_format`]), a non-finite coordinate or scalar, an index out of
+/// range, or a scalar without one value per vertex.
 pub fn write_soup(path: &Path, soup: &TriangleSoup) -> Result<()> {
-    let in_file = |message: String| Error::File {
+    check_soup(soup).map_err(|message| Error::File {
         path: path.to_path_buf(),
         message,
-    };
-    check_soup(soup).map_err(in_file)?;
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
-        Some("ply") => {
-            let attributes: Vec<VertexAttribute<'_>> = soup
-                .vertex_scalars
-                .iter()
-                .map(|s| VertexAttribute::Scalar {
-                    name: &s.name,
-                    values: &s.values,
-                })
-                .collect();
-            write_triangles_ply(path, &soup.positions, &soup.triangles, &attributes)
-        }
-        Some("obj") => write_triangles_obj(path, &soup.positions, &soup.triangles),
-        Some("vtk") => write_soup_vtk(path, soup),
-        _ => Err(in_file(
-            "unknown surface format; supported extensions: .ply, .obj, .vtk".into(),
-        )),
-    }
+    })?;
+    let (_, write) = writer_for(path)?;
+    write(path, soup)
+}
+
+/// The format [`write_soup`] writes `path` in: [`FileFormat::Ply`],
+/// [`FileFormat::Obj`] or [`FileFormat::Vtk`] by its extension, in any letter
+/// case; another extension is an [`Error::File`] listing these, so that a caller
+/// can check an output's name before the work.
+pub fn soup_format(path: &Path) -> Result<FileFormat> {
+    writer_for(path).map(|(format, _)| format)
+}
+
+/// The format and writer of the extension of `path`.
+fn writer_for(path: &Path) -> Result<(FileFormat, SoupWriter)> {
+    choose_format(path, "a surface", &WRITERS)
 }
 
 /// Why `soup` cannot be written, if it cannot.
@@ -89,32 +94,39 @@ fn check_soup(soup: &TriangleSoup) -> std::result::Result<(), String> {
     Ok(())
 }
 
+/// Binary PLY with every vertex scalar as a double property.
+fn write_soup_ply(path: &Path, soup: &TriangleSoup) -> Result<()> {
+    let attributes: Vec<VertexAttribute<'_>> = soup
+        .vertex_scalars
+        .iter()
+        .map(|s| VertexAttribute::Scalar {
+            name: &s.name,
+            values: &s.values,
+        })
+        .collect();
+    write_triangles_ply(path, &soup.positions, &soup.triangles, &attributes)
+}
+
+/// OBJ of the positions and triangles.
+fn write_soup_obj(path: &Path, soup: &TriangleSoup) -> Result<()> {
+    write_triangles_obj(path, &soup.positions, &soup.triangles)
+}
+
 /// Legacy ASCII VTK: `POINTS`, `POLYGONS` of three corners, and `POINT_DATA` with
 /// one `SCALARS` array per vertex scalar.
 fn write_soup_vtk(path: &Path, soup: &TriangleSoup) -> Result<()> {
-    crate::atomic::write_atomically(path, |w| {
-        writeln!(w, "# vtk DataFile Version 3.0")?;
-        writeln!(w, "triangle surface written by crestline")?;
-        writeln!(w, "ASCII")?;
-        writeln!(w, "DATASET POLYDATA")?;
-        writeln!(w, "POINTS {} double", soup.positions.len())?;
-        for p in &soup.positions {
-            writeln!(w, "{} {} {}", p.x, p.y, p.z)?;
-        }
-        let faces = soup.triangles.len();
-        writeln!(w, "POLYGONS {faces} {}", 4 * faces)?;
-        for [a, b, c] in &soup.triangles {
-            writeln!(w, "3 {a} {b} {c}")?;
-        }
+    let n = soup.positions.len();
+    write_atomically(path, |w| {
+        vtk::write_header(w, "triangle surface written by crestline")?;
+        vtk::write_points(w, n, &soup.positions)?;
+        vtk::write_cells(w, CellType::Polygons, || {
+            soup.triangles.iter().map(|t| t.map(|v| v as usize))
+        })?;
         if !soup.vertex_scalars.is_empty() {
-            writeln!(w, "POINT_DATA {}", soup.positions.len())?;
+            vtk::write_data(w, Attachment::Points, n)?;
         }
         for scalar in &soup.vertex_scalars {
-            writeln!(w, "SCALARS {} double 1", scalar.name)?;
-            writeln!(w, "LOOKUP_TABLE default")?;
-            for value in &scalar.values {
-                writeln!(w, "{value}")?;
-            }
+            vtk::write_scalars(w, &scalar.name, scalar.values.iter().copied())?;
         }
         Ok(())
     })

@@ -72,7 +72,7 @@ pub fn crest_lines(
         }),
         ..LineTracing::new(level, options.sigma.resolve(voxel))
     };
-    let mut lines = FeatureLines::new("image");
+    let mut lines = FeatureLines::new(String::new());
     lines.lines = trace_observed(&volume, &tracing, observer)?;
     observer.count("traced", lines.len());
     lines.filter(&MinLength(options.min_length.resolve(voxel)));

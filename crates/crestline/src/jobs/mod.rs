@@ -22,6 +22,9 @@
 //! | `crest-lines` | [`crest_lines`] | [`CrestLinesOptions`] |
 //! | `crease` | [`crease`] | [`CreaseOptions`] |
 //! | `ridges` | [`ridges`] | [`RidgesOptions`] |
+//! | `morse` | [`morse`] | [`MorseOptions`] |
+//! | `draw` | [`draw`] | [`DrawingOptions`] |
+//! | `register` | [`register()`] | [`RegistrationOptions`](crate::register::RegistrationOptions) |
 //! | `landmarks` | [`landmarks`] | [`LandmarksOptions`] |
 //!
 //! [`defaults`] gives every options struct's defaults as JSON, as the Python
@@ -30,15 +33,19 @@
 mod crease;
 mod crest;
 mod curvature;
+mod draw;
 mod image;
 mod landmarks;
 mod length;
 mod mesh;
+mod morse;
+mod register;
 mod ridges;
 
 pub use crease::{crease, CreaseOptions};
 pub use crest::{crest_lines, CrestLinesOptions};
 pub use curvature::{curvature, CurvatureOptions};
+pub use draw::{draw, DrawingOptions, LinesChoice};
 pub use image::{
     isosurface, largest_spacing, prepared_image, voxel_size, CurvatureSource, FromImage,
     IsoOptions, Surface,
@@ -46,6 +53,8 @@ pub use image::{
 pub use landmarks::{landmarks, landmarks_of_lines, LandmarksOptions, LinesFrom};
 pub use length::Length;
 pub use mesh::build_mesh;
+pub use morse::{morse, MorseOptions};
+pub use register::register;
 pub use ridges::{ridges, RidgesOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":
@@ -58,6 +67,9 @@ pub fn defaults() -> serde_json::Value {
         "crest_lines": CrestLinesOptions::default(),
         "crease": CreaseOptions::default(),
         "ridges": RidgesOptions::default(),
+        "morse": MorseOptions::default(),
+        "draw": DrawingOptions::default(),
+        "register": crate::register::RegistrationOptions::default(),
         "landmarks": LandmarksOptions::default(),
     })
 }

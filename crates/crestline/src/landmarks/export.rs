@@ -11,6 +11,7 @@ use serde_json::{json, Value};
 
 use super::{Landmarks, LineLandmark};
 use crate::atomic::write_atomically;
+use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Point, Result};
 
 /// The `format` of this crate's landmark JSON files.
@@ -61,24 +62,27 @@ pub enum LandmarkFormat {
 }
 
 impl LandmarkFormat {
-    /// The format named by the extension of `path`; an [`Error::Argument`] for
-    /// another extension.
+    /// Every format, in the order listed in error messages.
+    pub const ALL: [LandmarkFormat; 3] = [
+        LandmarkFormat::Slicer,
+        LandmarkFormat::Json,
+        LandmarkFormat::Csv,
+    ];
+
+    /// The format named by the extension of `path` (case-insensitive,
+    /// [`choose_format`]); another extension is an [`Error::File`] listing the
+    /// supported ones.
     pub fn from_path(path: &Path) -> Result<LandmarkFormat> {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        if name.ends_with(".mrk.json") {
-            Ok(LandmarkFormat::Slicer)
-        } else if name.ends_with(".json") {
-            Ok(LandmarkFormat::Json)
-        } else if name.ends_with(".csv") {
-            Ok(LandmarkFormat::Csv)
-        } else {
-            Err(Error::Argument(format!(
-                "{}: landmark files end in .mrk.json (3D Slicer), .json or .csv",
-                path.display()
-            )))
+        choose_format(path, "landmarks", &Self::ALL)
+    }
+}
+
+impl FormatChoice for LandmarkFormat {
+    fn file_format(self) -> FileFormat {
+        match self {
+            LandmarkFormat::Json => FileFormat::Json,
+            LandmarkFormat::Csv => FileFormat::Csv,
+            LandmarkFormat::Slicer => FileFormat::SlicerMarkups,
         }
     }
 }

@@ -3,17 +3,24 @@
 
 use crate::curvature::CurvatureField;
 use crate::mesh::Mesh;
+use crate::progress::Observer;
 use crate::Result;
 
 use super::FeatureLines;
 
-/// A method that finds feature lines on an input: a [`Mesh`] by default, or a
+/// A method that finds feature lines on an input: a [`Mesh`] by default, a
 /// surface that carries what the method needs ([`SurfaceWithCurvature`],
-/// [`SurfaceWithValues`]), and next a volume. Implement it to plug a custom method
+/// [`SurfaceWithValues`]), or a [`crate::volume::Volume`]. The crate's three
+/// methods implement it — extremality tracing ([`crate::ridges::ExtremalityTracer`]),
+/// Morse-Smale lines ([`crate::morse::MorseSmale`]) and Marching Lines
+/// ([`crate::crest_lines::LineTracing`]); implement it to plug a custom method
 /// into every consumer of lines (filters, writers, drawings).
 pub trait LineExtractor<Input: ?Sized = Mesh> {
-    /// Find the feature lines of `input`.
-    fn extract(&self, input: &Input) -> Result<FeatureLines>;
+    /// Find the feature lines of `input`, telling `observer` of the stages and
+    /// stopping with [`crate::Error::Cancelled`] when it asks
+    /// ([`crate::progress::checkpoint`]); [`crate::progress::Silent`] when no one
+    /// listens.
+    fn extract(&self, input: &Input, observer: &mut dyn Observer) -> Result<FeatureLines>;
 }
 
 /// A mesh with principal curvatures computed elsewhere (e.g. from the derivatives

@@ -38,6 +38,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::atomic::write_atomically;
+use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Point, Result};
 
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
@@ -392,38 +393,14 @@ impl LineFormat {
 
     /// The file extension of the format, lowercase and without the dot.
     pub fn extension(self) -> &'static str {
-        match self {
-            LineFormat::Json => "json",
-            LineFormat::Obj => "obj",
-            LineFormat::Ply => "ply",
-            LineFormat::Vtk => "vtk",
-        }
+        self.file_format().extension()
     }
 
-    /// The format given by the extension of `path` (case-insensitive). An unknown or
-    /// missing extension is an [`Error::File`] listing the supported ones.
+    /// The format given by the extension of `path` (case-insensitive,
+    /// [`choose_format`]). An unknown or missing extension is an [`Error::File`]
+    /// listing the supported ones.
     pub fn from_path(path: &Path) -> Result<LineFormat> {
-        let extension = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        Self::ALL
-            .into_iter()
-            .find(|format| format.extension() == extension)
-            .ok_or_else(|| {
-                let supported: Vec<String> = Self::ALL
-                    .iter()
-                    .map(|format| format!(".{}", format.extension()))
-                    .collect();
-                Error::File {
-                    path: path.to_path_buf(),
-                    message: format!(
-                        "unknown feature-line format {:?}; supported extensions: {}",
-                        extension,
-                        supported.join(", ")
-                    ),
-                }
-            })
+        choose_format(path, "feature lines", &Self::ALL)
     }
 
     /// Write `lines` to `path` in this format.
@@ -433,6 +410,17 @@ impl LineFormat {
             LineFormat::Obj => write_obj(path, lines),
             LineFormat::Ply => write_ply(path, lines),
             LineFormat::Vtk => write_vtk(path, lines),
+        }
+    }
+}
+
+impl FormatChoice for LineFormat {
+    fn file_format(self) -> FileFormat {
+        match self {
+            LineFormat::Json => FileFormat::Json,
+            LineFormat::Obj => FileFormat::Obj,
+            LineFormat::Ply => FileFormat::Ply,
+            LineFormat::Vtk => FileFormat::Vtk,
         }
     }
 }

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::indexing::{indexed, point_values, points, shared_value_names};
 use super::{one_line, write_checked, FeatureLines, LineKind, FORMAT};
+use crate::io::ply_header::{self, Element, Property, ScalarType};
 use crate::{Error, Result};
 
 /// Write `lines` to `path` as a binary little-endian PLY file:
@@ -35,30 +36,33 @@ pub fn write_ply(path: &Path, lines: &FeatureLines) -> Result<()> {
 
 /// The ASCII header, up to and including `end_header`.
 fn write_header(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
-    let edge_count: usize = indexed(lines).map(|item| item.path_len() - 1).sum();
-    writeln!(w, "ply")?;
-    writeln!(w, "format binary_little_endian 1.0")?;
-    writeln!(w, "comment {FORMAT} feature lines")?;
-    writeln!(w, "comment source: {}", one_line(&lines.source))?;
-    writeln!(w, "comment edge kind codes: {}", LineKind::code_table())?;
-    writeln!(
-        w,
-        "comment edge line: index of the polyline the edge belongs to"
-    )?;
-    writeln!(w, "element vertex {}", lines.point_count())?;
-    for axis in ["x", "y", "z"] {
-        writeln!(w, "property float {axis}")?;
-    }
-    for name in shared_value_names(lines) {
-        writeln!(w, "property float {name}")?;
-    }
-    writeln!(w, "element edge {edge_count}")?;
-    writeln!(w, "property int vertex1")?;
-    writeln!(w, "property int vertex2")?;
-    writeln!(w, "property uchar kind")?;
-    writeln!(w, "property float strength")?;
-    writeln!(w, "property int line")?;
-    writeln!(w, "end_header")
+    let comments = [
+        format!("{FORMAT} feature lines"),
+        format!("source: {}", one_line(&lines.source)),
+        format!("edge kind codes: {}", LineKind::code_table()),
+        "edge line: index of the polyline the edge belongs to".to_string(),
+    ];
+    let vertex = Element {
+        name: "vertex".to_string(),
+        count: lines.point_count(),
+        properties: ["x", "y", "z"]
+            .into_iter()
+            .chain(shared_value_names(lines))
+            .map(|name| Property::scalar(ScalarType::Float, name))
+            .collect(),
+    };
+    let edge = Element {
+        name: "edge".to_string(),
+        count: indexed(lines).map(|item| item.path_len() - 1).sum(),
+        properties: vec![
+            Property::scalar(ScalarType::Int, "vertex1"),
+            Property::scalar(ScalarType::Int, "vertex2"),
+            Property::scalar(ScalarType::UChar, "kind"),
+            Property::scalar(ScalarType::Float, "strength"),
+            Property::scalar(ScalarType::Int, "line"),
+        ],
+    };
+    ply_header::write_header(w, &comments, &[vertex, edge])
 }
 
 /// The `vertex` element: x, y, z and the shared per-point values as little-endian

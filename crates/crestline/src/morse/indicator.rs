@@ -56,6 +56,46 @@ impl Indicator {
     }
 }
 
+impl Indicator {
+    /// The names of the built-in indicators ([`FromStr`] takes any other name as
+    /// a vertex property's).
+    pub const NAMES: &'static [&'static str] = &["curvedness", "kmax", "kmin"];
+
+    /// The indicator's name, as [`FromStr`] reads it.
+    pub fn name(&self) -> &str {
+        match self {
+            Indicator::Curvedness => "curvedness",
+            Indicator::KMax => "kmax",
+            Indicator::KMin => "kmin",
+            Indicator::Property(name) => name,
+        }
+    }
+}
+
+impl std::fmt::Display for Indicator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for Indicator {
+    fn serialize<S: serde::Serializer>(
+        &self,
+        serializer: S,
+    ) -> std::result::Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Indicator {
+    fn deserialize<D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> std::result::Result<Self, D::Error> {
+        let name = <std::borrow::Cow<'de, str>>::deserialize(deserializer)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}
+
 impl FromStr for Indicator {
     type Err = Error;
 

@@ -30,7 +30,7 @@ use std::sync::Arc;
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
 use crate::lines::{FeatureLines, LineExtractor, SurfaceWithValues};
 use crate::mesh::Mesh;
-use crate::progress::{stage, try_stage, Observer, Silent};
+use crate::progress::{stage, try_stage, Observer};
 use crate::{Error, Result};
 
 pub use cancel::{Cancellation, Criterion};
@@ -112,15 +112,19 @@ pub struct MorseSummary {
 }
 
 impl LineExtractor for MorseSmale {
-    fn extract(&self, mesh: &Mesh) -> Result<FeatureLines> {
-        Ok(self.run(mesh, &mut Silent)?.0)
+    fn extract(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
+        Ok(self.run(mesh, observer)?.0)
     }
 }
 
 impl LineExtractor<SurfaceWithValues<'_>> for MorseSmale {
-    fn extract(&self, surface: &SurfaceWithValues<'_>) -> Result<FeatureLines> {
+    fn extract(
+        &self,
+        surface: &SurfaceWithValues<'_>,
+        observer: &mut dyn Observer,
+    ) -> Result<FeatureLines> {
         Ok(self
-            .run_with_values(surface.mesh, surface.values.to_vec(), &mut Silent)?
+            .run_with_values(surface.mesh, surface.values.to_vec(), observer)?
             .0)
     }
 }

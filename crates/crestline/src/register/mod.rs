@@ -49,8 +49,9 @@ pub struct PointSet {
     pub key_points: Vec<Point>,
 }
 
-/// Settings of [`register`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Settings of [`register`] (and of `crestline register`, [`crate::jobs::register`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct RegistrationOptions {
     /// The smallest share of moving points that may be matched, in `[0.1, 1]`:
     /// the expected overlap of the two sets should be above it.

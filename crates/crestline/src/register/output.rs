@@ -19,6 +19,7 @@ use serde::Serialize;
 use super::transform::RigidTransform;
 use super::Registration;
 use crate::atomic::write_atomically;
+use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Result};
 
 /// The value of the `format` key of the JSON files [`write_transform`] writes.
@@ -51,22 +52,22 @@ pub enum TransformFormat {
 }
 
 impl TransformFormat {
-    /// The format given by the extension of `path` (case-insensitive); another
-    /// extension is an [`Error::File`] listing the supported ones.
+    /// Every format, in the order listed in error messages.
+    pub const ALL: [TransformFormat; 2] = [TransformFormat::Json, TransformFormat::Itk];
+
+    /// The format given by the extension of `path` (case-insensitive,
+    /// [`choose_format`]); another extension is an [`Error::File`] listing the
+    /// supported ones.
     pub fn from_path(path: &Path) -> Result<TransformFormat> {
-        let extension = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        match extension.as_str() {
-            "json" => Ok(TransformFormat::Json),
-            "tfm" => Ok(TransformFormat::Itk),
-            _ => Err(Error::File {
-                path: path.to_path_buf(),
-                message: format!(
-                    "unknown transform format {extension:?}; supported extensions: .json, .tfm"
-                ),
-            }),
+        choose_format(path, "a transform", &Self::ALL)
+    }
+}
+
+impl FormatChoice for TransformFormat {
+    fn file_format(self) -> FileFormat {
+        match self {
+            TransformFormat::Json => FileFormat::Json,
+            TransformFormat::Itk => FileFormat::ItkTransform,
         }
     }
 }

@@ -53,7 +53,7 @@ use crate::lines::{
     FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation, SurfaceWithCurvature,
 };
 use crate::mesh::{Mesh, VertexId};
-use crate::progress::{stage, try_stage, Observer, Silent};
+use crate::progress::{stage, try_stage, Observer};
 use crate::{Error, Result};
 
 use extremality::{extremality, regular_faces, Principal};
@@ -215,14 +215,18 @@ impl Default for ExtremalityTracer {
 }
 
 impl LineExtractor for ExtremalityTracer {
-    fn extract(&self, mesh: &Mesh) -> Result<FeatureLines> {
-        self.trace(mesh, &mut Silent)
+    fn extract(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
+        self.trace(mesh, observer)
     }
 }
 
 impl LineExtractor<SurfaceWithCurvature<'_>> for ExtremalityTracer {
-    fn extract(&self, surface: &SurfaceWithCurvature<'_>) -> Result<FeatureLines> {
-        self.trace_with_curvature(surface.mesh, surface.curvature, &mut Silent)
+    fn extract(
+        &self,
+        surface: &SurfaceWithCurvature<'_>,
+        observer: &mut dyn Observer,
+    ) -> Result<FeatureLines> {
+        self.trace_with_curvature(surface.mesh, surface.curvature, observer)
     }
 }
 

@@ -23,6 +23,7 @@ use std::path::Path;
 
 use flate2::read::{MultiGzDecoder, ZlibDecoder};
 
+use super::format::{choose_format, extensions, FileFormat};
 use crate::volume::{voxel_count, Volume};
 use crate::{Error, Result};
 
@@ -59,8 +60,22 @@ impl SampleType {
     }
 }
 
+/// A format's reader of a whole file.
+type Reader = fn(&Path) -> Result<Volume>;
+
+/// The formats [`read_volume`] reads, each with its reader, in the order listed
+/// in error messages.
+const READERS: [(FileFormat, Reader); 6] = [
+    (FileFormat::Nifti, nifti::read),
+    (FileFormat::NiftiGz, nifti::read),
+    (FileFormat::Nrrd, nrrd::read),
+    (FileFormat::NrrdHeader, nrrd::read),
+    (FileFormat::MetaImage, metaimage::read),
+    (FileFormat::MetaImageHeader, metaimage::read),
+];
+
 /// The file extensions [`read_volume`] understands (compared case-insensitively).
-pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &["nii", "nii.gz", "nrrd", "nhdr", "mha", "mhd"];
+pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &extensions(&READERS);
 
 /// Whether `path` names an image file by its extension (one of
 /// [`SUPPORTED_VOLUME_EXTENSIONS`], in any letter case), so that a command can
@@ -128,35 +143,9 @@ pub fn read_raw_volume(
     read().map_err(|e| in_file(e, path))
 }
 
-/// A format's reader of a whole file.
-type Reader = fn(&Path) -> Result<Volume>;
-
 /// The reader for the extension of `path`.
 fn reader_for(path: &Path) -> Result<Reader> {
-    let name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let problem = match extension.as_deref() {
-        Some("nii") => return Ok(nifti::read),
-        Some("gz") if name.ends_with(".nii.gz") => return Ok(nifti::read),
-        Some("nrrd" | "nhdr") => return Ok(nrrd::read),
-        Some("mha" | "mhd") => return Ok(metaimage::read),
-        Some(other) => format!("unsupported file extension '.{other}'"),
-        None => "no file extension to tell the image format".to_string(),
-    };
-    Err(Error::File {
-        path: path.to_path_buf(),
-        message: format!(
-            "{problem}; supported image formats are .{}",
-            SUPPORTED_VOLUME_EXTENSIONS.join(", .")
-        ),
-    })
+    choose_format(path, "an image", &READERS).map(|(_, read)| read)
 }
 
 /// Name `path` in `err`, also for the argument errors of [`Volume::new`] (a

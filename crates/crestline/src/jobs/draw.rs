@@ -1,0 +1,238 @@
+//! Line drawings of a surface (`crestline draw`): its feature lines, silhouettes,
+//! borders, creases and suggestive contours with hidden lines removed.
+
+use serde::{Deserialize, Serialize};
+
+use super::crest::{crest_lines, CrestLinesOptions};
+use super::image::Surface;
+use super::morse::{morse, MorseOptions};
+use super::ridges::{ridges, RidgesOptions};
+use super::Length;
+use crate::draw::{
+    check_taper, draw_observed, runs_along_outlines, Camera, DrawOptions, Drawing, Projection,
+    Style, SuggestiveOptions, View,
+};
+use crate::lines::{FeatureLines, LineKind};
+use crate::progress::{try_stage_with, Observer};
+use crate::volume::Volume;
+use crate::{Error, Point, Result, Vector};
+
+/// Which feature lines a drawing shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LinesChoice {
+    /// Ridges and valleys by extremality tracing ([`super::ridges`]).
+    #[default]
+    Ridges,
+    /// Ascending and descending lines of the Morse-Smale complex ([`super::morse`]).
+    Morse,
+    /// For an isosurface: the crest lines of its image by Marching Lines
+    /// ([`super::crest_lines`]), traced in the image rather than on the triangles.
+    Crest,
+    /// No feature lines (e.g. silhouettes only).
+    None,
+}
+
+crate::named::named!(LinesChoice, "kind of lines", {
+    Ridges => "ridges",
+    Morse => "morse",
+    Crest => "crest",
+    None => "none",
+});
+
+/// Options of [`draw`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DrawingOptions {
+    /// Which feature lines. Default: ridges.
+    pub lines: LinesChoice,
+    /// The viewing direction, azimuth and elevation in degrees (0, 0 looks along
+    /// −z with +y up). Default: 0, 0.
+    pub view: [f64; 2],
+    /// An explicit camera instead of `view`: eye, target and up vector.
+    /// Default: none.
+    pub camera: Option<[f64; 9]>,
+    /// Perspective projection with this field of view in degrees; orthographic
+    /// without it. Default: orthographic.
+    pub perspective: Option<f64>,
+    /// Canvas width and height in pixels. Default: 800 × 800.
+    pub size: [u32; 2],
+    /// Also draw the silhouettes. Default: [`DrawOptions::default`]'s (no).
+    pub silhouettes: bool,
+    /// Feature lines are left out where they run beside a visible silhouette
+    /// closer than this many pixels; 0 keeps them. Default: [`DrawOptions`]'s.
+    pub silhouette_clearance: f64,
+    /// Also draw the borders of an open mesh. Default: no.
+    pub borders: bool,
+    /// Also draw the creases, edges whose faces meet at a dihedral angle above
+    /// this many degrees. Default: none.
+    pub creases: Option<f64>,
+    /// Also draw the suggestive contours (DeCarlo et al. 2003), from the curvature
+    /// of the ridges' estimator. Default: no.
+    pub suggestive: bool,
+    /// Narrow the ends of every open line over this many pixels. Default: the
+    /// style's.
+    pub taper: Option<f64>,
+    /// Thin every line with depth. Default: the style's.
+    pub width_by_depth: bool,
+    /// Fade the feature lines where the surface turns away from the viewer.
+    /// Default: the style's.
+    pub fade_by_view: bool,
+    /// How ridges are traced (`lines` ridges; their estimator also serves the
+    /// suggestive contours, and their threshold the crest lines).
+    pub ridges: RidgesOptions,
+    /// How Morse-Smale lines are extracted (`lines` morse).
+    pub morse: MorseOptions,
+}
+
+impl Default for DrawingOptions {
+    fn default() -> Self {
+        let drawing = DrawOptions::default();
+        DrawingOptions {
+            lines: LinesChoice::default(),
+            view: [0.0, 0.0],
+            camera: None,
+            perspective: None,
+            size: [800, 800],
+            silhouettes: drawing.silhouettes,
+            silhouette_clearance: drawing.silhouette_clearance,
+            borders: drawing.borders,
+            creases: drawing.crease_angle,
+            suggestive: drawing.suggestive.is_some(),
+            taper: None,
+            width_by_depth: false,
+            fade_by_view: false,
+            ridges: RidgesOptions::default(),
+            morse: MorseOptions::default(),
+        }
+    }
+}
+
+impl DrawingOptions {
+    /// The settings of the drawing step ([`crate::draw::draw`]).
+    pub fn draw_options(&self) -> DrawOptions {
+        DrawOptions {
+            silhouettes: self.silhouettes,
+            silhouette_clearance: self.silhouette_clearance,
+            borders: self.borders,
+            crease_angle: self.creases,
+            suggestive: self.suggestive.then(SuggestiveOptions::default),
+            ..DrawOptions::default()
+        }
+    }
+
+    /// The camera that frames `surface` as these options say.
+    pub fn camera(&self, surface: &Surface) -> Result<Camera> {
+        let view = match self.camera {
+            Some([ex, ey, ez, tx, ty, tz, ux, uy, uz]) => View::LookAt {
+                eye: Point::new(ex, ey, ez),
+                target: Point::new(tx, ty, tz),
+                up: Vector::new(ux, uy, uz),
+            },
+            None => View::Orbit {
+                azimuth: self.view[0],
+                elevation: self.view[1],
+            },
+        };
+        let projection =
+            self.perspective
+                .map_or(Projection::Orthographic, |fov| Projection::Perspective {
+                    fov,
+                });
+        let [width, height] = self.size;
+        Camera::framing(surface.mesh.positions(), view, projection, width, height)
+    }
+
+    /// `style` with the line weights these options ask for.
+    pub fn style(&self, mut style: Style) -> Result<Style> {
+        if let Some(taper) = self.taper {
+            check_taper("`taper`", taper).map_err(Error::Argument)?;
+        }
+        for kind in LineKind::ALL {
+            let stroke = style.kind_mut(kind);
+            stroke.taper = self.taper.unwrap_or(stroke.taper);
+            stroke.width_by_depth |= self.width_by_depth;
+            stroke.fade_by_view |= self.fade_by_view && runs_along_outlines(kind);
+        }
+        Ok(style)
+    }
+
+    /// Whether anything besides the feature lines is drawn.
+    fn draws_families(&self) -> bool {
+        self.silhouettes || self.borders || self.creases.is_some() || self.suggestive
+    }
+}
+
+/// The drawing of `surface` as `options` say: the feature lines (the stage
+/// `extraction`, with the stages of their job; or the `given` lines instead), the
+/// other families and the visibility ([`draw_observed`]), a warning saying why
+/// when nothing is seen. `volume` is the image of an isosurface, which `lines`
+/// crest needs.
+pub fn draw(
+    surface: &Surface,
+    (volume, given): (Option<&Volume>, Option<FeatureLines>),
+    options: &DrawingOptions,
+    observer: &mut dyn Observer,
+) -> Result<Drawing> {
+    let drawing_options = options.draw_options();
+    drawing_options.check()?;
+    let camera = options.camera(surface)?;
+    let lines = match given {
+        Some(lines) => lines,
+        None => try_stage_with(observer, "extraction", |observer| {
+            feature_lines(surface, volume, options, observer)
+        })?,
+    };
+    let no_lines = lines.is_empty();
+    let estimator = surface.estimator(options.ridges.estimator);
+    let drawing = draw_observed(
+        &surface.mesh,
+        lines,
+        &camera,
+        &drawing_options,
+        estimator.as_ref(),
+        observer,
+    )?;
+    if drawing.path_counts().iter().all(|&(_, count)| count == 0) {
+        observer.warning(empty_drawing(options, no_lines));
+    }
+    Ok(drawing)
+}
+
+/// The feature lines `options.lines` chooses.
+fn feature_lines(
+    surface: &Surface,
+    volume: Option<&Volume>,
+    options: &DrawingOptions,
+    observer: &mut dyn Observer,
+) -> Result<FeatureLines> {
+    match options.lines {
+        LinesChoice::Ridges => ridges(surface, &options.ridges, observer),
+        LinesChoice::Morse => Ok(morse(surface, None, &options.morse, observer)?.0),
+        LinesChoice::Crest => {
+            let (Some(volume), Some(from)) = (volume, surface.image) else {
+                return Err(Error::Argument(
+                    "crest lines are traced in a 3D image; for a mesh draw ridges or morse lines"
+                        .into(),
+                ));
+            };
+            let crest = CrestLinesOptions {
+                sigma: Length::World(from.sigma),
+                min_strength: options.ridges.threshold,
+                ..CrestLinesOptions::default()
+            };
+            crest_lines(volume, from.level, &crest, observer)
+        }
+        LinesChoice::None => Ok(FeatureLines::new(String::new())),
+    }
+}
+
+/// Why a drawing shows nothing, and what to change.
+fn empty_drawing(options: &DrawingOptions, no_lines: bool) -> &'static str {
+    if options.lines == LinesChoice::None && !options.draws_families() {
+        "the drawing is empty: `lines` none without `silhouettes`, `borders`, `creases` or `suggestive` draws nothing"
+    } else if no_lines {
+        "the drawing is empty: no lines were found"
+    } else {
+        "the drawing is empty: every line is hidden in this view; try another `view`"
+    }
+}
