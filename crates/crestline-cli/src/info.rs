@@ -2,9 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::report::Report;
 use crestline::io::is_volume_path;
-use crestline::mesh::{ComponentInfo, Mesh, RepairReport};
+use crestline::jobs::{mesh_info, MeshInfo};
+use crestline::mesh::{ComponentInfo, RepairReport};
 use crestline::Result;
 
 use super::load::{load_mesh, report_with_progress, StrictArg};
@@ -34,10 +34,10 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         return volume_info::run(&args.input, &args.report, report);
     }
     let (mesh, repairs) = load_mesh(&args.input, args.strict, &mut report)?;
-    let components = report.stage("topology", || mesh.components());
-    super::print_stdout(&summary(&args.input, &mesh, &components, &repairs));
+    let info = mesh_info(&mesh, &mut report);
+    super::print_stdout(&summary(&args.input, &info, &repairs));
     if let Some(path) = &args.report.report {
-        fill_counts(&mut report, &mesh, &components);
+        report.count("euler_characteristic", info.euler_characteristic);
         report.section("repairs", &repairs);
         let mut files = OutputSet::default();
         files.write(path, |p| report.write(p))?;
@@ -46,42 +46,25 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     Ok(())
 }
 
-fn fill_counts(report: &mut Report, mesh: &Mesh, components: &[ComponentInfo]) {
-    report.count("vertices", mesh.vertex_count());
-    report.count("faces", mesh.face_count());
-    report.count("edges", mesh.edge_count());
-    report.count(
-        "boundary_loops",
-        components.iter().map(|c| c.boundary_loops).sum::<usize>(),
-    );
-    report.count("components", components.len());
-    report.count("euler_characteristic", mesh.euler_characteristic());
-}
-
 /// The human-readable summary, one fact per line.
-fn summary(
-    path: &Path,
-    mesh: &Mesh,
-    components: &[ComponentInfo],
-    repairs: &RepairReport,
-) -> String {
-    let bbox = mesh.bounding_box();
-    let boundary_loops: usize = components.iter().map(|c| c.boundary_loops).sum();
+fn summary(path: &Path, info: &MeshInfo, repairs: &RepairReport) -> String {
+    let bbox = &info.bounding_box;
+    let [vertices, faces, edges] = info.counts;
     let mut lines = vec![
         format!("file              {}", path.display()),
-        format!("vertices          {}", mesh.vertex_count()),
-        format!("faces             {}", mesh.face_count()),
-        format!("edges             {}", mesh.edge_count()),
-        format!("boundary loops    {boundary_loops}"),
-        format!("components        {}", components.len()),
-        format!("euler char.       {}", mesh.euler_characteristic()),
-        format!("genus             {}", genus_list(components)),
+        format!("vertices          {vertices}"),
+        format!("faces             {faces}"),
+        format!("edges             {edges}"),
+        format!("boundary loops    {}", info.boundary_loops),
+        format!("components        {}", info.components.len()),
+        format!("euler char.       {}", info.euler_characteristic),
+        format!("genus             {}", genus_list(&info.components)),
         format!(
             "bounding box      [{:.6}, {:.6}, {:.6}] .. [{:.6}, {:.6}, {:.6}]",
             bbox.min.x, bbox.min.y, bbox.min.z, bbox.max.x, bbox.max.y, bbox.max.z
         ),
         format!("diagonal          {:.6}", bbox.diagonal()),
-        format!("mean edge length  {:.6}", mesh.mean_edge_length()),
+        format!("mean edge length  {:.6}", info.mean_edge_length),
     ];
     let messages = repairs.messages();
     if messages.is_empty() {

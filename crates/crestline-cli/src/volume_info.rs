@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::report::Report;
 use crestline::io::read_volume;
+use crestline::jobs::image_info;
 use crestline::volume::{ValueSummary, Volume};
 use crestline::Result;
 
@@ -14,7 +15,7 @@ use super::ReportArg;
 /// Read the volume at `path`, print its summary and write the report if asked.
 pub fn run(path: &Path, report_arg: &ReportArg, mut report: Report) -> Result<()> {
     let volume = report.stage("read", || read_volume(path))?;
-    let values = report.stage("statistics", || ValueSummary::of(&volume));
+    let values = image_info(&volume, &mut report);
     super::print_stdout(&summary(path, &volume, &values));
     if let Some(report_path) = &report_arg.report {
         let [nx, ny, nz] = volume.dims();

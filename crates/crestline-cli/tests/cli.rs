@@ -1282,3 +1282,50 @@ fn ridges_smoothing_defaults_follow_the_estimator() {
     assert_ne!(jet, jet_tau_2);
     assert_eq!(shape, shape_explicit);
 }
+
+/// Ctrl-C (SIGINT) during a long command ends it at once, by the signal, and
+/// leaves no output file behind.
+#[cfg(unix)]
+#[test]
+fn sigint_stops_a_long_command_promptly_without_output() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::time::{Duration, Instant};
+
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("crease.ply");
+    for command in [
+        vec!["crease", "volumes/mni152_t1_1mm.nii.gz"],
+        vec!["crest-lines", "volumes/mni152_t1_1mm.nii.gz", "--level", "80"],
+    ] {
+        let output = if command[0] == "crease" {
+            out.clone()
+        } else {
+            dir.path().join("lines.json")
+        };
+        let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+            .args(&command)
+            .arg("-o")
+            .arg(&output)
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(700));
+        assert!(child.try_wait().unwrap().is_none(), "{command:?} ended too soon to interrupt");
+        let sent = Instant::now();
+        let kill = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let status = child.wait().unwrap();
+        let took = sent.elapsed();
+        assert!(
+            status.signal() == Some(2) || status.code() == Some(130),
+            "{command:?}: {status:?}"
+        );
+        assert!(took < Duration::from_secs(2), "{command:?} took {took:?} to stop");
+        assert!(!output.exists(), "{command:?} left {}", output.display());
+        let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert!(leftovers.is_empty(), "{leftovers:?}");
+    }
+}

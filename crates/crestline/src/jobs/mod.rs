@@ -17,6 +17,7 @@
 //!
 //! | command | job | options |
 //! |---|---|---|
+//! | `info` | [`mesh_info`], [`image_info`] | none |
 //! | `curvature` | [`curvature`] | [`CurvatureOptions`] |
 //! | `iso` | [`isosurface`] | [`IsoOptions`] |
 //! | `crest-lines` | [`crest_lines`] | [`CrestLinesOptions`] |
@@ -35,6 +36,7 @@ mod crest;
 mod curvature;
 mod draw;
 mod image;
+mod info;
 mod landmarks;
 mod length;
 mod mesh;
@@ -50,6 +52,7 @@ pub use image::{
     isosurface, largest_spacing, prepared_image, voxel_size, CurvatureSource, FromImage,
     IsoOptions, Surface,
 };
+pub use info::{image_info, mesh_info, MeshInfo};
 pub use landmarks::{landmarks, landmarks_of_lines, LandmarksOptions, LinesFrom};
 pub use length::Length;
 pub use mesh::build_mesh;

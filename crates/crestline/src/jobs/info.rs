@@ -1,0 +1,50 @@
+//! What a mesh or an image holds (`crestline info`).
+
+use crate::mesh::geometry::BoundingBox;
+use crate::mesh::{ComponentInfo, Mesh};
+use crate::progress::{stage, Observer};
+use crate::volume::{ValueSummary, Volume};
+
+/// The size, topology and geometry of a mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshInfo {
+    /// Vertices, faces and edges.
+    pub counts: [usize; 3],
+    /// Closed boundary curves, over every component.
+    pub boundary_loops: usize,
+    /// χ = V − E + F of the whole mesh.
+    pub euler_characteristic: i64,
+    /// Each connected component's counts and genus.
+    pub components: Vec<ComponentInfo>,
+    /// The axis-aligned bounding box.
+    pub bounding_box: BoundingBox,
+    /// The mean edge length, each edge counted once: the unit of the mesh jobs'
+    /// relative lengths.
+    pub mean_edge_length: f64,
+}
+
+/// What `mesh` holds: the stage `topology`, and the counts `vertices`, `faces`,
+/// `edges`, `boundary_loops` and `components`.
+pub fn mesh_info(mesh: &Mesh, observer: &mut dyn Observer) -> MeshInfo {
+    let components = stage(observer, "topology", || mesh.components());
+    let info = MeshInfo {
+        counts: [mesh.vertex_count(), mesh.face_count(), mesh.edge_count()],
+        boundary_loops: components.iter().map(|c| c.boundary_loops).sum(),
+        euler_characteristic: mesh.euler_characteristic(),
+        components,
+        bounding_box: mesh.bounding_box(),
+        mean_edge_length: mesh.mean_edge_length(),
+    };
+    for (key, value) in ["vertices", "faces", "edges"].into_iter().zip(info.counts) {
+        observer.count(key, value);
+    }
+    observer.count("boundary_loops", info.boundary_loops);
+    observer.count("components", info.components.len());
+    info
+}
+
+/// The value statistics of `volume` (range, percentiles, histogram, Otsu's level:
+/// a first isosurface level to try): the stage `statistics`.
+pub fn image_info(volume: &Volume, observer: &mut dyn Observer) -> ValueSummary {
+    stage(observer, "statistics", || ValueSummary::of(volume))
+}
