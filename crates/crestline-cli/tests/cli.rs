@@ -1295,7 +1295,12 @@ fn sigint_stops_a_long_command_promptly_without_output() {
     let out = dir.path().join("crease.ply");
     for command in [
         vec!["crease", "volumes/mni152_t1_1mm.nii.gz"],
-        vec!["crest-lines", "volumes/mni152_t1_1mm.nii.gz", "--level", "80"],
+        vec![
+            "crest-lines",
+            "volumes/mni152_t1_1mm.nii.gz",
+            "--level",
+            "80",
+        ],
     ] {
         let output = if command[0] == "crease" {
             out.clone()
@@ -1310,7 +1315,10 @@ fn sigint_stops_a_long_command_promptly_without_output() {
             .spawn()
             .unwrap();
         std::thread::sleep(Duration::from_millis(700));
-        assert!(child.try_wait().unwrap().is_none(), "{command:?} ended too soon to interrupt");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "{command:?} ended too soon to interrupt"
+        );
         let sent = Instant::now();
         let kill = Command::new("kill")
             .args(["-INT", &child.id().to_string()])
@@ -1323,7 +1331,10 @@ fn sigint_stops_a_long_command_promptly_without_output() {
             status.signal() == Some(2) || status.code() == Some(130),
             "{command:?}: {status:?}"
         );
-        assert!(took < Duration::from_secs(2), "{command:?} took {took:?} to stop");
+        assert!(
+            took < Duration::from_secs(2),
+            "{command:?} took {took:?} to stop"
+        );
         assert!(!output.exists(), "{command:?} left {}", output.display());
         let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
         assert!(leftovers.is_empty(), "{leftovers:?}");
