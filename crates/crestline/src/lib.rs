@@ -3,16 +3,50 @@
 //! Feature lines on surfaces: ridge and valley (crest) lines of triangle meshes, and
 //! crest lines, isosurfaces and crease surfaces of 3D images.
 //!
+//! ## The public API
+//!
+//! - [`jobs`]: one function per command of the `crestline` tool — [`jobs::isosurface`],
+//!   [`jobs::crest_lines`], [`jobs::crease`], [`jobs::curvature`], [`jobs::ridges`],
+//!   [`jobs::morse`], [`jobs::landmarks`], [`jobs::register()`], [`jobs::draw`],
+//!   [`jobs::mesh_info`] — each with an options struct whose `Default` holds every
+//!   default. The command-line tool and the Python package call these, so every
+//!   door gives the same result; start here.
+//! - Input and output: [`io`] reads meshes ([`io::read_mesh`]) and images
+//!   ([`io::read_volume`]) and picks every format from a file name in one place
+//!   ([`io::choose_format`]); [`lines`], [`landmarks`], [`register`] and
+//!   [`curvature`] write their results.
+//! - The data: [`mesh::Mesh`] (half-edge, repaired from a [`mesh::TriangleSoup`]),
+//!   [`volume::Volume`], [`lines::FeatureLines`], [`curvature::CurvatureField`].
+//! - The methods, for finer control than the jobs: [`curvature`] (estimators),
+//!   [`ridges`] (extremality tracing, Hildebrandt, Polthier and Wardetzky 2005),
+//!   [`morse`] (Morse-Smale lines, Sahner et al. 2008), [`crest_lines`] and
+//!   [`volume`] (isosurfaces, Marching Lines after Thirion and Gourdon 1993, crease
+//!   surfaces after Schultz, Theisel and Seidel 2010), [`landmarks`], [`register`]
+//!   and [`draw`].
+//! - [`progress`]: the [`progress::Observer`] every long computation reports to and
+//!   asks whether to go on; [`Error`]: the one error type.
+//!
+//! The design, with the details the papers leave open, is `docs/design.md` in the
+//! repository.
+//!
+//! ## Where new things go
+//!
+//! - A curvature estimator: implement [`curvature::CurvatureEstimator`] (one
+//!   method, the field of a mesh). To offer it by name on the command line and in
+//!   Python, add it to [`curvature::Estimator`] (its names come from one table).
+//! - A line extractor: implement [`lines::LineExtractor`] for the input it needs
+//!   (a [`mesh::Mesh`], a [`lines::SurfaceWithCurvature`], a
+//!   [`lines::SurfaceWithValues`], a [`volume::Volume`]); filters, writers and
+//!   drawings then take its lines. A command for it is a job in [`jobs`].
+//! - An output format: add it to [`io::FileFormat`] and to the `choose_format`
+//!   choices of what it writes (lines: [`lines::LineFormat`]; surfaces:
+//!   [`io::write_soup`]), and write it atomically ([`atomic`]).
+//!
 //! The pipeline runs left to right, each stage a plain function of what the stage
 //! before produced: a file is read into a [`mesh::TriangleSoup`] ([`io::read_mesh`]),
 //! repaired and connected into a half-edge [`mesh::Mesh`] ([`mesh::Mesh::from_soup`]),
 //! and the extracted lines are collected in a [`lines::FeatureLines`] value that the
 //! writers in [`lines`] save as JSON, OBJ, PLY or VTK.
-//!
-//! For 3D images, [`volume::isosurface()`] extracts isosurfaces,
-//! [`volume::marching_lines()`] the lines where an isosurface meets the level set of a
-//! second field (Thirion & Gourdon's Marching Lines), and [`crest_lines`] turns
-//! them into ridge, valley and parabolic lines of the isosurface.
 //!
 //! ## Conventions
 //! - Geometry is `f64`. Ids are `u32` newtypes ([`mesh::VertexId`], ...).
