@@ -83,7 +83,7 @@ fn isosurface<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<SurfaceArrays<'py>> {
     let volume = volume_of(&samples, &affine)?;
-    let options: jobs::IsoOptions = job_options("isosurface", options)?;
+    let options: jobs::IsoOptions = job_options("iso", options)?;
     let mut observer = Callback::new(progress);
     let surface = py.detach(|| jobs::isosurface(&volume, level, &options, &mut observer));
     let mesh = observer.outcome(surface)?.mesh;
