@@ -36,9 +36,10 @@ use std::sync::OnceLock;
 
 use crate::differential::IsoCurvature;
 use crate::lines::oriented::{along_line, DirectedSample};
-use crate::lines::{LineKind, Polyline};
+use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 use crate::progress::{try_stage, Observer, Silent};
-use crate::volume::marching_lines::{cell_corners, BiIsoLine, SecondField, Sweep};
+use crate::volume::grid::Grid;
+use crate::volume::marching_lines::{BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
@@ -76,7 +77,7 @@ impl Frame {
 /// undefined.
 struct Curvatures<'d> {
     derivatives: &'d Derivatives,
-    dims: [usize; 3],
+    grid: Grid,
     frames: Vec<OnceLock<Option<Frame>>>,
     /// `∂index/∂world`, turning gradients along index axes into world gradients.
     world_to_grid: nalgebra::Matrix3<f64>,
@@ -86,7 +87,7 @@ impl<'d> Curvatures<'d> {
     fn new(derivatives: &'d Derivatives, volume: &Volume) -> Curvatures<'d> {
         Curvatures {
             derivatives,
-            dims: volume.dims(),
+            grid: volume.grid(),
             frames: (0..volume.len()).map(|_| OnceLock::new()).collect(),
             world_to_grid: *volume.world_to_grid(),
         }
@@ -95,8 +96,7 @@ impl<'d> Curvatures<'d> {
     /// The frame at the grid point of linear index `at`.
     fn frame(&self, at: usize) -> Option<Frame> {
         *self.frames[at].get_or_init(|| {
-            let [nx, ny, _] = self.dims;
-            let index = [at % nx, (at / nx) % ny, at / (nx * ny)];
+            let index = self.grid.position_of(at);
             let curvature = self.derivatives.jet(index)?.isosurface_curvature()?;
             let frame = Frame::new(&curvature);
             let finite = frame.k.iter().chain(&frame.e).all(|v| v.is_finite());
@@ -106,7 +106,7 @@ impl<'d> Curvatures<'d> {
 
     /// The frames at the 8 corners of `cell`, or `None` if one is undefined.
     fn corners(&self, cell: [usize; 3]) -> Option<[Frame; 8]> {
-        let frames = cell_corners(self.dims, cell).map(|at| self.frame(at));
+        let frames = self.grid.corners(cell).map(|at| self.frame(at));
         frames
             .iter()
             .all(Option::is_some)
@@ -387,6 +387,16 @@ pub fn trace_observed(
     Ok(polylines(lines, kind))
 }
 
+/// Marching Lines as a line extractor of volumes: [`trace_observed`], the lines
+/// collected in a [`FeatureLines`].
+impl LineExtractor<Volume> for LineTracing {
+    fn extract(&self, volume: &Volume, observer: &mut dyn Observer) -> Result<FeatureLines> {
+        let mut lines = FeatureLines::new(String::new());
+        lines.lines = trace_observed(volume, self, observer)?;
+        Ok(lines)
+    }
+}
+
 /// The crest lines (ridges, then valleys) of the isosurface `f = level` of
 /// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units,
 /// every cell visited: [`trace`] with [`LineTracing::new`].
@@ -485,9 +495,7 @@ fn corner_frames(
     p: &Point,
 ) -> Option<([Frame; 8], [f64; 8])> {
     let index = volume.world_to_index(p);
-    let dims = curvatures.dims;
-    let cell: [usize; 3] =
-        std::array::from_fn(|a| (index[a].floor().max(0.0) as usize).min(dims[a] - 2));
+    let cell = curvatures.grid.cell_holding(index);
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
     Some((curvatures.corners(cell)?, weights(local)))
 }

@@ -61,6 +61,7 @@
 #![warn(missing_docs)]
 
 pub mod atomic;
+pub mod chain;
 pub mod crest_lines;
 pub mod curvature;
 pub mod differential;

@@ -1,6 +1,6 @@
 //! The core crate's modules form layers along the data flow
-//! (base helpers → mesh → volume → io → curvature → lines → extractors → drawing →
-//! jobs, which assemble them for the command-line tool and the Python package),
+//! (base helpers → mesh → chaining → volume → io → curvature → lines → extractors →
+//! drawing → jobs, which assemble them for the command-line tool and Python),
 //! and no module imports from a layer above its own: volumes produce meshes
 //! (isosurfaces), so `volume` sits above `mesh`. This test reads every `crate::`
 //! path in `src/` and fails on an upward (or sideways, between extractors) edge.
@@ -18,17 +18,18 @@ const LAYERS: &[(&str, u32)] = &[
     ("linalg", 0),
     ("named", 0),
     ("mesh", 1),
-    ("volume", 2),
-    ("io", 3),
-    ("curvature", 4),
-    ("lines", 5),
-    ("ridges", 6),
-    ("morse", 6),
-    ("crest_lines", 6),
-    ("landmarks", 6),
-    ("register", 6),
-    ("draw", 7),
-    ("jobs", 8),
+    ("chain", 2),
+    ("volume", 3),
+    ("io", 4),
+    ("curvature", 5),
+    ("lines", 6),
+    ("ridges", 7),
+    ("morse", 7),
+    ("crest_lines", 7),
+    ("landmarks", 7),
+    ("register", 7),
+    ("draw", 8),
+    ("jobs", 9),
 ];
 
 fn layer(module: &str) -> Option<u32> {

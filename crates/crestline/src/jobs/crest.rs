@@ -7,8 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use super::image::{prepared_image, voxel_size};
 use super::Length;
-use crate::crest_lines::{trace_observed, LineFamily, LineTracing};
-use crate::lines::{FeatureLines, MinLength, MinStrength};
+use crate::crest_lines::{LineFamily, LineTracing};
+use crate::lines::{FeatureLines, LineExtractor, MinLength, MinStrength};
 use crate::progress::Observer;
 use crate::volume::{Sweep, Volume};
 use crate::Result;
@@ -53,7 +53,7 @@ impl Default for CrestLinesOptions {
 /// The lines `options` ask for on the isosurface `f = level` of `volume` (inside
 /// is `f ≥ level`), by Marching Lines (Thirion & Gourdon 1993;
 /// [`crate::crest_lines::trace`]), at least `min_length` long and `min_strength`
-/// strong: the stages of [`trace_observed`], the counts `traced` and `lines`, and
+/// strong: the stages of [`crate::crest_lines::trace_observed`], the counts `traced` and `lines`, and
 /// a warning when no line is left. Non-finite samples are replaced first
 /// ([`prepared_image`]).
 pub fn crest_lines(
@@ -72,8 +72,7 @@ pub fn crest_lines(
         }),
         ..LineTracing::new(level, options.sigma.resolve(voxel))
     };
-    let mut lines = FeatureLines::new(String::new());
-    lines.lines = trace_observed(&volume, &tracing, observer)?;
+    let mut lines = tracing.extract(&volume, observer)?;
     observer.count("traced", lines.len());
     lines.filter(&MinLength(options.min_length.resolve(voxel)));
     lines.filter(&MinStrength(options.min_strength));

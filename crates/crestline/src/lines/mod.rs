@@ -16,7 +16,7 @@
 //! temporary name and renames on success
 //! ([`write_atomically`]).
 
-pub mod chain;
+pub use crate::chain;
 mod extractor;
 pub mod fair;
 mod indexing;

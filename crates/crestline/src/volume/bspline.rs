@@ -14,7 +14,9 @@
 //! are stored as `f32`, like the samples (the recursion runs in `f64`).
 
 use super::derivatives::Partial;
+use super::grid::Grid;
 use super::jet::Jet;
+use super::trilinear::on_axis;
 use super::Volume;
 use crate::{Point, Vector};
 use nalgebra::Matrix3;
@@ -22,10 +24,6 @@ use rayon::prelude::*;
 
 /// The pole of the cubic B-spline prefilter, `√3 − 2`.
 const POLE: f64 = -0.267_949_192_431_122_7;
-
-/// Points this far (in voxels) outside the grid are still evaluated, at the
-/// border, so that round-off in a world-to-index conversion does not lose them.
-const INDEX_TOLERANCE: f64 = 1e-6;
 
 /// Width (samples along x) of the bundles of z lines prefiltered together.
 const Z_BUNDLE: usize = 64;
@@ -45,11 +43,11 @@ impl BSpline {
     /// The interpolating spline of `volume`: its samples prefiltered along x, y and z
     /// (in parallel over lines).
     pub fn new(volume: &Volume) -> BSpline {
-        let dims = volume.dims();
+        let grid = volume.grid();
         let mut coefficients = volume.samples().to_vec();
-        prefilter_x(&mut coefficients, dims);
-        prefilter_y(&mut coefficients, dims);
-        prefilter_z(&mut coefficients, dims);
+        prefilter_x(&mut coefficients, grid);
+        prefilter_y(&mut coefficients, grid);
+        prefilter_z(&mut coefficients, grid);
         let origin = Point::from(volume.origin());
         let at_origin = Vector::from(volume.world_to_index(&origin));
         let world_to_index = Matrix3::from_fn(|row, col| {
@@ -57,7 +55,7 @@ impl BSpline {
             volume.world_to_index(&step)[row] - at_origin[row]
         });
         BSpline {
-            dims,
+            dims: grid.dims,
             coefficients,
             origin,
             world_to_index,
@@ -109,11 +107,11 @@ impl BSpline {
     fn partials(&self, index: [f64; 3], max_order: usize) -> Option<[f64; 20]> {
         let axes = [0, 1, 2].map(|a| AxisWeights::at(index[a], self.dims[a]));
         let [x, y, z] = [axes[0].as_ref()?, axes[1].as_ref()?, axes[2].as_ref()?];
-        let [nx, ny, _] = self.dims;
+        let grid = Grid { dims: self.dims };
         let mut sums = [0.0; 20];
         for (k, &zk) in z.nodes.iter().enumerate() {
             for (j, &yj) in y.nodes.iter().enumerate() {
-                let row = nx * (yj + ny * zk);
+                let row = grid.index([0, yj, zk]);
                 for (i, &xi) in x.nodes.iter().enumerate() {
                     let c = f64::from(self.coefficients[row + xi]);
                     for (sum, p) in sums.iter_mut().zip(Partial::ALL) {
@@ -138,13 +136,10 @@ struct AxisWeights {
 
 impl AxisWeights {
     /// The nodes and weights at coordinate `u` along an axis of `n` samples, or
-    /// `None` outside `[0, n − 1]`.
+    /// `None` further than [`INDEX_TOLERANCE`](super::trilinear::INDEX_TOLERANCE)
+    /// outside `[0, n − 1]` (nearer, `u` is taken at the border).
     fn at(u: f64, n: usize) -> Option<AxisWeights> {
-        let last = (n - 1) as f64;
-        if !(u >= -INDEX_TOLERANCE && u <= last + INDEX_TOLERANCE) {
-            return None;
-        }
-        let u = u.clamp(0.0, last);
+        let u = on_axis(u, n)?;
         let cell = u.floor();
         let t = u - cell;
         let s = 1.0 - t;
@@ -182,8 +177,8 @@ fn mirror(i: isize, n: usize) -> usize {
 }
 
 /// Prefilters every x line.
-fn prefilter_x(samples: &mut [f32], dims: [usize; 3]) {
-    samples.par_chunks_mut(dims[0]).for_each(|line| {
+fn prefilter_x(samples: &mut [f32], grid: Grid) {
+    samples.par_chunks_mut(grid.dims[0]).for_each(|line| {
         let mut buffer: Vec<f64> = line.iter().map(|&v| f64::from(v)).collect();
         prefilter_line(&mut buffer);
         for (out, value) in line.iter_mut().zip(buffer) {
@@ -193,16 +188,16 @@ fn prefilter_x(samples: &mut [f32], dims: [usize; 3]) {
 }
 
 /// Prefilters every y line, in parallel over z slices.
-fn prefilter_y(samples: &mut [f32], dims: [usize; 3]) {
-    samples.par_chunks_mut(dims[0] * dims[1]).for_each(|slice| {
-        let mut rows: Vec<&mut [f32]> = slice.chunks_mut(dims[0]).collect();
+fn prefilter_y(samples: &mut [f32], grid: Grid) {
+    samples.par_chunks_mut(grid.plane_len()).for_each(|slice| {
+        let mut rows: Vec<&mut [f32]> = slice.chunks_mut(grid.dims[0]).collect();
         prefilter_across(&mut rows);
     });
 }
 
 /// Prefilters every z line, in parallel over bundles of [`Z_BUNDLE`] x positions.
-fn prefilter_z(samples: &mut [f32], dims: [usize; 3]) {
-    let slice_len = dims[0] * dims[1];
+fn prefilter_z(samples: &mut [f32], grid: Grid) {
+    let slice_len = grid.plane_len();
     let bundles = slice_len.div_ceil(Z_BUNDLE);
     let mut by_bundle: Vec<Vec<&mut [f32]>> = (0..bundles).map(|_| Vec::new()).collect();
     for slice in samples.chunks_mut(slice_len) {

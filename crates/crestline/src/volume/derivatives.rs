@@ -13,6 +13,7 @@
 //! sample. Derivatives within `max(⌈5σ⌉, 2)` voxels of the border feel that
 //! extension; further in, cubic polynomials are differentiated exactly.
 
+use super::grid::Grid;
 use super::jet::{hessian_from_components, Jet, ThirdOrder};
 use super::kernels::{check_sigma, Kernel, MAX_ORDER};
 use super::separable::{self, AxisKernels, HalfKernel};
@@ -184,7 +185,7 @@ impl Derivatives {
         wanted.sort_unstable();
         wanted.dedup();
         let orders: Vec<[usize; 3]> = wanted.iter().map(|p| p.orders).collect();
-        let filtered = separable::filter(volume.samples(), volume.dims(), kernels, &orders);
+        let filtered = separable::filter(volume.samples(), volume.grid(), kernels, &orders);
         let mut grids = vec![None; 64];
         for (p, grid) in wanted.iter().zip(filtered) {
             grids[p.slot()] = Some(grid);
@@ -251,12 +252,7 @@ impl Derivatives {
     /// The values at voxel `index` of the `N` partials of [`Partial::ALL`] from
     /// position `first` on.
     fn components<const N: usize>(&self, first: usize, index: [usize; 3]) -> Option<[f64; N]> {
-        let [nx, ny, nz] = self.dims;
-        let [i, j, k] = index;
-        if i >= nx || j >= ny || k >= nz {
-            return None;
-        }
-        let at = i + nx * (j + ny * k);
+        let at = Grid { dims: self.dims }.checked_index(index)?;
         let mut values = [0.0; N];
         for (value, partial) in values.iter_mut().zip(&Partial::ALL[first..]) {
             *value = f64::from(self.grid(*partial)?[at]);

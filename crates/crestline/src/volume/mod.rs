@@ -22,6 +22,7 @@
 pub mod bspline;
 pub mod crease;
 pub mod derivatives;
+pub(crate) mod grid;
 pub mod isosurface;
 pub mod jet;
 pub mod kernels;
@@ -41,6 +42,7 @@ pub use marching_lines::{
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
 use crate::{Error, Point, Result, Vector};
+use grid::Grid;
 use nalgebra::{Matrix3, Matrix4};
 
 /// A scalar 3D image: samples on a regular grid with its placement in world space.
@@ -142,12 +144,19 @@ impl Volume {
 
     /// The position of sample `(i, j, k)` in [`Volume::samples`], or `None` outside
     /// the grid.
+    #[inline]
     pub fn linear_index(&self, i: usize, j: usize, k: usize) -> Option<usize> {
-        let [nx, ny, nz] = self.dims;
-        (i < nx && j < ny && k < nz).then(|| i + nx * (j + ny * k))
+        self.grid().checked_index([i, j, k])
+    }
+
+    /// The index arithmetic of the volume's grid.
+    #[inline]
+    pub(crate) fn grid(&self) -> Grid {
+        Grid { dims: self.dims }
     }
 
     /// The sample at voxel `(i, j, k)`, or `None` outside the grid.
+    #[inline]
     pub fn value(&self, i: usize, j: usize, k: usize) -> Option<f32> {
         self.linear_index(i, j, k).map(|at| self.samples[at])
     }

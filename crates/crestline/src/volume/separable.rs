@@ -15,6 +15,8 @@
 
 use rayon::prelude::*;
 
+use super::grid::Grid;
+
 /// The weights of a (anti)symmetric 1-D kernel at offsets `0..=R`.
 #[derive(Clone, Debug)]
 pub(crate) struct HalfKernel {
@@ -27,26 +29,26 @@ pub(crate) struct HalfKernel {
 /// The kernels of orders 0 to 3 along one axis, indexed by order.
 pub(crate) type AxisKernels = Vec<HalfKernel>;
 
-/// Filters `samples` (`dims`, x fastest) into one volume per entry of `orders`,
+/// Filters `samples` (on `grid`, x fastest) into one volume per entry of `orders`,
 /// `[x, y, z]` orders each, with `kernels[axis][order]`, in parallel over z slices.
 pub(crate) fn filter(
     samples: &[f32],
-    dims: [usize; 3],
+    grid: Grid,
     kernels: &[AxisKernels; 3],
     orders: &[[usize; 3]],
 ) -> Vec<Vec<f32>> {
     let z_orders = distinct(orders.iter().map(|o| o[2]));
     let z_kernels: Vec<&HalfKernel> = z_orders.iter().map(|&c| &kernels[2][c]).collect();
     let mut outputs: Vec<Vec<f32>> = orders.iter().map(|_| vec![0.0; samples.len()]).collect();
-    slices_by_k(&mut outputs, dims[0] * dims[1])
+    slices_by_k(&mut outputs, grid.plane_len())
         .into_par_iter()
         .enumerate()
         .for_each_init(Scratch::default, |scratch, (k, mut out_slices)| {
-            let z_passes = scratch.z.take(z_orders.len(), dims[0] * dims[1]);
-            z_slice(samples, dims, k, &z_kernels, z_passes);
+            let z_passes = scratch.z.take(z_orders.len(), grid.plane_len());
+            z_slice(samples, grid, k, &z_kernels, z_passes);
             for (z_pass, &c) in z_passes.iter().zip(&z_orders) {
                 let x_passes = &mut scratch.x;
-                finish_slice(z_pass, dims, kernels, orders, c, x_passes, &mut out_slices);
+                finish_slice(z_pass, grid, kernels, orders, c, x_passes, &mut out_slices);
             }
         });
     outputs
@@ -81,19 +83,19 @@ impl Buffers {
 /// The z passes of slice `k`, one per kernel, into `outputs`.
 fn z_slice(
     samples: &[f32],
-    dims: [usize; 3],
+    grid: Grid,
     k: usize,
     kernels: &[&HalfKernel],
     outputs: &mut [Vec<f32>],
 ) {
-    let [nx, ny, nz] = dims;
+    let [nx, ny, nz] = grid.dims;
     let mut targets: Vec<&mut [f32]> = outputs.iter_mut().map(|o| o.as_mut_slice()).collect();
     for j in 0..ny {
         let row = |t: isize| {
-            let at = (clamp(k as isize + t, nz) * ny + j) * nx;
+            let at = grid.index([0, j, clamp(k as isize + t, nz)]);
             &samples[at..at + nx]
         };
-        correlate_rows(&mut targets, j * nx, kernels, row);
+        correlate_rows(&mut targets, grid.index([0, j, 0]), kernels, row);
     }
 }
 
@@ -101,7 +103,7 @@ fn z_slice(
 /// slices of the outputs whose z order is `c`.
 fn finish_slice(
     source: &[f32],
-    dims: [usize; 3],
+    grid: Grid,
     kernels: &[AxisKernels; 3],
     orders: &[[usize; 3]],
     c: usize,
@@ -111,7 +113,7 @@ fn finish_slice(
     let x_orders = distinct(orders.iter().filter(|o| o[2] == c).map(|o| o[0]));
     let x_kernels: Vec<&HalfKernel> = x_orders.iter().map(|&a| &kernels[0][a]).collect();
     let x_passes = scratch.take(x_orders.len(), source.len());
-    x_pass(source, dims[0], &x_kernels, x_passes);
+    x_pass(source, grid, &x_kernels, x_passes);
     for (x_pass, &a) in x_passes.iter().zip(&x_orders) {
         let mut targets: Vec<&mut [f32]> = Vec::new();
         let mut y_kernels: Vec<&HalfKernel> = Vec::new();
@@ -121,32 +123,33 @@ fn finish_slice(
                 y_kernels.push(&kernels[1][order[1]]);
             }
         }
-        y_pass(x_pass, dims, &y_kernels, &mut targets);
+        y_pass(x_pass, grid, &y_kernels, &mut targets);
     }
 }
 
 /// Correlates every x line of `slice` with each kernel, into `outputs`.
-fn x_pass(slice: &[f32], nx: usize, kernels: &[&HalfKernel], outputs: &mut [Vec<f32>]) {
+fn x_pass(slice: &[f32], grid: Grid, kernels: &[&HalfKernel], outputs: &mut [Vec<f32>]) {
+    let nx = grid.dims[0];
     let radius = max_radius(kernels);
     let mut padded = vec![0.0; nx + 2 * radius];
     let mut targets: Vec<&mut [f32]> = outputs.iter_mut().map(|o| o.as_mut_slice()).collect();
     for (j, line) in slice.chunks_exact(nx).enumerate() {
         pad_clamped(line, radius, &mut padded);
         let row = |t: isize| &padded[(radius as isize + t) as usize..][..nx];
-        correlate_rows(&mut targets, j * nx, kernels, row);
+        correlate_rows(&mut targets, grid.index([0, j, 0]), kernels, row);
     }
 }
 
 /// Correlates every y column of the x-filtered `slice` with each kernel, into
 /// `targets` (slices of the outputs).
-fn y_pass(slice: &[f32], dims: [usize; 3], kernels: &[&HalfKernel], targets: &mut [&mut [f32]]) {
-    let [nx, ny, _] = dims;
+fn y_pass(slice: &[f32], grid: Grid, kernels: &[&HalfKernel], targets: &mut [&mut [f32]]) {
+    let [nx, ny, _] = grid.dims;
     for j in 0..ny {
         let row = |t: isize| {
-            let at = clamp(j as isize + t, ny);
-            &slice[at * nx..(at + 1) * nx]
+            let at = grid.index([0, clamp(j as isize + t, ny), 0]);
+            &slice[at..at + nx]
         };
-        correlate_rows(targets, j * nx, kernels, row);
+        correlate_rows(targets, grid.index([0, j, 0]), kernels, row);
     }
 }
 

@@ -9,8 +9,9 @@ use super::edges::CrossingOptions;
 use super::field::CreaseField;
 use super::surface::{compact, Mesh};
 use crate::mesh::TriangleSoup;
+use crate::volume::grid::cell_corner;
 use crate::volume::isosurface::cell::{
-    corner_offset, crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, EDGES,
+    crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, EDGES,
 };
 use crate::Vector;
 
@@ -38,63 +39,56 @@ use crate::Vector;
 /// the vertex scalars [`super::STRENGTH`] and [`super::DEGENERATE`] (0 everywhere:
 /// marching cubes find no degenerate points). Only `options.strength` is read.
 pub fn oriented_marching_cubes(field: &CreaseField, options: &CrossingOptions) -> TriangleSoup {
-    let [nx, ny, nz] = field.dims();
+    let grid = field.grid();
     let table = CaseTable::get();
-    let mut vertices: HashMap<usize, u32> = HashMap::new();
+    let mut vertices: HashMap<u64, u32> = HashMap::new();
     let mut positions = Vec::new();
     let mut strength = Vec::new();
     let mut triangles = Vec::new();
-    for k in 0..nz.saturating_sub(1) {
-        for j in 0..ny.saturating_sub(1) {
-            for i in 0..nx.saturating_sub(1) {
-                let corners: [[usize; 3]; 8] = std::array::from_fn(|c| {
-                    let [dx, dy, dz] = corner_offset(c);
-                    [i + dx, j + dy, k + dz]
+    for cell in grid.cells(0..grid.cell_layers()) {
+        let corners: [[usize; 3]; 8] = std::array::from_fn(|c| cell_corner(cell, c));
+        let samples = corners.map(|c| field.sample(c));
+        let reference = samples[0].frame.e3;
+        let values = samples.map(|s| {
+            let e3 = if s.frame.e3.dot(&reference) < 0.0 {
+                -s.frame.e3
+            } else {
+                s.frame.e3
+            };
+            s.gradient.dot(&e3)
+        });
+        let mask = (0..8)
+            .filter(|&c| values[c] >= 0.0)
+            .fold(0u8, |bits, c| bits | (1 << c));
+        if mask == 0 || mask == u8::MAX {
+            continue;
+        }
+        let connected = decide_faces(table.ambiguous_faces(mask), &values, 0.0);
+        let mut ids = [0u32; 12];
+        for polygon in table.polygons(mask, connected).iter() {
+            for (n, &edge) in polygon.iter().enumerate() {
+                let (a, axis) = EDGES[edge as usize];
+                let b = a | (1 << axis);
+                let key = grid.key(corners[a], axis);
+                ids[n] = *vertices.entry(key).or_insert_with(|| {
+                    let t = crossing_fraction(values[a], values[b], 0.0);
+                    let (pa, pb) = (field.position(corners[a]), field.position(corners[b]));
+                    positions.push(pa + (pb - pa) * t);
+                    let l3 = |c: usize| samples[c].frame.eigenvalues[2];
+                    strength.push(-(l3(a) * (1.0 - t) + l3(b) * t));
+                    (positions.len() - 1) as u32
                 });
-                let samples = corners.map(|c| field.sample(c));
-                let reference = samples[0].frame.e3;
-                let values = samples.map(|s| {
-                    let e3 = if s.frame.e3.dot(&reference) < 0.0 {
-                        -s.frame.e3
-                    } else {
-                        s.frame.e3
-                    };
-                    s.gradient.dot(&e3)
-                });
-                let mask = (0..8)
-                    .filter(|&c| values[c] >= 0.0)
-                    .fold(0u8, |bits, c| bits | (1 << c));
-                if mask == 0 || mask == u8::MAX {
-                    continue;
-                }
-                let connected = decide_faces(table.ambiguous_faces(mask), &values, 0.0);
-                let mut ids = [0u32; 12];
-                for polygon in table.polygons(mask, connected).iter() {
-                    for (n, &edge) in polygon.iter().enumerate() {
-                        let (a, axis) = EDGES[edge as usize];
-                        let b = a | (1 << axis);
-                        let key = 3 * field.linear_index(corners[a]) + axis;
-                        ids[n] = *vertices.entry(key).or_insert_with(|| {
-                            let t = crossing_fraction(values[a], values[b], 0.0);
-                            let (pa, pb) = (field.position(corners[a]), field.position(corners[b]));
-                            positions.push(pa + (pb - pa) * t);
-                            let l3 = |c: usize| samples[c].frame.eigenvalues[2];
-                            strength.push(-(l3(a) * (1.0 - t) + l3(b) * t));
-                            (positions.len() - 1) as u32
-                        });
-                    }
-                    let ids = &ids[..polygon.len()];
-                    let mut centre = 0;
-                    if is_fanned(ids.len()) {
-                        let n = ids.len() as f64;
-                        let sum = ids.iter().map(|&v| positions[v as usize].coords);
-                        positions.push((sum.sum::<Vector>() / n).into());
-                        strength.push(ids.iter().map(|&v| strength[v as usize]).sum::<f64>() / n);
-                        centre = (positions.len() - 1) as u32;
-                    }
-                    triangles.extend(triangulate(ids, centre));
-                }
             }
+            let ids = &ids[..polygon.len()];
+            let mut centre = 0;
+            if is_fanned(ids.len()) {
+                let n = ids.len() as f64;
+                let sum = ids.iter().map(|&v| positions[v as usize].coords);
+                positions.push((sum.sum::<Vector>() / n).into());
+                strength.push(ids.iter().map(|&v| strength[v as usize]).sum::<f64>() / n);
+                centre = (positions.len() - 1) as u32;
+            }
+            triangles.extend(triangulate(ids, centre));
         }
     }
     let strong = |t: &[u32; 3]| t.iter().all(|&v| strength[v as usize] >= options.strength);

@@ -4,9 +4,10 @@
 
 use std::collections::HashMap;
 
+use super::edge_index::EdgeIndex;
 use super::faces::face_segments;
-use super::grid::{EdgeIndex, Grid};
 use super::points::Points;
+use crate::volume::grid::Grid;
 use crate::{Point, Vector};
 
 /// The crossings, the faces' degenerate points and the grid a cell is built from.

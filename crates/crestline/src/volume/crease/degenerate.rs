@@ -18,10 +18,11 @@ use std::collections::{HashMap, HashSet};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
 
+use super::edge_index::EdgeIndex;
 use super::edges::{crossings_on_edge, CrossingOptions, EdgeCrossing};
 use super::field::CreaseField;
-use super::grid::{in_face_axes, EdgeIndex, Grid};
 use super::strong::StrongCells;
+use crate::volume::grid::{in_face_axes, Grid};
 use crate::{Point, Vector};
 
 /// The raised thresholds θ of the passes over faces with no degenerate point.
@@ -82,7 +83,7 @@ pub(crate) fn degenerate_points(
     crossings: Vec<EdgeCrossing>,
     strong: &StrongCells,
 ) -> (Vec<EdgeCrossing>, Vec<DegeneratePoint>) {
-    let grid = Grid { dims: field.dims() };
+    let grid = field.grid();
     let index = EdgeIndex::new(&crossings);
     let mut redone: HashMap<u64, Vec<EdgeCrossing>> = HashMap::new();
     let count = |redone: &HashMap<u64, Vec<EdgeCrossing>>, face: u64| {

@@ -69,7 +69,8 @@ pub(crate) fn crossings_in_strong_cells(
     options: &CrossingOptions,
     strong: &StrongCells,
 ) -> Vec<EdgeCrossing> {
-    let [nx, ny, nz] = field.dims();
+    let grid = field.grid();
+    let [nx, ny, nz] = grid.dims;
     (0..nz)
         .into_par_iter()
         .flat_map_iter(|k| {
@@ -77,7 +78,7 @@ pub(crate) fn crossings_in_strong_cells(
             for j in 0..ny {
                 for i in 0..nx {
                     for axis in 0..3 {
-                        let key = 3 * field.linear_index([i, j, k]) as u64 + axis as u64;
+                        let key = grid.key([i, j, k], axis);
                         if strong.edge(key) {
                             found.extend(crossings_on_edge(field, key, options));
                         }
@@ -97,23 +98,21 @@ pub(crate) fn crossings_on_edge(
     key: u64,
     options: &CrossingOptions,
 ) -> Vec<EdgeCrossing> {
-    let [nx, ny, nz] = field.dims();
-    let (point, axis) = ((key / 3) as usize, (key % 3) as usize);
-    let start = [point % nx, (point / nx) % ny, point / (nx * ny)];
+    let grid = field.grid();
+    let (start, axis) = grid.unkey(key);
     let mut end = start;
     end[axis] += 1;
     let mut found = Vec::new();
-    if end[0] < nx && end[1] < ny && end[2] < nz {
-        edge(start, end, axis, field, options, &mut found);
+    if grid.contains(end) {
+        edge(key, [start, end], field, options, &mut found);
     }
     found
 }
 
-/// The crossings of the grid edge from sample `start` to `end` along `axis`.
+/// The crossings of the grid edge `key` from sample `start` to `end`.
 fn edge(
-    start: [usize; 3],
-    end: [usize; 3],
-    axis: usize,
+    key: u64,
+    [start, end]: [[usize; 3]; 2],
     field: &CreaseField,
     options: &CrossingOptions,
     found: &mut Vec<EdgeCrossing>,
@@ -136,12 +135,11 @@ fn edge(
         theta: options.theta,
     };
     search.split(0.0, &a, 1.0, &b, &mut ts);
-    let point = field.linear_index(start) as u64;
     let ridge = ts.into_iter().filter(|&(_, lambda3)| lambda3 < 0.0);
     for (t, lambda3) in ridge.take(MAX_CROSSINGS_PER_EDGE) {
         let position = field.position(start) + (field.position(end) - field.position(start)) * t;
         found.push(EdgeCrossing {
-            edge: 3 * point + axis as u64,
+            edge: key,
             t,
             position,
             lambda3,

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::edges::CrossingOptions;
 use super::tensor::Eigenframe;
 use super::{DEFAULT_EPSILON_FRACTION, DEFAULT_STRENGTH_FRACTION, DEFAULT_THETA};
+use crate::volume::grid::Grid;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
@@ -140,8 +141,15 @@ impl CreaseField {
     }
 
     /// The linear index of grid point `index`.
-    pub fn linear_index(&self, [i, j, k]: [usize; 3]) -> usize {
-        i + self.dims[0] * (j + self.dims[1] * k)
+    #[inline]
+    pub fn linear_index(&self, index: [usize; 3]) -> usize {
+        self.grid().index(index)
+    }
+
+    /// The index arithmetic of the grid.
+    #[inline]
+    pub(crate) fn grid(&self) -> Grid {
+        Grid { dims: self.dims }
     }
 
     /// The world position of grid point `index`.

@@ -15,10 +15,10 @@
 mod baseline;
 mod cells;
 mod degenerate;
+mod edge_index;
 mod edges;
 mod faces;
 mod field;
-mod grid;
 mod points;
 mod strong;
 mod surface;

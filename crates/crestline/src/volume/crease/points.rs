@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use super::degenerate::DegeneratePoint;
 use super::edges::EdgeCrossing;
 use super::field::CreaseField;
+use crate::volume::grid::in_face_axes;
 use crate::{Point, Vector};
 
 /// Positions, grid coordinates, normals, strengths and kinds of the surface's
@@ -61,7 +62,7 @@ impl Points {
 
     /// The 2D coordinates of point `id` in a face normal to `axis`.
     pub fn in_face(&self, id: usize, axis: usize) -> [f64; 2] {
-        let (u, v) = super::grid::in_face_axes(axis);
+        let (u, v) = in_face_axes(axis);
         [self.grid[id][u], self.grid[id][v]]
     }
 }

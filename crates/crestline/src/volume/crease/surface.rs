@@ -11,9 +11,9 @@ use rayon::prelude::*;
 
 use super::cells::{cell_polygons, CellInput};
 use super::degenerate::{degenerate_points, DegeneratePoint};
+use super::edge_index::EdgeIndex;
 use super::edges::{crossings_in_strong_cells, CrossingOptions, EdgeCrossing};
 use super::field::CreaseField;
-use super::grid::{EdgeIndex, Grid};
 use super::points::Points;
 use super::strong::StrongCells;
 use super::trim::trimmed;
@@ -111,7 +111,7 @@ fn triangulated(
         degenerate,
         points,
     } = *pieces;
-    let grid = Grid { dims: field.dims() };
+    let grid = field.grid();
     let index = EdgeIndex::new(crossings);
     let on_face: HashMap<u64, usize> = degenerate
         .iter()

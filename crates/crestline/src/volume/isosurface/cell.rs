@@ -7,11 +7,13 @@
 //! tabulated once for all 256 × 64 cases ([`CaseTable`]).
 //!
 //! Corner `c` of a cell is at offset `(c & 1, (c >> 1) & 1, (c >> 2) & 1)` from the
-//! cell's lowest corner. Cell edge `4a + n` runs along axis `a` from corner
-//! [`EDGES`]`[4a + n].0`. Face `2a + s` is the face normal to axis `a` on side `s`
-//! (0: low, 1: high).
+//! cell's lowest corner ([`corner_offset`](crate::volume::grid::corner_offset)).
+//! Cell edge `4a + n` runs along axis `a` from corner [`EDGES`]`[4a + n].0`. Face
+//! `2a + s` is the face normal to axis `a` on side `s` (0: low, 1: high).
 
 use std::sync::OnceLock;
+
+use crate::volume::grid::in_face_axes;
 
 /// The 12 cell edges as (start corner, axis): the 4 edges along x, then y, then z.
 pub(in crate::volume) const EDGES: [(usize, usize); 12] = [
@@ -29,11 +31,6 @@ pub(in crate::volume) const EDGES: [(usize, usize); 12] = [
     (3, 2),
 ];
 
-/// The offset of corner `c` from the cell's lowest corner, along x, y and z.
-pub(in crate::volume) fn corner_offset(c: usize) -> [usize; 3] {
-    [c & 1, (c >> 1) & 1, (c >> 2) & 1]
-}
-
 /// The cell edge between corners `c` and `d`, which differ along exactly one axis.
 fn edge_between(c: usize, d: usize) -> usize {
     let axis = (c ^ d).trailing_zeros() as usize;
@@ -48,7 +45,7 @@ fn edge_between(c: usize, d: usize) -> usize {
 /// `u = a + 1`, `v = a + 2` (mod 3), which make `(u, v, a)` right-handed.
 fn face_corner(face: usize, du: usize, dv: usize) -> usize {
     let (axis, side) = (face / 2, face % 2);
-    let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+    let (u, v) = in_face_axes(axis);
     (side << axis) | (du << u) | (dv << v)
 }
 
@@ -283,6 +280,7 @@ impl CaseTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::grid::corner_offset;
 
     fn corner_point(c: usize) -> [f64; 3] {
         corner_offset(c).map(|x| x as f64)

@@ -45,6 +45,7 @@ mod slab;
 use rayon::prelude::*;
 
 use crate::mesh::{Mesh, TriangleSoup};
+use crate::volume::grid::edge_of_key;
 use crate::volume::Volume;
 use crate::{Error, Result};
 
@@ -71,12 +72,6 @@ pub enum VertexSource {
     },
 }
 
-/// The key of the grid edge from sample `point` along index axis `axis`:
-/// `3 · point + axis`, shared by every cell around the edge.
-pub(in crate::volume) fn edge_key(point: u64, axis: u8) -> u64 {
-    3 * point + u64::from(axis)
-}
-
 /// Marks the key of a cell (its centre vertex) rather than of a grid edge.
 const CELL: u64 = 1 << 63;
 
@@ -86,14 +81,16 @@ fn cell_key(cell: u64) -> u64 {
 }
 
 impl VertexSource {
-    /// The source with key `key` (see [`edge_key`], [`cell_key`]) and fraction `t`.
+    /// The source with key `key` (see [`edge_key`](crate::volume::grid::edge_key),
+    /// [`cell_key`]) and fraction `t`.
     fn from_key(key: u64, t: f64) -> VertexSource {
         if key & CELL != 0 {
             VertexSource::Cell { cell: key & !CELL }
         } else {
+            let (point, axis) = edge_of_key(key);
             VertexSource::Edge {
-                point: key / 3,
-                axis: (key % 3) as u8,
+                point: point as u64,
+                axis: axis as u8,
                 t,
             }
         }
@@ -208,11 +205,7 @@ pub(in crate::volume) fn check_input(volume: &Volume, level: f64) -> Result<()> 
     match samples.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
         Some(at) => {
-            let (i, j, k) = (
-                at % dims[0],
-                (at / dims[0]) % dims[1],
-                at / (dims[0] * dims[1]),
-            );
+            let [i, j, k] = volume.grid().position_of(at);
             Err(Error::Argument(format!(
                 "the sample at voxel ({i}, {j}, {k}) is {}: an isosurface needs finite samples",
                 volume.samples()[at]

@@ -13,10 +13,10 @@
 use rayon::prelude::*;
 
 use super::cell::{
-    corner_offset, crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, Polygons,
-    EDGES,
+    crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, Polygons, EDGES,
 };
-use super::{cell_key, edge_key};
+use super::cell_key;
+use crate::volume::grid::{corner_offset, edge_key, Grid};
 use crate::volume::Volume;
 use crate::{Error, Point, Result, Vector};
 
@@ -38,14 +38,15 @@ pub(super) struct Extraction {
 }
 
 /// The volume seen as a grid of cells at one level.
-struct Grid<'a> {
+struct LevelGrid<'a> {
     volume: &'a Volume,
     samples: &'a [f32],
-    dims: [usize; 3],
+    layout: Grid,
     level: f64,
-    /// Cell edge `e` is slot `cell slot + edge_slot[e].1` of the cell's lower plane
-    /// (`edge_slot[e].0` false) or upper plane (true).
-    edge_slot: [(bool, usize); 12],
+    /// Cell edge `e` runs along axis `edge_square[e].2` from the sample `square +
+    /// edge_square[e].1` of the cell's lower plane (`edge_square[e].0` false) or
+    /// upper plane (true), `square` the cell's lowest corner in its plane.
+    edge_square: [(bool, usize, usize); 12],
     /// Corner `c` of a cell is sample `cell + corner_step[c]`.
     corner_step: [usize; 8],
     /// The grid is mirrored (the direction has a negative determinant): triangles
@@ -53,31 +54,27 @@ struct Grid<'a> {
     mirrored: bool,
 }
 
-impl<'a> Grid<'a> {
-    fn new(volume: &'a Volume, level: f64) -> Grid<'a> {
-        let [nx, ny, _] = volume.dims();
-        let corner_step = std::array::from_fn(|c| {
-            let [dx, dy, dz] = corner_offset(c);
-            dx + nx * (dy + ny * dz)
-        });
-        let edge_slot = EDGES.map(|(corner, axis)| {
+impl<'a> LevelGrid<'a> {
+    fn new(volume: &'a Volume, level: f64) -> LevelGrid<'a> {
+        let layout = volume.grid();
+        let edge_square = EDGES.map(|(corner, axis)| {
             let [dx, dy, dz] = corner_offset(corner);
-            (dz == 1, 3 * (dx + nx * dy) + axis)
+            (dz == 1, layout.index([dx, dy, 0]), axis)
         });
-        Grid {
+        LevelGrid {
             volume,
             samples: volume.samples(),
-            dims: volume.dims(),
+            layout,
             level,
-            edge_slot,
-            corner_step,
+            edge_square,
+            corner_step: layout.corner_steps(),
             mirrored: volume.direction().determinant() < 0.0,
         }
     }
 
     /// The samples of plane `z = k`.
     fn plane_samples(&self, k: usize) -> &[f32] {
-        let size = self.dims[0] * self.dims[1];
+        let size = self.layout.plane_len();
         self.samples.get(k * size..(k + 1) * size).unwrap_or(&[])
     }
 
@@ -95,11 +92,12 @@ impl<'a> Grid<'a> {
     /// Call `visit(i, j, axis)` for every crossing of plane `k` (whose inside flags
     /// are `inside`), in the order that numbers them.
     fn scan_plane(&self, k: usize, inside: &[u8], mut visit: impl FnMut(usize, usize, usize)) {
-        let [nx, ny, _] = self.dims;
+        let [nx, ny, _] = self.layout.dims;
         let above = self.plane_samples(k + 1);
         for j in 0..ny {
-            let row = &inside[nx * j..nx * (j + 1)];
-            let next_row = inside.get(nx * (j + 1)..nx * (j + 2));
+            let start = self.layout.index([0, j, 0]);
+            let row = &inside[start..start + nx];
+            let next_row = inside.get(start + nx..start + 2 * nx);
             for (i, &here) in row.iter().enumerate() {
                 if row.get(i + 1).is_some_and(|&x| x != here) {
                     visit(i, j, 0);
@@ -108,7 +106,7 @@ impl<'a> Grid<'a> {
                     visit(i, j, 1);
                 }
                 if above
-                    .get(i + nx * j)
+                    .get(start + i)
                     .is_some_and(|&v| self.inside(v) != here)
                 {
                     visit(i, j, 2);
@@ -121,9 +119,8 @@ impl<'a> Grid<'a> {
     /// position (linear interpolation, kept away from the ends) and
     /// source.
     fn crossing(&self, [i, j, k]: [usize; 3], axis: usize) -> (Point, u64, f64) {
-        let [nx, ny, _] = self.dims;
-        let at = i + nx * (j + ny * k);
-        let step = [1, nx, nx * ny][axis];
+        let at = self.layout.index([i, j, k]);
+        let step = self.layout.step(axis);
         let (a, b) = (
             f64::from(self.samples[at]),
             f64::from(self.samples[at + step]),
@@ -131,7 +128,7 @@ impl<'a> Grid<'a> {
         let t = crossing_fraction(a, b, self.level);
         let mut index = [i, j, k].map(|x| x as f64);
         index[axis] += t;
-        let key = edge_key(at as u64, axis as u8);
+        let key = edge_key(at, axis);
         (self.volume.index_to_world(index), key, t)
     }
 }
@@ -145,8 +142,8 @@ struct Plane {
     /// For square `i + nx j`, the inside bits of its corners `(i, j)`, `(i + 1, j)`,
     /// `(i, j + 1)`, `(i + 1, j + 1)` (bits 0 to 3, as the cell corners 0 to 3).
     squares: Vec<u8>,
-    /// For each slot `3 (i + nx j) + axis` that has a crossing, its number within
-    /// the plane (other slots hold stale values and are never read).
+    /// For each [`slot_of`] that has a crossing, its number within the plane (other
+    /// slots hold stale values and are never read).
     slot: Vec<u32>,
     points: Vec<Point>,
     keys: Vec<u64>,
@@ -154,13 +151,13 @@ struct Plane {
 }
 
 impl Plane {
-    fn new(grid: &Grid) -> Plane {
-        let [nx, ny, _] = grid.dims;
+    fn new(grid: &LevelGrid) -> Plane {
+        let size = grid.layout.plane_len();
         Plane {
             base: 0,
-            inside: Vec::with_capacity(nx * ny),
-            squares: vec![0; nx * ny],
-            slot: vec![0; 3 * nx * ny],
+            inside: Vec::with_capacity(size),
+            squares: vec![0; size],
+            slot: vec![0; slot_of(size, 0)],
             points: Vec::new(),
             keys: Vec::new(),
             fractions: Vec::new(),
@@ -168,8 +165,8 @@ impl Plane {
     }
 
     /// The inside flags of plane `k` and of its squares' corners.
-    fn classify(&mut self, grid: &Grid, k: usize) {
-        let nx = grid.dims[0];
+    fn classify(&mut self, grid: &LevelGrid, k: usize) {
+        let nx = grid.layout.dims[0];
         grid.classify(k, &mut self.inside);
         let rows = self.inside.chunks_exact(nx);
         let pairs = rows.clone().zip(rows.skip(1));
@@ -181,7 +178,7 @@ impl Plane {
     }
 
     /// The number of crossings of plane `k`, once classified.
-    fn count_crossings(&self, grid: &Grid, k: usize) -> u32 {
+    fn count_crossings(&self, grid: &LevelGrid, k: usize) -> u32 {
         let mut count = 0;
         grid.scan_plane(k, &self.inside, |_, _, _| count += 1);
         count
@@ -189,15 +186,14 @@ impl Plane {
 
     /// Classify plane `k`, then number and place its crossings, the first being
     /// number `base`.
-    fn fill(&mut self, grid: &Grid, k: usize, base: u32) {
-        let nx = grid.dims[0];
+    fn fill(&mut self, grid: &LevelGrid, k: usize, base: u32) {
         self.classify(grid, k);
         self.base = base;
         self.points.clear();
         self.keys.clear();
         self.fractions.clear();
         grid.scan_plane(k, &self.inside, |i, j, axis| {
-            self.slot[3 * (i + nx * j) + axis] = self.points.len() as u32;
+            self.slot[slot_of(grid.layout.index([i, j, 0]), axis)] = self.points.len() as u32;
             let (point, key, t) = grid.crossing([i, j, k], axis);
             self.points.push(point);
             self.keys.push(key);
@@ -206,20 +202,28 @@ impl Plane {
     }
 }
 
-/// Call `visit(cell, polygons)` for every cell of layer `k` (between the classified
-/// planes `lower`, `z = k`, and `upper`, `z = k + 1`) that the surface crosses,
-/// with the cell's linear index and polygons.
+/// The slot of the crossing on the edge along `axis` from sample `square` (`i + nx·j`)
+/// of a plane in [`Plane::slot`]: the key the edge would have in the plane `z = 0`.
+#[inline]
+fn slot_of(square: usize, axis: usize) -> usize {
+    edge_key(square, axis) as usize
+}
+
+/// Call `visit(cell, square, polygons)` for every cell of layer `k` (between the
+/// classified planes `lower`, `z = k`, and `upper`, `z = k + 1`) that the surface
+/// crosses, with the cell's linear index, the index of its lowest corner within
+/// its plane and its polygons.
 fn surface_cells<'t>(
-    grid: &Grid,
+    grid: &LevelGrid,
     k: usize,
     lower: &Plane,
     upper: &Plane,
-    mut visit: impl FnMut(usize, &'t Polygons),
+    mut visit: impl FnMut(usize, usize, &'t Polygons),
 ) {
-    let [nx, ny, _] = grid.dims;
+    let [nx, ny, _] = grid.layout.dims;
     let table = CaseTable::get();
     for j in 0..ny - 1 {
-        let row = nx * j;
+        let row = grid.layout.index([0, j, 0]);
         let low = &lower.squares[row..row + nx - 1];
         let high = &upper.squares[row..row + nx - 1];
         let mut i = 0;
@@ -230,9 +234,9 @@ fn surface_cells<'t>(
             }
             let mask = low[i] | (high[i] << 4);
             if mask != 0 && mask != u8::MAX {
-                let cell = i + row + nx * ny * k;
+                let cell = grid.layout.index([i, j, k]);
                 let connected = decide_cell_faces(grid, table.ambiguous_faces(mask), cell);
-                visit(cell, table.polygons(mask, connected));
+                visit(cell, row + i, table.polygons(mask, connected));
             }
             i += 1;
         }
@@ -257,7 +261,7 @@ fn uniform_run(low: &[u8], high: &[u8], i: usize) -> bool {
 
 /// The decider's choice on each ambiguous face (bits of `ambiguous`) of `cell`:
 /// bit `f` set where face `f` joins its inside corners.
-fn decide_cell_faces(grid: &Grid, ambiguous: u8, cell: usize) -> u8 {
+fn decide_cell_faces(grid: &LevelGrid, ambiguous: u8, cell: usize) -> u8 {
     if ambiguous == 0 {
         return 0;
     }
@@ -280,7 +284,7 @@ struct SlabCount {
 }
 
 /// The first pass over the slab of cell layers `first..end`.
-fn count_slab(grid: &Grid, first: usize, end: usize) -> SlabCount {
+fn count_slab(grid: &LevelGrid, first: usize, end: usize) -> SlabCount {
     let mut count = SlabCount {
         first,
         end,
@@ -294,7 +298,7 @@ fn count_slab(grid: &Grid, first: usize, end: usize) -> SlabCount {
         if k + 1 < owned_end(grid, end) {
             count.crossings.push(upper.count_crossings(grid, k + 1));
         }
-        surface_cells(grid, k, &lower, &upper, |_, polygons| {
+        surface_cells(grid, k, &lower, &upper, |_, _, polygons| {
             count.triangles += polygons.triangle_count();
             count.centres += polygons.centre_count();
         });
@@ -304,8 +308,8 @@ fn count_slab(grid: &Grid, first: usize, end: usize) -> SlabCount {
 }
 
 /// The end of the planes owned by the slab of cell layers ending at `end`.
-fn owned_end(grid: &Grid, end: usize) -> usize {
-    if end == grid.dims[2] - 1 {
+fn owned_end(grid: &LevelGrid, end: usize) -> usize {
+    if end == grid.layout.cell_layers() {
         end + 1
     } else {
         end
@@ -366,7 +370,7 @@ impl Part<'_> {
 }
 
 /// The second pass over a slab: its crossings, centres and triangles.
-fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
+fn fill_slab(grid: &LevelGrid, bases: &[u32], count: &SlabCount, mut part: Part) {
     let (first, end) = (count.first, count.end);
     let (mut lower, mut upper) = (Plane::new(grid), Plane::new(grid));
     lower.fill(grid, first, bases[first]);
@@ -377,15 +381,13 @@ fn fill_slab(grid: &Grid, bases: &[u32], count: &SlabCount, mut part: Part) {
         if k + 1 < owned_end(grid, end) {
             part.take(&upper);
         }
-        let nx = grid.dims[0];
-        surface_cells(grid, k, &lower, &upper, |cell, polygons| {
-            let cell_slot = 3 * (cell % (nx * grid.dims[1]));
+        surface_cells(grid, k, &lower, &upper, |cell, square, polygons| {
             for polygon in polygons.iter() {
                 let mut sum = Vector::zeros();
                 for (n, &edge) in polygon.iter().enumerate() {
-                    let (up, offset) = grid.edge_slot[edge as usize];
+                    let (up, offset, axis) = grid.edge_square[edge as usize];
                     let plane = if up { &upper } else { &lower };
-                    let local = plane.slot[cell_slot + offset] as usize;
+                    let local = plane.slot[slot_of(square + offset, axis)] as usize;
                     ids[n] = plane.base + local as u32;
                     if is_fanned(polygon.len()) {
                         sum += plane.points[local].coords;
@@ -438,8 +440,8 @@ fn cut<'a, T>(slice: &mut &'a mut [T], n: usize) -> &'a mut [T] {
 /// The polygons of every cell of `volume` at `level`, triangulated. The samples
 /// must be finite and every dimension at least 2 (checked by the caller).
 pub(super) fn extract(volume: &Volume, level: f64) -> Result<Extraction> {
-    let grid = Grid::new(volume, level);
-    let layers = grid.dims[2] - 1;
+    let grid = LevelGrid::new(volume, level);
+    let layers = grid.layout.cell_layers();
     let counts: Vec<SlabCount> = (0..layers)
         .into_par_iter()
         .step_by(SLAB_LAYERS)

@@ -4,11 +4,9 @@
 
 use std::ops::Range;
 
-use super::{cell_corners, PointKey, SecondField, Segment};
-use crate::volume::isosurface::cell::{
-    corner_offset, crossing_fraction, decide_faces, CaseTable, EDGES,
-};
-use crate::volume::isosurface::edge_key;
+use super::{PointKey, SecondField, Segment};
+use crate::volume::grid::{cell_corner, edge_key};
+use crate::volume::isosurface::cell::{crossing_fraction, decide_faces, CaseTable, EDGES};
 use crate::volume::Volume;
 
 /// A vertex of an isosurface polygon: the key of its grid edge, its position in
@@ -45,11 +43,10 @@ impl Cell {
         let (c, axis) = EDGES[edge as usize];
         let d = c | (1 << axis);
         let t = crossing_fraction(self.f[c], self.f[d], level);
-        let offset = corner_offset(c);
-        let mut index: [f64; 3] = std::array::from_fn(|a| (self.index[a] + offset[a]) as f64);
+        let mut index = cell_corner(self.index, c).map(|x| x as f64);
         index[axis] += t;
         Vertex {
-            key: edge_key(self.corners[c] as u64, axis as u8),
+            key: edge_key(self.corners[c], axis),
             index,
             g: self.g[c] + t * (self.g[d] - self.g[c]),
         }
@@ -135,7 +132,7 @@ pub(super) fn push_cell(
     index: [usize; 3],
     segments: &mut Vec<Segment>,
 ) {
-    let corners = cell_corners(volume.dims(), index);
+    let corners = volume.grid().corners(index);
     let f = corners.map(|at| f64::from(volume.samples()[at]));
     if !crossed(&f, level) {
         return;
@@ -169,14 +166,9 @@ pub(super) fn slab_segments(
     field: &impl SecondField,
     layers: Range<usize>,
 ) -> Vec<Segment> {
-    let [nx, ny, _] = volume.dims();
     let mut segments = Vec::new();
-    for k in layers {
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                push_cell(volume, levels, field, [i, j, k], &mut segments);
-            }
-        }
+    for cell in volume.grid().cells(layers) {
+        push_cell(volume, levels, field, cell, &mut segments);
     }
     segments
 }
@@ -184,6 +176,7 @@ pub(super) fn slab_segments(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::grid::Grid;
 
     /// Labelled points with keys `[n, n]` and the given labels, in cycle order.
     fn labelled(labels: &[bool]) -> Vec<Labelled> {
@@ -224,7 +217,7 @@ mod tests {
         let saddle = [1.0, -1.0, -1.0, 1.0].map(|v: f64| v + offset);
         let g = std::array::from_fn(|c| saddle[c & 3]);
         let f = std::array::from_fn(|c| if c < 4 { -1.0 } else { 1.0 });
-        let corners = cell_corners([2, 2, 2], [0, 0, 0]);
+        let corners = Grid { dims: [2; 3] }.corners([0, 0, 0]);
         let cell = Cell {
             index: [0, 0, 0],
             corners,
@@ -233,7 +226,7 @@ mod tests {
         };
         let vertex_g = |key: u64| {
             (0..4)
-                .find(|&c| 3 * corners[c] as u64 + 2 == key)
+                .find(|&c| edge_key(corners[c], 2) == key)
                 .map(|c| g[c])
         };
         cell_segments(&cell, 0.0, 0.0)

@@ -47,7 +47,7 @@ mod seeded;
 
 use rayon::prelude::*;
 
-use crate::volume::isosurface::cell::corner_offset;
+use crate::volume::grid::Grid;
 use crate::volume::isosurface::check_input;
 use crate::volume::Volume;
 use crate::{Error, Point, Result};
@@ -78,23 +78,12 @@ pub trait SecondField: Sync {
     }
 }
 
-/// The linear sample indices (x fastest) of the 8 corners of the cell whose lowest
-/// corner is sample `cell` of a grid of `dims` samples, corner `c` at offset
-/// `(c & 1, (c >> 1) & 1, (c >> 2) & 1)`.
-pub fn cell_corners(dims: [usize; 3], [i, j, k]: [usize; 3]) -> [usize; 8] {
-    let [nx, ny, _] = dims;
-    std::array::from_fn(|c| {
-        let [di, dj, dk] = corner_offset(c);
-        (i + di) + nx * ((j + dj) + ny * (k + dk))
-    })
-}
-
 /// A field sampled on the grid of a volume: `g` at each sample, undefined where a
 /// value is not finite.
 #[derive(Clone, Copy, Debug)]
 pub struct SampledField<'a> {
     values: &'a [f32],
-    dims: [usize; 3],
+    grid: Grid,
 }
 
 impl<'a> SampledField<'a> {
@@ -110,14 +99,14 @@ impl<'a> SampledField<'a> {
         }
         Ok(SampledField {
             values,
-            dims: volume.dims(),
+            grid: volume.grid(),
         })
     }
 }
 
 impl SecondField for SampledField<'_> {
     fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
-        let corners = cell_corners(self.dims, cell).map(|at| f64::from(self.values[at]));
+        let corners = self.grid.corners(cell).map(|at| f64::from(self.values[at]));
         corners.iter().all(|v| v.is_finite()).then_some(corners)
     }
 }
@@ -174,7 +163,7 @@ pub fn marching_lines(
     g_level: f64,
 ) -> Result<Vec<BiIsoLine>> {
     check_levels(volume, level, g_level)?;
-    let layers = volume.dims()[2] - 1;
+    let layers = volume.grid().cell_layers();
     let slabs: Vec<Vec<Segment>> = (0..layers)
         .into_par_iter()
         .step_by(SLAB_LAYERS)

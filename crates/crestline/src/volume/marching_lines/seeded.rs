@@ -18,6 +18,7 @@ use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
 
 use super::{cell, chain, check_levels, BiIsoLine, PointKey, SecondField, Segment, SLAB_LAYERS};
+use crate::volume::grid::Grid;
 use crate::volume::Volume;
 use crate::Result;
 
@@ -76,24 +77,17 @@ fn length(line: &BiIsoLine) -> f64 {
 
 /// The cells (lowest corners) the isosurface `f = level` crosses, in cell order.
 fn crossed_cells(volume: &Volume, level: f64) -> Vec<[usize; 3]> {
-    let [nx, ny, nz] = volume.dims();
-    let layers: Vec<usize> = (0..nz - 1).collect();
-    layers
-        .par_chunks(SLAB_LAYERS)
-        .flat_map_iter(|slab| {
-            let mut found = Vec::new();
-            for &k in slab {
-                for j in 0..ny - 1 {
-                    for i in 0..nx - 1 {
-                        let corners = super::cell_corners(volume.dims(), [i, j, k]);
-                        let f = corners.map(|at| f64::from(volume.samples()[at]));
-                        if cell::crossed(&f, level) {
-                            found.push([i, j, k]);
-                        }
-                    }
-                }
-            }
-            found
+    let grid = volume.grid();
+    let layers = grid.cell_layers();
+    (0..layers)
+        .into_par_iter()
+        .step_by(SLAB_LAYERS)
+        .flat_map_iter(|first| {
+            let cells = grid.cells(first..(first + SLAB_LAYERS).min(layers));
+            cells.filter(|&cell| {
+                let f = grid.corners(cell).map(|at| f64::from(volume.samples()[at]));
+                cell::crossed(&f, level)
+            })
         })
         .collect()
 }
@@ -128,7 +122,7 @@ impl<F: SecondField> Walker<'_, F> {
         let mut line = vec![first];
         let mut open: Vec<([usize; 3], PointKey)> = first.keys.map(|key| (cell, key)).to_vec();
         while let Some((from, key)) = open.pop() {
-            let Some(next) = across(self.volume.dims(), from, key) else {
+            let Some(next) = across(self.volume.grid(), from, key) else {
                 continue;
             };
             let segments = self.segments_of(next).to_vec();
@@ -146,19 +140,14 @@ impl<F: SecondField> Walker<'_, F> {
 
 /// The cell that shares with `cell` the face holding point `key` (both of the
 /// point's grid edges lie in that face), or `None` at the border of the grid.
-fn across(dims: [usize; 3], cell: [usize; 3], key: PointKey) -> Option<[usize; 3]> {
-    let [nx, ny, _] = dims;
-    let edge = |e: u64| {
-        let p = (e / 3) as usize;
-        ([p % nx, (p / nx) % ny, p / (nx * ny)], (e % 3) as usize)
-    };
-    let ((p, a), (q, b)) = (edge(key[0]), edge(key[1]));
+fn across(grid: Grid, cell: [usize; 3], key: PointKey) -> Option<[usize; 3]> {
+    let ((p, a), (q, b)) = (grid.unkey(key[0]), grid.unkey(key[1]));
     let normal = (0..3).find(|&n| n != a && n != b && p[n] == q[n])?;
     let plane = p[normal];
     let mut next = cell;
     if cell[normal] == plane {
         next[normal] = plane.checked_sub(1)?;
-    } else if plane + 1 < dims[normal] {
+    } else if plane + 1 < grid.dims[normal] {
         next[normal] = plane;
     } else {
         return None;
@@ -170,25 +159,21 @@ fn across(dims: [usize; 3], cell: [usize; 3], key: PointKey) -> Option<[usize; 3
 mod tests {
     use super::*;
 
-    /// The key of the grid edge from sample `p` along `axis` in a 4³ grid.
-    fn edge(p: [usize; 3], axis: u64) -> u64 {
-        3 * (p[0] + 4 * (p[1] + 4 * p[2])) as u64 + axis
-    }
-
     #[test]
     fn a_point_leads_across_the_face_of_its_two_edges() {
-        let dims = [4; 3];
+        let grid = Grid { dims: [4; 3] };
+        let edge = |p, axis| grid.key(p, axis);
         // An x edge and a y edge of the face z = 2 of cell (1, 1, 1): its top face.
         let top = [edge([1, 1, 2], 0), edge([1, 1, 2], 1)];
-        assert_eq!(across(dims, [1, 1, 1], top), Some([1, 1, 2]));
-        assert_eq!(across(dims, [1, 1, 2], top), Some([1, 1, 1]));
+        assert_eq!(across(grid, [1, 1, 1], top), Some([1, 1, 2]));
+        assert_eq!(across(grid, [1, 1, 2], top), Some([1, 1, 1]));
         // Two parallel x edges of the face y = 1 (its front face).
         let front = [edge([1, 1, 1], 0), edge([1, 1, 2], 0)];
-        assert_eq!(across(dims, [1, 1, 1], front), Some([1, 0, 1]));
+        assert_eq!(across(grid, [1, 1, 1], front), Some([1, 0, 1]));
         // The faces of the grid's border lead nowhere.
         let bottom = [edge([0, 0, 0], 0), edge([0, 0, 0], 1)];
-        assert_eq!(across(dims, [0, 0, 0], bottom), None);
+        assert_eq!(across(grid, [0, 0, 0], bottom), None);
         let far = [edge([2, 2, 3], 0), edge([2, 2, 3], 1)];
-        assert_eq!(across(dims, [2, 2, 2], far), None);
+        assert_eq!(across(grid, [2, 2, 2], far), None);
     }
 }
