@@ -182,3 +182,22 @@ def test_draw(bunny, tmp_path, args, kwargs):
     # The tool titles the drawing with the mesh's file name; arrays have none.
     title = f"<title>{BUNNY.relative_to(ROOT)}</title>"
     assert ours.replace("<title></title>", title) == (tmp_path / "drawing.svg").read_text()
+
+
+@pytest.mark.parametrize("args, kwargs", [([], {}), (["--min-overlap", 0.6, "--max-iterations", 50],
+                                                      {"min_overlap": 0.6, "max_iterations": 50})])
+def test_register(brain, tmp_path, args, kwargs):
+    fixed = crestline.Lines(line for line in crestline.crest_lines(brain, LEVEL, min_length=20.0))
+    turn = np.radians(6.0)
+    rotation = np.array([[np.cos(turn), -np.sin(turn), 0], [np.sin(turn), np.cos(turn), 0], [0, 0, 1]])
+    moving = crestline.Lines(
+        crestline.Line(line.kind, line.closed, line.strength, line.points @ rotation.T + [4.0, -2.0, 1.0], {})
+        for line in fixed
+    )
+    fixed.save(tmp_path / "fixed.json")
+    moving.save(tmp_path / "moving.json")
+    tool("register", tmp_path / "fixed.json", tmp_path / "moving.json", *args, "-o", tmp_path / "t.json")
+    theirs = json.loads((tmp_path / "t.json").read_text())
+    ours = crestline.register(fixed, moving, **kwargs)
+    assert np.abs(ours["matrix"] - np.array(theirs["matrix"])).max() < 1e-9
+    assert ours["rms"] < 1e-6

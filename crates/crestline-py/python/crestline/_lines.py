@@ -1,5 +1,7 @@
 """Feature lines: :class:`Line` and the sequence of them, :class:`Lines`."""
 
+from __future__ import annotations
+
 from collections import Counter
 from dataclasses import dataclass, field
 from os import PathLike

@@ -1,6 +1,8 @@
 """The mesh half: reading meshes, curvature, ridges, Morse-Smale lines and
 drawings."""
 
+from __future__ import annotations
+
 import json
 from os import PathLike
 from typing import Any, Callable, Dict, Literal, Optional, Tuple, Union, overload

@@ -7,6 +7,8 @@ wherever a :class:`Volume` is, and so is a plain 3-D array with ``spacing`` and
 ``origin``.
 """
 
+from __future__ import annotations
+
 import json
 from dataclasses import dataclass
 from os import PathLike
@@ -17,7 +19,7 @@ import numpy.typing as npt
 
 from . import _crestline
 from ._checks import Faces, Vertices, callback, count, estimator_name, mesh_arrays, number, points
-from ._jobs import documented, options
+from ._jobs import NAMES, documented, options
 from ._lines import Lines
 from ._mesh import Progress
 
@@ -133,7 +135,7 @@ def _family(kind: Optional[str], gauss: Optional[float]) -> Optional[str]:
     ``gauss``)."""
     if kind is None:
         return None
-    kinds = ("crest", "parabolic", "gauss")
+    kinds = tuple(name.split("=")[0] for name in NAMES["family"])
     if kind not in kinds:
         raise ValueError(f"kind: expected one of {kinds}, got {kind!r}")
     if kind != "gauss":
@@ -214,12 +216,10 @@ def crease_surface(
     ``Progress``) is told of each stage.
     """
     samples, affine = _image(volume, spacing, origin)
-    if strength is not None and not (isinstance(strength, (int, float)) and 0.0 <= strength <= 1.0):
-        raise ValueError(f"strength: expected a fraction from 0 to 1, got {strength!r}")
     given = options(
         valley=None if valley is None else bool(valley),
         sigma=None if sigma is None else number(sigma, "sigma"),
-        strength=None if strength is None else float(strength),
+        strength=None if strength is None else number(strength, "strength"),
         min_component=None if min_component is None else count(min_component, "min_component", 0),
     )
     result: Dict[str, npt.NDArray[Any]] = _crestline.crease_surface(
@@ -242,8 +242,6 @@ def write_landmarks(path: Union[str, "PathLike[str]"], found: Landmarks, space: 
     (the point landmarks: id, kind, x, y, z, curvature, line). ``space`` is the
     frame of the positions: ``"ras"`` (NIfTI) or ``"lps"`` (DICOM, NRRD, 3D
     Slicer's models). The file is written under a temporary name and renamed."""
-    if space not in ("ras", "lps"):
-        raise ValueError(f"space: expected 'ras' or 'lps', got {space!r}")
     points = found["points"]
     document = {
         "source": str(found.get("source", "")),
@@ -256,7 +254,7 @@ def write_landmarks(path: Union[str, "PathLike[str]"], found: Landmarks, space: 
         "lines": [{**line, "points": np.asarray(line["points"], dtype=np.float64).tolist()}
                   for line in found["lines"]],
     }
-    _crestline.write_landmarks(str(path), json.dumps(document), space)
+    _crestline.write_landmarks(str(path), json.dumps(document), str(space))
 
 
 @documented("landmarks", unit="unit")

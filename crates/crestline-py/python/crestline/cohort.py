@@ -58,6 +58,7 @@ from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tupl
 
 
 from . import _crestline
+from ._jobs import DEFAULTS
 from ._lines import Lines
 from ._mesh import curvature, read_mesh, ridges, write_mesh
 from ._volume import crest_lines, isosurface, landmarks, read_volume, write_landmarks
@@ -144,7 +145,8 @@ def _image_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     if "level" not in options:
         raise ValueError("the option 'level' (the isosurface's value) is needed for images")
     image = read_volume(path)
-    keys = ("level", "sigma", "min_length", "min_strength", "kind", "gauss", "seeds", "rng_seed")
+    # The library's options of the job, the family spelled kind and gauss.
+    keys = {"level", "kind", "gauss", *DEFAULTS["crest_lines"]} - {"family"}
     found = crest_lines(image, **{k: v for k, v in options.items() if k in keys})
     return found, image.voxel
 
@@ -152,7 +154,7 @@ def _image_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
 def _mesh_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     """Ridges and valleys of a mesh and its mean edge length."""
     vertices, faces, _ = read_mesh(path)
-    keys = ("estimator", "smooth_steps", "smooth_time", "threshold")
+    keys = set(DEFAULTS["ridges"])
     found = ridges(vertices, faces, **{k: v for k, v in options.items() if k in keys})
     return found, _crestline.mean_edge_length(vertices, faces)
 
