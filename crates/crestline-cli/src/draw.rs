@@ -13,7 +13,7 @@ use super::failure::explain;
 use super::load::report_with_progress;
 use super::morse::MorseArgs;
 use super::outputs::{check_paths, OutputSet, Role};
-use super::ridges::{load_for_tracing, smoothing_weights, TracerArgs};
+use super::ridges::{load_for_tracing, options_for, TracerArgs};
 use super::ReportArg;
 
 /// Arguments of `crestline draw`.
@@ -150,8 +150,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     options.draw_options().check()?;
     let mut report = report_with_progress("draw", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    options.ridges.smoothing_weights =
-        smoothing_weights(&loaded.surface.mesh, &args.mesh, &args.tracer)?;
+    options.ridges = options_for(&loaded.surface.mesh, &args.mesh, &args.tracer)?;
     let input = (loaded.volume.as_ref(), None);
     let mut drawing =
         draw(&loaded.surface, input, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;

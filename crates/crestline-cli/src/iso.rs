@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use crestline::curvature::{estimate_curvature, write_curvature_ply, Estimator};
+use crestline::curvature::{write_curvature_ply, Estimator};
 use crestline::io::{soup_format, write_soup, FileFormat};
-use crestline::jobs::IsoOptions;
+use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::Result;
 
@@ -64,12 +64,11 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     let mesh = &surface.mesh;
     report.count("euler_characteristic", mesh.euler_characteristic());
     report.count("boundary_loops", mesh.boundary_loops().len());
+    let curvature_options = CurvatureOptions {
+        estimator: options.estimator,
+    };
     let field = with_curvature
-        .then(|| {
-            report.stage("curvature", || {
-                estimate_curvature(mesh, &*surface.estimator(options.estimator))
-            })
-        })
+        .then(|| curvature(&surface, &curvature_options, &mut report))
         .transpose()?;
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {

@@ -5,15 +5,14 @@
 use std::path::{Path, PathBuf};
 
 use crestline::io::{choose_format, is_volume_path, FileFormat};
-use crestline::jobs::{
-    landmarks, landmarks_of_lines, CrestLinesOptions, LandmarksOptions, Length, LinesFrom,
-};
+use crestline::jobs::{landmarks, CrestLinesOptions, LandmarksOptions, Length, LinesFrom};
 use crestline::landmarks::{write_landmarks, LandmarkFormat, Space};
 use crestline::Result;
 
+use super::failure::explain;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::ridges::{load_for_tracing, trace_loaded, TracerArgs};
+use super::ridges::{load_for_tracing, options_for, TracerArgs};
 use super::surface::{naming, read_image, required_level};
 use super::ReportArg;
 
@@ -106,10 +105,12 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
         landmarks(input, &args.options(), &mut report).map_err(|e| naming(e, path))?
     } else {
         let loaded = load_for_tracing(path, &args.tracer, &mut report)?;
-        let lines = trace_loaded(&loaded.surface, path, &args.tracer, &mut report)?;
-        let unit = loaded.surface.unit();
-        landmarks_of_lines(&lines, unit, &args.options(), &mut report)
-            .map_err(|e| naming(e, path))?
+        let ridges = options_for(&loaded.surface.mesh, path, &args.tracer)?;
+        let input = LinesFrom::Surface {
+            surface: &loaded.surface,
+            options: &ridges,
+        };
+        landmarks(input, &args.options(), &mut report).map_err(|e| explain(e, path))?
     };
     found.source = path.display().to_string();
     let space = input_space(args);

@@ -147,11 +147,7 @@ fn weights_file(args: &TracerArgs) -> Option<&Path> {
 
 /// The per-vertex smoothing weights `--smoothing-weights` names on `mesh` (read
 /// from `mesh_path`).
-pub fn smoothing_weights(
-    mesh: &Mesh,
-    mesh_path: &Path,
-    args: &TracerArgs,
-) -> Result<Option<Vec<f64>>> {
+fn smoothing_weights(mesh: &Mesh, mesh_path: &Path, args: &TracerArgs) -> Result<Option<Vec<f64>>> {
     match (&args.smoothing_weights, weights_file(args)) {
         (None, _) => Ok(None),
         (Some(_), Some(_)) => Ok(mesh.vertex_scalar(WEIGHTS_FROM_FILE).map(<[f64]>::to_vec)),
@@ -166,6 +162,15 @@ pub fn smoothing_weights(
     }
 }
 
+/// The options of the ridges job for `mesh` (read from `mesh_path`), with the
+/// smoothing weights `--smoothing-weights` names.
+pub fn options_for(mesh: &Mesh, mesh_path: &Path, args: &TracerArgs) -> Result<RidgesOptions> {
+    Ok(RidgesOptions {
+        smoothing_weights: smoothing_weights(mesh, mesh_path, args)?,
+        ..args.options()
+    })
+}
+
 /// Trace the lines of `surface` (loaded by [`load_for_tracing`] from `mesh_path`).
 pub fn trace_loaded(
     surface: &Surface,
@@ -173,10 +178,7 @@ pub fn trace_loaded(
     args: &TracerArgs,
     report: &mut Report,
 ) -> Result<FeatureLines> {
-    let options = RidgesOptions {
-        smoothing_weights: smoothing_weights(&surface.mesh, mesh_path, args)?,
-        ..args.options()
-    };
+    let options = options_for(&surface.mesh, mesh_path, args)?;
     let mut lines = ridges(surface, &options, report).map_err(|e| explain(e, mesh_path))?;
     lines.source = mesh_path.display().to_string();
     Ok(lines)
