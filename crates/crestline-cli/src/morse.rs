@@ -203,7 +203,7 @@ fn hierarchy_steps(summary: &MorseSummary) -> impl Iterator<Item = Step<'_>> {
 /// `{"initial_saddles": n, "cancellations": [...]}`.
 fn write_hierarchy(path: &Path, summary: &MorseSummary) -> Result<()> {
     let steps: Vec<Step<'_>> = hierarchy_steps(summary).collect();
-    crestline::atomic::write_atomically(path, |w| {
+    crestline::io::write_atomically(path, |w| {
         serde_json::to_writer_pretty(
             &mut *w,
             &serde_json::json!({

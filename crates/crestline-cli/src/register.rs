@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crestline::jobs::register;
-use crestline::landmarks::export::FORMAT as LANDMARKS;
+use crestline::landmarks::FORMAT as LANDMARKS;
 use crestline::landmarks::{read_landmarks, LandmarkKind, Space};
 use crestline::lines::read_json;
 use crestline::register::{

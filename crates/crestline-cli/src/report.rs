@@ -9,7 +9,7 @@ use std::sync::Arc;
 use serde::Serialize;
 use serde_json::Value;
 
-use crestline::atomic::write_atomically;
+use crestline::io::write_atomically;
 use crestline::progress::{self, Observer};
 use crestline::Result;
 

@@ -5,10 +5,10 @@ use std::path::{Path, PathBuf};
 use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
-use crestline::linalg::Solver;
 use crestline::lines::{write_lines, FeatureLines, LineFormat};
 use crestline::mesh::Mesh;
 use crestline::ridges::Kinds;
+use crestline::ridges::Solver;
 use crestline::{Error, Result};
 
 use super::failure::explain;

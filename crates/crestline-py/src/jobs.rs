@@ -4,9 +4,9 @@
 use crestline::crest_lines::LineFamily;
 use crestline::curvature::Estimator;
 use crestline::jobs::{self, CurvatureSource, LinesChoice};
-use crestline::linalg::Solver;
 use crestline::morse::{Cells, Criterion, Indicator};
 use crestline::ridges::Kinds;
+use crestline::ridges::Solver;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

@@ -9,23 +9,17 @@
 //!
 //! `torus:VERTICES` smooths a generated jittered torus instead of a mesh file.
 //!
-//! Prints, per solver, the minimum over the repetitions of the seconds for both
-//! fields, smoothed in parallel (3 steps of τ = 2, the pipeline's defaults; the
-//! same work as the `smoothing` stage of `crestline ridges` plus the analysis it
-//! overlaps with the curvature estimation),
-//! and the largest difference between the solvers' smoothed values relative to
-//! the largest value.
+//! Runs the ridge tracer with the pipeline's defaults (3 steps of τ = 2) and
+//! prints, per solver, the minimum over the repetitions of its `smoothing` stage
+//! (both fields, smoothed in parallel) and of the `curvature + smoothing analysis`
+//! stage it overlaps with, and the largest distance between the lines of the
+//! direct and the iterative solver, relative to the bounding box diagonal.
 
-use std::time::Instant;
-
-use crestline::curvature::{estimate_curvature, ShapeOperator};
-use crestline::linalg::Solver;
+use crestline::lines::{FeatureLines, LineExtractor};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
-use crestline::ridges::extremality::{extremality, Principal};
-use crestline::ridges::smoothing::ExtremalitySmoother;
-use crestline::ridges::ExtremalityTracer;
-use rayon::prelude::*;
+use crestline::progress::Timings;
+use crestline::ridges::{ExtremalityTracer, Solver};
 
 fn main() -> crestline::Result<()> {
     let mut args = std::env::args().skip(1);
@@ -45,56 +39,48 @@ fn main() -> crestline::Result<()> {
         }
         None => Mesh::from_soup(crestline::io::read_mesh(path.as_ref())?)?.0,
     };
-    let work = mesh.in_unit_frame().0;
-    let field = estimate_curvature(&work, &ShapeOperator)?;
-    let fields: Vec<(Principal, Vec<f64>)> = [Principal::Max, Principal::Min]
-        .into_iter()
-        .map(|which| (which, extremality(&work, &field, which)))
-        .collect();
     println!("{path}: {} vertices", mesh.vertex_count());
-    let mut results = Vec::new();
+    let mut results: Vec<FeatureLines> = Vec::new();
     for solver in [Solver::Direct, Solver::Iterative, Solver::Auto] {
-        let mut best = f64::INFINITY;
-        let mut smoothed = Vec::new();
+        let tracer = ExtremalityTracer {
+            solver,
+            ..ExtremalityTracer::default()
+        };
+        let (mut smoothing, mut analysis) = (f64::INFINITY, f64::INFINITY);
+        let mut lines = FeatureLines::default();
         for _ in 0..repetitions {
-            let start = Instant::now();
-            let smoother = ExtremalitySmoother::new(
-                &work,
-                ExtremalityTracer::DEFAULT_SMOOTH_TIME,
-                None,
-                solver,
-            )?
-            .analyzed()?;
-            smoothed = fields
-                .par_iter()
-                .map(|(which, e)| {
-                    let mut e = e.clone();
-                    smoother
-                        .smooth(
-                            which.directions(&field),
-                            &mut e,
-                            ExtremalityTracer::DEFAULT_SMOOTH_STEPS,
-                        )
-                        .map(|()| e)
-                })
-                .collect::<crestline::Result<Vec<_>>>()?;
-            best = best.min(start.elapsed().as_secs_f64());
+            let mut timings = Timings::default();
+            lines = tracer.extract(&mesh, &mut timings)?;
+            smoothing = smoothing.min(timings.seconds("smoothing"));
+            analysis = analysis.min(timings.seconds("curvature + smoothing analysis"));
         }
-        println!("{solver:>9}: {best:.3} s");
-        results.push(smoothed);
+        println!(
+            "{solver:>9}: smoothing {smoothing:.3} s, curvature + analysis {analysis:.3} s, \
+             {} lines",
+            lines.len()
+        );
+        results.push(lines);
     }
-    let scale = results[0]
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
-    let difference = results[0]
-        .iter()
-        .flatten()
-        .zip(results[1].iter().flatten())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     println!(
-        "largest difference direct − iterative: {:.2e} of the largest value",
-        difference / scale
+        "largest distance direct − iterative: {:.2e} of the diagonal",
+        largest_distance(&results[0], &results[1]) / mesh.bounding_box().diagonal()
     );
     Ok(())
+}
+
+/// The largest distance between matching points of two sets of lines, or
+/// infinity when they differ in the number of lines or points.
+fn largest_distance(a: &FeatureLines, b: &FeatureLines) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    a.iter().zip(b.iter()).fold(0.0, |worst, (p, q)| {
+        if p.points.len() != q.points.len() {
+            return f64::INFINITY;
+        }
+        p.points
+            .iter()
+            .zip(&q.points)
+            .fold(worst, |w, (x, y)| w.max((x - y).norm()))
+    })
 }

@@ -5,7 +5,7 @@
 //! `cargo run --release -p crestline --example fit_residuals -- meshes/bunny.obj …`
 use crestline::curvature::{CurvatureEstimator, JetFit};
 use crestline::mesh::generate::{self, Sampling};
-use crestline::ridges::smoothing::presmooth_surface;
+use crestline::ridges::presmooth_surface;
 
 fn q(mut r: Vec<f64>) -> String {
     r.sort_by(f64::total_cmp);

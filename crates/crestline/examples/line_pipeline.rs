@@ -14,13 +14,11 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crestline::atomic::write_atomically;
 use crestline::io::read_mesh;
-use crestline::lines::chain::chain;
-use crestline::lines::zero_set::{LinePoint, ZeroSet};
+use crestline::io::write_atomically;
 use crestline::lines::{
-    FeatureLines, LineExporter, LineExtractor, LineFilter, LineFormat, LineKind, Polyline,
-    SurfaceWithValues,
+    chain, FeatureLines, LineExporter, LineExtractor, LineFilter, LineFormat, LineKind, LinePoint,
+    Polyline, SurfaceWithValues, ZeroSet,
 };
 use crestline::mesh::Mesh;
 use crestline::progress::{Observer, Silent};

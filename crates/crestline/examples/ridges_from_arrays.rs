@@ -13,8 +13,8 @@
 //!
 //! `cargo run --release --example ridges_from_arrays`
 
+use crestline::curvature::implicit_curvature;
 use crestline::curvature::CurvatureField;
-use crestline::differential::implicit_curvature;
 use crestline::lines::{LineExtractor, SurfaceWithCurvature};
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::progress::Silent;
@@ -55,7 +55,7 @@ fn ellipsoid_arrays(rings: u32, sectors: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) 
 }
 
 /// The exact curvature of the ellipsoid at `p`, from F = Σ x_i² / a_i² − 1.
-fn ellipsoid_curvature(p: &Point) -> (crestline::differential::PrincipalCurvatures, Vector) {
+fn ellipsoid_curvature(p: &Point) -> (crestline::curvature::PrincipalCurvatures, Vector) {
     let inverse_squares = Vector::from(AXES.map(|a| 1.0 / (a * a)));
     let gradient = 2.0 * p.coords.component_mul(&inverse_squares);
     let hessian = Matrix3::from_diagonal(&(2.0 * inverse_squares));

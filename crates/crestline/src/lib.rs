@@ -26,8 +26,12 @@
 //! - [`progress`]: the [`progress::Observer`] every long computation reports to and
 //!   asks whether to go on; [`Error`]: the one error type.
 //!
-//! The design, with the details the papers leave open, is `docs/design.md` in the
-//! repository.
+//! Everything else is private to the crate: the sparse solvers, the discrete
+//! gradient and cancellation queue of the Morse-Smale complex, the smoothing and
+//! tracing steps of the ridge pipeline, grid arithmetic and the Gaussian
+//! derivative kernels of images. Their design, with the details
+//! the papers leave open, is `docs/design.md` in the repository; their tests are
+//! unit tests next to them.
 //!
 //! ## Where new things go
 //!
@@ -40,7 +44,7 @@
 //!   drawings then take its lines. A command for it is a job in [`jobs`].
 //! - An output format: add it to [`io::FileFormat`] and to the `choose_format`
 //!   choices of what it writes (lines: [`lines::LineFormat`]; surfaces:
-//!   [`io::write_soup`]), and write it atomically ([`atomic`]).
+//!   [`io::write_soup`]), and write it atomically ([`io::write_atomically`]).
 //!
 //! The pipeline runs left to right, each stage a plain function of what the stage
 //! before produced: a file is read into a [`mesh::TriangleSoup`] ([`io::read_mesh`]),
@@ -60,17 +64,17 @@
 
 #![warn(missing_docs)]
 
-pub mod atomic;
-pub mod chain;
+pub(crate) mod atomic;
+pub(crate) mod chain;
 pub mod crest_lines;
 pub mod curvature;
-pub mod differential;
+pub(crate) mod differential;
 pub mod draw;
 pub mod error;
 pub mod io;
 pub mod jobs;
 pub mod landmarks;
-pub mod linalg;
+pub(crate) mod linalg;
 pub mod lines;
 pub mod mesh;
 pub mod morse;

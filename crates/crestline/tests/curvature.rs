@@ -8,10 +8,10 @@ use crestline::curvature::{
     estimate_curvature, relative_rms_error, CurvatureEstimator, CurvatureField, JetFit,
     ShapeOperator,
 };
-use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdOrder};
+use crestline::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
 use crestline::mesh::generate::{self, AnalyticMesh, Paraboloid, Sampling};
 use crestline::mesh::Mesh;
-use crestline::ridges::extremality::{extremality, Principal};
+use crestline::ridges::{extremality, Principal};
 use crestline::Vector;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 

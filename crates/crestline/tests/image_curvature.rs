@@ -2,7 +2,7 @@
 //! (`differential::isosurface_curvature`), against closed forms and finite
 //! differences on cubic polynomial fields, whose derivatives are exact.
 
-use crestline::differential::{isosurface_curvature, IsoCurvature, ThirdOrder};
+use crestline::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
 use crestline::{Point, Vector};
 use nalgebra::Matrix3;
 

@@ -15,7 +15,7 @@ use crestline::mesh::generate::{height_field, sphere, Paraboloid, Sampling};
 use crestline::mesh::{Mesh, TriangleSoup, VertexId};
 use crestline::progress::Observer;
 use crestline::progress::Silent;
-use crestline::ridges::smoothing::presmooth_surface;
+use crestline::ridges::presmooth_surface;
 use crestline::ridges::ExtremalityTracer;
 use crestline::Point;
 

@@ -17,7 +17,6 @@ use crestline::register::{
     RegistrationOptions, RigidTransform,
 };
 use crestline::ridges::ExtremalityTracer;
-use crestline::volume::trilinear::corners_and_weights;
 use crestline::volume::Volume;
 use crestline::{Point, Vector};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
@@ -345,17 +344,7 @@ fn resampled(volume: &Volume, transform: &RigidTransform) -> Volume {
         .map(|at| {
             let index = [at % nx, (at / nx) % ny, at / (nx * ny)].map(|i| i as f64);
             let source = transform.apply(&volume.index_to_world(index));
-            corners_and_weights(volume.dims(), volume.world_to_index(&source)).map_or(
-                0.0,
-                |(corners, weights)| {
-                    let value: f64 = corners
-                        .iter()
-                        .zip(weights)
-                        .map(|(&c, w)| w * f64::from(volume.samples()[c]))
-                        .sum();
-                    value as f32
-                },
-            )
+            volume.interpolate(&source).unwrap_or(0.0) as f32
         })
         .collect();
     volume.with_samples(samples).unwrap()

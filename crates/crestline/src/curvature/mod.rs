@@ -32,5 +32,6 @@ pub use robust::{repair_outliers, OUTLIER_SCALES};
 pub use shape_operator::ShapeOperator;
 
 pub use crate::differential::{
-    implicit_curvature, symmetric_2x2_eigen, tangent_basis, PrincipalCurvatures,
+    implicit_curvature, isosurface_curvature, symmetric_2x2_eigen, tangent_basis, IsoCurvature,
+    PrincipalCurvatures, ThirdOrder,
 };

@@ -41,7 +41,7 @@ pub struct SuggestiveOptions {
     pub min_derivative: f64,
     /// Lines shorter than this many mean edge lengths are dropped.
     pub min_length: f64,
-    /// Fairing iterations of the lines ([`fair_polyline`], each point kept
+    /// Fairing iterations of the lines (`fair_polyline`, each point kept
     /// within half a mean edge length of the zero set): the zero set of a
     /// scan's noisy curvature zigzags from edge to edge.
     pub fairing: usize,

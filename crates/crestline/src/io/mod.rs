@@ -37,6 +37,7 @@ mod stl;
 mod volume;
 pub(crate) mod vtk;
 
+pub use crate::atomic::write_atomically;
 pub use format::{choose_format, FileFormat, FormatChoice};
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;

@@ -5,7 +5,7 @@
 //! From lines of kind [`LineKind::Ridge`] (crests of `k_max`, convex) and
 //! [`LineKind::Valley`] (crests of `k_min`, concave), traced on meshes or on the
 //! isosurfaces of images, with their per-point values (`k_max`, `k_min`, and
-//! `e_max`, `e_min` read along the line, see [`crate::lines::oriented`]):
+//! `e_max`, `e_min` read along the line, see `lines/oriented.rs`):
 //!
 //! - **extremal points**: where the other extremality (`e_min` on a ridge, `e_max`
 //!   on a valley) changes sign along the line, i.e. where the other principal
@@ -24,9 +24,9 @@
 //! Every line gets a descriptor: length, mean curvature (by arc length), strength
 //! and whether it is convex (a ridge) or concave (a valley).
 
-pub mod export;
+pub(crate) mod export;
 
-pub use export::{read_landmarks, write_landmarks, LandmarkFormat, Space};
+pub use export::{read_landmarks, write_landmarks, LandmarkFormat, Space, FORMAT};
 
 use serde::{Deserialize, Serialize};
 

@@ -60,6 +60,7 @@ pub struct CgReport {
 ///
 /// # Panics
 /// If `b` or `x` does not have the matrix's size.
+#[cfg(test)]
 pub fn conjugate_gradient(
     matrix: &SymmetricMatrix,
     b: &[f64],

@@ -3,7 +3,7 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Mat, MatMut, Side};
+use faer::Side;
 
 use super::SymmetricMatrix;
 use crate::{Error, Result};
@@ -135,17 +135,6 @@ impl CholeskyFactor {
         CholeskyAnalysis::new(matrix)?.factor(matrix)
     }
 
-    /// Factors a new `matrix` in place of the current one. When its nonzero pattern
-    /// is the same (the per-step surface smoothing `(M + t L) x' = M x` of §5.1, with
-    /// `L` rebuilt on the smoothed surface), the ordering and symbolic analysis are
-    /// reused and only the numeric factorization runs; otherwise everything is redone.
-    ///
-    /// Errors as [`new`](Self::new); on error the previous factorization is kept.
-    pub fn refactor(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        *self = self.analysis.factor(matrix)?;
-        Ok(())
-    }
-
     /// The ordering and symbolic analysis this factorization was made with.
     pub fn analysis(&self) -> &CholeskyAnalysis {
         &self.analysis
@@ -170,39 +159,11 @@ impl CholeskyFactor {
     ///
     /// # Panics
     /// If `rhs.len()` is not [`size`](Self::size).
+    #[cfg(test)]
     pub fn solve(&self, rhs: &[f64]) -> Vec<f64> {
         let mut x = rhs.to_vec();
         self.solve_in_place(&mut x);
         x
-    }
-
-    /// Solves `A X = B` for several right-hand sides at once (e.g. the x, y and z
-    /// coordinates of the surface smoothing step), overwriting each column of `B`
-    /// with the matching column of `X`. One pass over the factor serves all columns,
-    /// which is faster than separate [`solve`](Self::solve) calls.
-    ///
-    /// # Panics
-    /// If a column's length is not [`size`](Self::size).
-    pub fn solve_columns(&self, columns: &mut [Vec<f64>]) {
-        let n = self.size();
-        for column in columns.iter() {
-            self.check_len(column.len());
-        }
-        let mut rhs = Mat::from_fn(n, columns.len(), |i, j| columns[j][i]);
-        self.solve_matrix(rhs.as_mut());
-        for (j, column) in columns.iter_mut().enumerate() {
-            column.copy_from_slice(rhs.col_as_slice(j));
-        }
-    }
-
-    /// Solves `A X = B` in place for the columns of a faer matrix `B`, without the
-    /// copies [`solve_columns`](Self::solve_columns) makes.
-    ///
-    /// # Panics
-    /// If `rhs` does not have [`size`](Self::size) rows.
-    pub fn solve_matrix(&self, rhs: MatMut<'_, f64>) {
-        self.check_len(rhs.nrows());
-        self.numeric.solve_in_place(rhs);
     }
 
     /// Panics with a clear message if a right-hand side has the wrong length.

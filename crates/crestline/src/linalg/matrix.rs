@@ -11,12 +11,14 @@ use crate::{Error, Result};
 /// [`add`](Self::add) writes an off-diagonal value to both `(i, j)` and `(j, i)`, so
 /// the built matrix is symmetric by construction.
 #[derive(Debug)]
+#[cfg(test)]
 pub struct SymmetricBuilder {
     n: usize,
     /// `(row, column, value)` entries, in the order added.
     triplets: Vec<(usize, usize, f64)>,
 }
 
+#[cfg(test)]
 impl SymmetricBuilder {
     /// An empty `n × n` matrix.
     pub fn new(n: usize) -> SymmetricBuilder {
@@ -30,11 +32,6 @@ impl SymmetricBuilder {
             n,
             triplets: Vec::with_capacity(entries),
         }
-    }
-
-    /// The matrix size `n`.
-    pub fn size(&self) -> usize {
-        self.n
     }
 
     /// Adds `value` to entry `(i, j)` and, when `i ≠ j`, to `(j, i)`.

@@ -16,19 +16,19 @@
 //! temporary name and renames on success
 //! ([`write_atomically`]).
 
-pub use crate::chain;
+pub(crate) use crate::chain;
 mod extractor;
-pub mod fair;
+pub(crate) mod fair;
 mod indexing;
 mod json;
 mod location;
 mod obj;
-pub mod oriented;
+pub(crate) mod oriented;
 mod pipeline;
 mod ply;
-pub mod surface_fair;
+pub(crate) mod surface_fair;
 mod vtk;
-pub mod zero_set;
+pub(crate) mod zero_set;
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -41,6 +41,7 @@ use crate::atomic::write_atomically;
 use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Point, Result};
 
+pub use crate::chain::{chain, Chain};
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;
@@ -48,6 +49,7 @@ pub use obj::write_obj;
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
 pub use vtk::write_vtk;
+pub use zero_set::{LinePoint, ZeroSet};
 
 /// What a feature line is. Serialized in lowercase (`"ridge"`, `"valley"`, ...).
 ///

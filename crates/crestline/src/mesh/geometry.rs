@@ -128,7 +128,7 @@ impl Mesh {
         self.par_faces().map(|f| self.face_area(f)).collect()
     }
 
-    /// Length of `e` (right at any scale, see [`robust_norm`]).
+    /// Length of `e` (right at any scale, computed without overflow or underflow).
     #[inline]
     pub fn edge_length(&self, e: EdgeId) -> f64 {
         robust_norm(&self.halfedge_vector(self.edge_halfedge(e, 0)))
@@ -237,7 +237,7 @@ impl Mesh {
             .collect()
     }
 
-    /// [`Mesh::cotan_weight`] clamped to [0, [`MAX_COTAN_WEIGHT`]] (NaN, from a
+    /// [`Mesh::cotan_weight`] clamped to [0, `MAX_COTAN_WEIGHT`] (NaN, from a
     /// degenerate triangle, gives 0): with these weights the cotan Laplacian is
     /// positive semi-definite on any mesh, with or without boundary, however
     /// obtuse its triangles (Hildebrandt et al. §5.1).
@@ -276,7 +276,7 @@ impl Mesh {
     /// underflow, and the factor its coordinates were multiplied by: the mesh itself
     /// (factor 1) when its largest absolute coordinate lies within 2^±100, else a
     /// copy scaled by a power of two into the unit frame (largest coordinate in
-    /// [½, 1), [`unit_scale`]). Scaling by a power of two is exact, so results on
+    /// [½, 1), `unit_scale`). Scaling by a power of two is exact, so results on
     /// either are the same up to the factor: lengths of the input are those of the
     /// frame divided by the factor, curvatures multiplied by it.
     pub fn in_unit_frame(&self) -> (Cow<'_, Mesh>, f64) {

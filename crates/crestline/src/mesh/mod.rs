@@ -18,7 +18,7 @@ pub(crate) mod buckets;
 mod build;
 #[cfg(feature = "generate")]
 pub mod generate;
-pub mod geometry;
+pub(crate) mod geometry;
 mod ids;
 mod soup;
 mod topology;

@@ -62,11 +62,6 @@ impl Keys {
         (self.vertex[v.idx()], v.0)
     }
 
-    /// The (value, id) key of edge `e`.
-    pub fn edge_key(&self, e: EdgeId) -> (f64, u32) {
-        (self.edge[e.idx()], e.0)
-    }
-
     /// The (value, id) key of face `f`.
     pub fn face_key(&self, f: FaceId) -> (f64, u32) {
         (self.face[f.idx()], f.0)
@@ -436,6 +431,7 @@ fn roots_of(parent: &[EdgeId], step: impl Fn(u32, EdgeId) -> u32) -> Vec<u32> {
 }
 
 /// Faces whose key is above every edge-adjacent face's.
+#[cfg(test)]
 pub fn local_maximum_faces(mesh: &Mesh, keys: &Keys) -> Vec<bool> {
     mesh.par_faces()
         .map(|f| {
@@ -448,6 +444,7 @@ pub fn local_maximum_faces(mesh: &Mesh, keys: &Keys) -> Vec<bool> {
 }
 
 /// Vertices whose key is below every neighbour's.
+#[cfg(test)]
 pub fn local_minimum_vertices(mesh: &Mesh, keys: &Keys) -> Vec<bool> {
     mesh.par_vertices()
         .map(|v| {

@@ -6,10 +6,10 @@
 //! 1. an indicator per vertex ([`Indicator`]: curvedness, k_max, k_min or a user
 //!    property);
 //! 2. Forman's discrete gradient as two spanning forests with fixed roots
-//!    ([`gradient`]);
-//! 3. the 1-cells of every saddle, measured up to their first merge ([`cells`]);
+//!    (`morse/gradient.rs`);
+//! 3. the 1-cells of every saddle, measured up to their first merge (`morse/cells.rs`);
 //! 4. the cancellation hierarchy by the feature-preserving criterion or by
-//!    persistence ([`cancel`]);
+//!    persistence (`morse/cancel.rs`);
 //! 5. discarding lines forced by topology (§3.5), optional smoothing (§3.6), and
 //!    output of the ascending (ridge-like) and descending (valley-like) 1-cells.
 //!
@@ -17,13 +17,15 @@
 //! saddles to keep. Lines are always connected, and the method needs no derivative
 //! of the indicator, so it is robust to noise.
 
-pub mod cancel;
-pub mod cells;
+pub(crate) mod cancel;
+pub(crate) mod cells;
 mod disjoint;
-pub mod gradient;
+pub(crate) mod gradient;
 mod heap;
 mod indicator;
 mod output;
+#[cfg(test)]
+mod tests;
 
 use std::sync::Arc;
 

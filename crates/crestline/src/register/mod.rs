@@ -3,10 +3,10 @@
 //!
 //! [`register`] finds the rigid motion taking the `moving` set onto the `fixed` one
 //! in three steps:
-//! 1. starting guesses from the moments of the line points ([`initial`]): the
+//! 1. starting guesses from the moments of the line points (`register/initial.rs`): the
 //!    centroids matched without rotation, and the 24 right-handed alignments of the
 //!    principal axes;
-//! 2. each guess refined by a few iterations of trimmed ICP ([`icp`]) on an evenly
+//! 2. each guess refined by a few iterations of trimmed ICP (`register/icp.rs`) on an evenly
 //!    strided sample of the moving line points, on the key points first when both
 //!    sets have at least three not on one line; the guess with the lowest trimmed
 //!    objective wins;
@@ -23,11 +23,11 @@
 //! [`write_transform`] saves the result as JSON or as an ITK/3D Slicer transform
 //! file.
 
-pub mod fit;
-pub mod icp;
-pub mod initial;
-pub mod output;
-pub mod transform;
+pub(crate) mod fit;
+pub(crate) mod icp;
+pub(crate) mod initial;
+pub(crate) mod output;
+pub(crate) mod transform;
 
 use rayon::prelude::*;
 

@@ -73,7 +73,7 @@ impl FormatChoice for TransformFormat {
 }
 
 /// Write `registration` to `path`, in the format of its extension
-/// ([`TransformFormat::from_path`]; see the [module](self) documentation for the
+/// ([`TransformFormat::from_path`]; see [`crate::register`] for the
 /// conventions of each). Written under a temporary name and renamed on success.
 ///
 /// Errors: [`Error::File`] for another extension or a failed write,

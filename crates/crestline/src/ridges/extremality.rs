@@ -104,16 +104,6 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
         .collect()
 }
 
-/// The extremality of `which` at every vertex: the field's own if its estimator
-/// gave them ([`CurvatureField::extremality`], e.g. from the third-order terms of a
-/// fitted jet), else the discrete one of eq. 4 ([`extremality`]).
-pub fn field_extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec<f64> {
-    match which.given(field) {
-        Some(given) => given.to_vec(),
-        None => extremality(mesh, field, which),
-    }
-}
-
 /// Whether face `f` is regular for the direction field `d` (Definition 1): the
 /// directions at its corners can be signed so that all pairs have positive inner
 /// products, i.e. σ12 σ23 σ31 = +1.

@@ -3,24 +3,24 @@
 //!
 //! The steps of the paper's Table 1, each in its own module (chaining and fairing are
 //! the shared line tools of [`crate::lines`]):
-//! 1. optional implicit smoothing of the surface ([`smoothing::presmooth_surface`]);
+//! 1. optional implicit smoothing of the surface ([`presmooth_surface`]);
 //! 2. principal curvatures and directions (any [`CurvatureEstimator`]), extremalities
-//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`mod@extremality`]);
+//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`extremality()`]);
 //!    an estimator that gives the extremalities itself
 //!    ([`CurvatureField::extremality`]: [`crate::curvature::JetFit`], from the
 //!    third-order terms of its fitted jets) is used as it is, which keeps the
 //!    fit's precision that differentiating its curvature over the 1-ring loses;
 //! 3. sign-aware implicit smoothing of the extremalities (§5.1)
-//!    ([`smoothing::smooth_extremality`]); fitted extremalities are smoothed in
+//!    (`ridges/smoothing.rs`); fitted extremalities are smoothed in
 //!    proportion to the noise their fit residual shows
 //!    ([`fitted_smoothing_factors`]), so clean meshes keep their precision;
 //! 4. tracing the zero sets in regular triangles under the feature conditions (eqs. 5,
-//!    6), then bridging singular triangles (§4.2) ([`mod@trace`]), with the shared
-//!    zero-set tracer ([`crate::lines::zero_set`]);
+//!    6), then bridging singular triangles (§4.2) (`ridges/trace.rs`), with the shared
+//!    zero-set tracer ([`crate::lines::ZeroSet`]);
 //! 5. chaining into polylines and the strength filter ∫ k ds ≥ T
-//!    ([`crate::lines::chain`]);
+//!    ([`crate::lines::chain()`]);
 //! 6. optional fairing of the lines as space curves (§5.2)
-//!    ([`crate::lines::fair`]).
+//!    (`lines/fair.rs`).
 //!
 //! Ridges are maxima of k_max along its direction (convex crests); valleys are
 //! minima of k_min (concave creases), with outward normals.
@@ -33,9 +33,11 @@
 //! of every step is computed on the mesh scaled by a power of two into the unit
 //! frame ([`Mesh::in_unit_frame`]), so coordinates of any magnitude work.
 
-pub mod extremality;
-pub mod smoothing;
-pub mod trace;
+pub(crate) mod extremality;
+pub(crate) mod smoothing;
+#[cfg(test)]
+mod tests;
+pub(crate) mod trace;
 
 use std::sync::Arc;
 
@@ -44,7 +46,7 @@ use rayon::prelude::*;
 use crate::curvature::{
     estimate_curvature, CurvatureEstimator, CurvatureField, Estimator, ShapeOperator,
 };
-use crate::linalg::Solver;
+pub use crate::linalg::Solver;
 use crate::lines::chain::chain;
 use crate::lines::fair::fair_polyline;
 use crate::lines::oriented::{along_line, DirectedSample};
@@ -56,7 +58,9 @@ use crate::mesh::{Mesh, VertexId};
 use crate::progress::{stage, try_stage, Observer};
 use crate::{Error, Result};
 
-use extremality::{extremality, regular_faces, Principal};
+use extremality::regular_faces;
+pub use extremality::{extremality, Principal};
+pub use smoothing::presmooth_surface;
 use trace::Extremality;
 
 /// Which lines to extract.

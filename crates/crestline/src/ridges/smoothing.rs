@@ -168,6 +168,7 @@ fn implicit_terms(
 /// the same for every step: one sparse Cholesky factorization serves them all,
 /// or on large meshes each step is a conjugate gradient solve warm-started from
 /// the previous step ([`Solver::Auto`]).
+#[cfg(test)]
 pub fn smooth_extremality(
     mesh: &Mesh,
     d: &[Vector],
@@ -179,7 +180,7 @@ pub fn smooth_extremality(
     ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(d, e, steps)
 }
 
-/// [`smooth_extremality`] for several fields of one mesh: the matrices differ only
+/// `smooth_extremality` for several fields of one mesh: the matrices differ only
 /// in the signs σ_pq, so they share their pattern, weights and masses (computed
 /// once, when the smoother is made) and a direct solver's ordering and symbolic
 /// analysis (computed once, [`analyzed`](Self::analyzed)). Fields can then be

@@ -60,7 +60,6 @@ pub const MIN_SIGMA_CAP: f64 = 4.0;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Kernel {
     order: usize,
-    sigma: f64,
     /// `c[k]` for `k = 0..=R`; `c[−k] = (−1)^order c[k]`.
     half: Vec<f64>,
 }
@@ -89,24 +88,16 @@ impl Kernel {
             .map(|k| gaussian_derivative(k as f64, sigma, order))
             .collect();
         correct_moments(&mut half, sigma, order);
-        Ok(Kernel { order, sigma, half })
+        Ok(Kernel { order, half })
     }
 
-    /// The derivative order (0: smoothing).
-    pub fn order(&self) -> usize {
-        self.order
-    }
-
-    /// The Gaussian's standard deviation, in samples.
-    pub fn sigma(&self) -> f64 {
-        self.sigma
-    }
-
+    #[cfg(test)]
     /// The radius `R`: the kernel has `2R + 1` taps.
     pub fn radius(&self) -> usize {
         self.half.len() - 1
     }
 
+    #[cfg(test)]
     /// The weight at offset `k` (zero outside `−R..=R`).
     pub fn weight(&self, k: isize) -> f64 {
         let Some(&w) = self.half.get(k.unsigned_abs()) else {
@@ -119,6 +110,7 @@ impl Kernel {
         }
     }
 
+    #[cfg(test)]
     /// All `2R + 1` weights, offset `−R` first.
     pub fn weights(&self) -> Vec<f64> {
         let r = self.radius() as isize;
@@ -135,6 +127,7 @@ impl Kernel {
         self.order % 2 == 1
     }
 
+    #[cfg(test)]
     /// The moment `Σ_k kʲ c[k]` of degree `j`.
     pub fn moment(&self, j: u32) -> f64 {
         let r = self.radius() as isize;
@@ -267,6 +260,13 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn orders_above_three_and_non_finite_sigma_are_refused() {
+        assert!(Kernel::gaussian(1.0, 4).is_err());
+        assert!(Kernel::gaussian(f64::NAN, 0).is_err());
+        assert!(Kernel::gaussian(0.05, 0).is_err());
     }
 
     #[test]

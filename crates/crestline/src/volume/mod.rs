@@ -19,17 +19,17 @@
 //! where it meets the level set of a second field (Thirion & Gourdon's Marching
 //! Lines).
 
-pub mod bspline;
+pub(crate) mod bspline;
 pub mod crease;
-pub mod derivatives;
+pub(crate) mod derivatives;
 pub(crate) mod grid;
-pub mod isosurface;
-pub mod jet;
-pub mod kernels;
-pub mod marching_lines;
+pub(crate) mod isosurface;
+pub(crate) mod jet;
+pub(crate) mod kernels;
+pub(crate) mod marching_lines;
 mod separable;
 mod statistics;
-pub mod trilinear;
+pub(crate) mod trilinear;
 
 pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial, Smoothing};
@@ -176,6 +176,20 @@ impl Volume {
     pub fn world_to_index(&self, point: &Point) -> [f64; 3] {
         let grid = self.world_to_grid * (point - Point::from(self.origin));
         [grid.x, grid.y, grid.z]
+    }
+
+    /// The trilinear interpolation of the samples at world position `point`, or
+    /// `None` outside the grid (by more than a rounding error).
+    pub fn interpolate(&self, point: &Point) -> Option<f64> {
+        let (corners, weights) =
+            trilinear::corners_and_weights(self.dims, self.world_to_index(point))?;
+        Some(
+            corners
+                .iter()
+                .zip(weights)
+                .map(|(&c, w)| w * f64::from(self.samples[c]))
+                .sum(),
+        )
     }
 
     /// `∂index/∂world = (direction · diag(spacing))⁻¹`: the matrix that

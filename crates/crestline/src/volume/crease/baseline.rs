@@ -21,7 +21,7 @@ use crate::Vector;
 ///
 /// In each cell, the eigenvectors e3 at its eight corners are oriented to corner
 /// 0's (e → −e where e·e3₀ < 0), and the values g·e3 at the corners are contoured
-/// at 0 with the isosurface's case table ([`mod@crate::volume::isosurface`]: inside
+/// at 0 with the isosurface's case table ([`crate::volume::isosurface()`]: inside
 /// is g·e3 ≥ 0, the asymptotic decider on ambiguous faces, polygons of more than
 /// three corners fanned around their barycentre). A crossed cell edge carries one
 /// vertex, at the linear interpolation of g·e3, keyed by its grid edge: two cells

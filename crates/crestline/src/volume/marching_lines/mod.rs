@@ -116,7 +116,7 @@ impl SecondField for SampledField<'_> {
 pub struct BiIsoLine {
     /// The points, without a repeated first point for a loop.
     pub points: Vec<Point>,
-    /// The key of each point (see [`PointKey`]).
+    /// The key of each point (see `PointKey`).
     pub keys: Vec<PointKey>,
     /// Whether the last point joins the first.
     pub closed: bool,
@@ -134,7 +134,7 @@ struct Segment {
 const SLAB_LAYERS: usize = 8;
 
 /// The bi-iso-lines of `volume`'s samples `f` at `level` and the samples `g` at
-/// `g_level` (Marching Lines; see the [module documentation](self)), with `g` one
+/// `g_level` (Marching Lines; see `volume/marching_lines/mod.rs`), with `g` one
 /// value per sample (NaN where undefined).
 ///
 /// Errors ([`Error::Argument`]) as [`marching_lines`], or if `g` does not have one
@@ -150,7 +150,7 @@ pub fn bi_iso_lines(
 
 /// The lines where the isosurface `f = level` of `volume` meets `g = g_level` for
 /// the second field `field` (Marching Lines, Thirion & Gourdon 1993 §4; see the
-/// [module documentation](self)): closed except at the border of the volume and
+/// source file `volume/marching_lines/mod.rs`): closed except at the border of the volume and
 /// where `g` is undefined, in a deterministic order.
 ///
 /// Errors ([`Error::Argument`]): a level is not finite, a dimension of the volume

@@ -1,18 +1,20 @@
 //! The Morse-Smale complex: topological invariants, the shape of its 1-cells, and the
 //! feature-preserving cancellation criterion against persistence.
 
+mod queue;
+
 use std::cmp::Ordering;
 
-use crestline::curvature::JetFit;
-use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::{Mesh, TriangleSoup};
-use crestline::morse::cancel::{Criterion, Hierarchy};
-use crestline::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
-use crestline::morse::gradient::{
+use crate::curvature::JetFit;
+use crate::mesh::generate::{self, Sampling};
+use crate::mesh::{Mesh, TriangleSoup};
+use crate::morse::cancel::{Criterion, Hierarchy};
+use crate::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
+use crate::morse::gradient::{
     compare, local_maximum_faces, local_minimum_vertices, Gradient, Keys,
 };
-use crestline::morse::Indicator;
-use crestline::progress::Silent;
+use crate::morse::Indicator;
+use crate::progress::Silent;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -20,7 +22,7 @@ fn bundled(name: &str) -> Mesh {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../meshes")
         .join(name);
-    Mesh::from_soup(crestline::io::read_mesh(&path).unwrap())
+    Mesh::from_soup(crate::io::read_mesh(&path).unwrap())
         .unwrap()
         .0
 }
@@ -167,8 +169,8 @@ fn forced_saddles_are_counted_as_cancellations_create_them() {
 fn face_path(
     mesh: &Mesh,
     gradient: &Gradient,
-    start: crestline::mesh::FaceId,
-) -> Vec<crestline::mesh::FaceId> {
+    start: crate::mesh::FaceId,
+) -> Vec<crate::mesh::FaceId> {
     let mut path = vec![start];
     while let Some((_, next)) = gradient.face_step(mesh, *path.last().unwrap()) {
         path.push(next);
@@ -180,8 +182,8 @@ fn face_path(
 fn vertex_path(
     mesh: &Mesh,
     gradient: &Gradient,
-    start: crestline::mesh::VertexId,
-) -> Vec<crestline::mesh::VertexId> {
+    start: crate::mesh::VertexId,
+) -> Vec<crate::mesh::VertexId> {
     let mut path = vec![start];
     while let Some((_, next)) = gradient.vertex_step(mesh, *path.last().unwrap()) {
         path.push(next);
@@ -315,7 +317,7 @@ fn ridge_landscape(
     let soup = TriangleSoup {
         positions: plane.positions().to_vec(),
         triangles: plane.triangles(),
-        vertex_scalars: vec![crestline::mesh::ScalarProperty {
+        vertex_scalars: vec![crate::mesh::ScalarProperty {
             name: "height".into(),
             values: height,
         }],
@@ -324,13 +326,9 @@ fn ridge_landscape(
 }
 
 /// Share of each ridge's crest within `radius` of an ascending line point.
-fn ridge_coverage(
-    ridges: &[Ridge],
-    lines: &crestline::lines::FeatureLines,
-    radius: f64,
-) -> Vec<f64> {
+fn ridge_coverage(ridges: &[Ridge], lines: &crate::lines::FeatureLines, radius: f64) -> Vec<f64> {
     let points: Vec<_> = lines
-        .of_kind(crestline::lines::LineKind::Ascending)
+        .of_kind(crate::lines::LineKind::Ascending)
         .flat_map(|l| l.points.iter().copied())
         .collect();
     ridges
@@ -355,8 +353,8 @@ fn ridge_coverage(
 /// bumps (short lines no more salient than their hills, eq. 7) and keeps the rings.
 #[test]
 fn feature_criterion_keeps_long_ridges_that_persistence_cuts() {
-    use crestline::lines::LineExtractor;
-    use crestline::morse::{MorseSmale, Simplification};
+    use crate::lines::LineExtractor;
+    use crate::morse::{MorseSmale, Simplification};
     let ridges = [
         Ridge {
             centre: [-0.5, -0.45],
@@ -419,9 +417,9 @@ fn feature_criterion_keeps_long_ridges_that_persistence_cuts() {
 /// indicator where it lies, and bad values are refused with a reason.
 #[test]
 fn user_values_drive_the_extractor_like_its_own_indicator() {
-    use crestline::curvature::{estimate_curvature, CurvatureEstimator};
-    use crestline::lines::{LineExtractor, SurfaceWithValues};
-    use crestline::morse::{Cells, MorseSmale};
+    use crate::curvature::{estimate_curvature, CurvatureEstimator};
+    use crate::lines::{LineExtractor, SurfaceWithValues};
+    use crate::morse::{Cells, MorseSmale};
     use std::sync::Arc;
     let mesh = bundled("bunny_small.obj");
     let extractor = MorseSmale {

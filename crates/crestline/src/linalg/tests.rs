@@ -1,10 +1,16 @@
-//! Sparse Cholesky solves of `crestline::linalg` against dense solves and residuals.
+//! Sparse Cholesky solves against dense solves and residuals, and the conjugate
+//! gradient method against the factorization, on the systems of the implicit
+//! smoothing steps (M + t K) x' = M x (Hildebrandt et al. 2005, §5.1).
 
-use crestline::linalg::{CholeskyFactor, SymmetricBuilder, SymmetricMatrix};
-use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::Mesh;
-use crestline::Error;
 use nalgebra::{DMatrix, DVector};
+
+use super::{
+    conjugate_gradient, CgSettings, CholeskyFactor, Solver, SpdSolver, SymmetricBuilder,
+    SymmetricMatrix,
+};
+use crate::mesh::generate::{self, Sampling};
+use crate::mesh::{EdgeId, Mesh};
+use crate::Error;
 
 /// The 1D Poisson matrix tridiag(−1, 2, −1) plus `shift` times the identity.
 fn poisson_1d(n: usize, shift: f64) -> SymmetricMatrix {
@@ -120,59 +126,6 @@ fn non_square_and_nan_matrices_are_errors() {
 }
 
 #[test]
-fn refactor_with_new_values_gives_the_new_solution() {
-    let n = 30;
-    let b = rhs(n, 1.0);
-    let mut factor = CholeskyFactor::new(&poisson_1d(n, 1.0)).unwrap();
-    let updated = poisson_1d(n, 0.25);
-    factor.refactor(&updated).unwrap();
-    let expected = CholeskyFactor::new(&updated).unwrap().solve(&b);
-    assert!(max_abs_difference(&factor.solve(&b), &expected) < 1e-13);
-    assert!(relative_residual(&updated, &factor.solve(&b), &b) < 1e-12);
-}
-
-#[test]
-fn refactor_with_a_new_pattern_and_failed_refactor() {
-    let n = 20;
-    let b = rhs(n, 2.0);
-    let mut factor = CholeskyFactor::new(&poisson_1d(n, 1.0)).unwrap();
-    let mut builder = SymmetricBuilder::new(n);
-    for i in 0..n {
-        builder.add_diagonal(i, 3.0);
-    }
-    builder.add(0, n - 1, 1.0);
-    let other = builder.build();
-    factor.refactor(&other).unwrap();
-    assert!(relative_residual(&other, &factor.solve(&b), &b) < 1e-12);
-
-    let before = factor.solve(&b);
-    assert!(factor.refactor(&poisson_1d(n, -3.0)).is_err());
-    assert_eq!(
-        factor.solve(&b),
-        before,
-        "a failed refactor keeps the factor"
-    );
-}
-
-#[test]
-fn multi_rhs_equals_single_solves() {
-    let mesh = generate::torus(1.0, 0.35, 3000, Sampling::jittered(5))
-        .unwrap()
-        .mesh;
-    let h = mesh.mean_edge_length();
-    let factor = CholeskyFactor::new(&mass_plus_stiffness(&mesh, 2.0 * h * h)).unwrap();
-    let positions = mesh.positions();
-    let mut columns: Vec<Vec<f64>> = (0..3)
-        .map(|k| positions.iter().map(|p| p[k]).collect())
-        .collect();
-    let singles: Vec<Vec<f64>> = columns.iter().map(|c| factor.solve(c)).collect();
-    factor.solve_columns(&mut columns);
-    for (multi, single) in columns.iter().zip(&singles) {
-        assert!(max_abs_difference(multi, single) < 1e-13);
-    }
-}
-
-#[test]
 fn the_builder_sums_repeated_entries_into_sorted_columns() {
     let mut builder = SymmetricBuilder::new(3);
     builder.add(2, 0, 1.5);
@@ -197,4 +150,100 @@ fn the_builder_sums_repeated_entries_into_sorted_columns() {
     assert_eq!(copy.unwrap(), matrix);
     let unsorted = SymmetricMatrix::from_csc(2, vec![0, 2, 2], vec![1, 0], vec![1.0, 1.0]);
     assert!(unsorted.unwrap_err().to_string().contains("unsorted"));
+}
+
+/// M + t K of a sphere with the cotan Laplacian, t = 2 h̄² (the default τ), and
+/// the right-hand side M e for a smooth e.
+fn sphere_system() -> (SymmetricMatrix, Vec<f64>) {
+    let mesh = generate::sphere(1.0, 30_000, Sampling::jittered(3))
+        .unwrap()
+        .mesh;
+    let h = mesh.mean_edge_length();
+    let time = 2.0 * h * h;
+    let mass = mesh.vertex_areas();
+    let mut system = SymmetricBuilder::new(mesh.vertex_count());
+    for (v, &m) in mass.iter().enumerate() {
+        system.add_diagonal(v, m);
+    }
+    for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
+        let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
+        system.add_edge(p, q, time * w);
+    }
+    let rhs = mesh
+        .positions()
+        .iter()
+        .zip(&mass)
+        .map(|(p, m)| m * (3.0 * p.x + p.y * p.z).sin())
+        .collect();
+    (system.build(), rhs)
+}
+
+#[test]
+fn conjugate_gradient_meets_its_tolerance_on_a_sphere() {
+    let (matrix, rhs) = sphere_system();
+    assert!(matrix.dominance_ratio() < 100.0);
+    let settings = CgSettings::default();
+    let mut x = rhs.clone();
+    let report = conjugate_gradient(&matrix, &rhs, &mut x, settings).unwrap();
+    eprintln!("{report:?}");
+    assert!(report.converged);
+    assert!(report.iterations > 1 && report.iterations < settings.max_iterations);
+    assert!(report.relative_residual <= settings.tolerance);
+    assert!(relative_residual(&matrix, &x, &rhs) <= settings.tolerance);
+    let exact = CholeskyFactor::new(&matrix).unwrap().solve(&rhs);
+    let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (a, b) in x.iter().zip(&exact) {
+        assert!((a - b).abs() <= 1e-8 * scale);
+    }
+}
+
+#[test]
+fn conjugate_gradient_capped_at_one_iteration_falls_back_to_the_factorization() {
+    let (matrix, rhs) = sphere_system();
+    let capped = CgSettings {
+        max_iterations: 1,
+        ..CgSettings::default()
+    };
+    let mut x = rhs.clone();
+    let report = conjugate_gradient(&matrix, &rhs, &mut x, capped).unwrap();
+    assert!(!report.converged && report.iterations == 1);
+
+    let exact = CholeskyFactor::new(&matrix).unwrap().solve(&rhs);
+    let mut solver = SpdSolver::new(Solver::Iterative, capped);
+    solver.set_matrix(matrix.clone()).unwrap();
+    for _ in 0..2 {
+        let mut x = rhs.clone();
+        solver.solve(&rhs, &mut x).unwrap();
+        assert!(relative_residual(&matrix, &x, &rhs) < 1e-12);
+        let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (a, b) in x.iter().zip(&exact) {
+            assert!((a - b).abs() <= 1e-12 * scale);
+        }
+    }
+}
+
+#[test]
+fn auto_takes_the_iteration_only_for_large_well_shaped_systems() {
+    let (matrix, _) = sphere_system();
+    assert_eq!(
+        Solver::Auto.resolve(&matrix),
+        Solver::Direct,
+        "30k unknowns"
+    );
+    assert_eq!(Solver::Iterative.resolve(&matrix), Solver::Iterative);
+    assert_eq!(Solver::Direct.resolve(&matrix), Solver::Direct);
+    let mut sliver = SymmetricBuilder::new(2);
+    sliver.add_diagonal(0, 1e-6);
+    sliver.add_diagonal(1, 1.0);
+    sliver.add_edge(0, 1, 1.0);
+    assert!(sliver.build().dominance_ratio() > 1e5);
+}
+
+#[test]
+fn solver_names_round_trip() {
+    for &name in Solver::NAMES {
+        assert_eq!(name.parse::<Solver>().unwrap().name(), name);
+    }
+    assert!("cholesky".parse::<Solver>().is_err());
+    assert_eq!(Solver::default(), Solver::Auto);
 }

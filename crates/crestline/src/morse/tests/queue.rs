@@ -1,13 +1,13 @@
 //! The lazy cancellation queue against a slow reference: every cancellation must
 //! be the least valid score over all live saddles, each scored from scratch.
 
-use crestline::curvature::ShapeOperator;
-use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::Mesh;
-use crestline::morse::cancel::{Criterion, Hierarchy};
-use crestline::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
-use crestline::morse::gradient::{Gradient, Keys};
-use crestline::morse::Indicator;
+use crate::curvature::ShapeOperator;
+use crate::mesh::generate::{self, Sampling};
+use crate::mesh::Mesh;
+use crate::morse::cancel::{Criterion, Hierarchy};
+use crate::morse::cells::{maximum_regions, measure_saddles, minimum_regions};
+use crate::morse::gradient::{Gradient, Keys};
+use crate::morse::Indicator;
 
 /// A noisy torus: many critical points, and saddles forced by its genus.
 fn noisy_torus() -> Mesh {
