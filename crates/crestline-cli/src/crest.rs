@@ -30,7 +30,8 @@ pub struct CrestArgs {
     /// Gaussian smoothing σ in world units (mm); default one voxel.
     #[arg(long, value_name = "S")]
     pub sigma: Option<f64>,
-    /// Output lines: .json, .obj, .ply or .vtk.
+    /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
+    /// or .mrk.json (3D Slicer markups).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// Which lines: crest (ridges and valleys), parabolic (K = 0) or gauss=J (the

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crestline::curvature::{write_curvature_ply, Estimator};
+use crestline::curvature::{write_curvature_ply_with_quality, Estimator, Quality};
 use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, Surface};
 use crestline::Result;
@@ -18,7 +18,8 @@ pub struct CurvatureArgs {
     /// The mesh file (.obj, .ply, .off, .stl).
     pub mesh: PathBuf,
     /// Output PLY file: the mesh with double vertex properties k_max, k_min, mean,
-    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable (1 on the boundary).
+    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable (1 on the boundary) and
+    /// quality (see --quality).
     #[arg(short, long, value_name = "FILE.ply")]
     pub output: PathBuf,
     /// Curvature estimator: shape-operator is fast and best on regular meshes;
@@ -27,6 +28,11 @@ pub struct CurvatureArgs {
     #[arg(long, default_value_t = CurvatureOptions::default().estimator,
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
+    /// The curvature quantity also written as the vertex property `quality`, the
+    /// one MeshLab and pymeshlab colour and filter by.
+    #[arg(long, default_value_t = CurvatureOptions::default().quality,
+          value_parser = super::named::<Quality>(Quality::NAMES))]
+    pub quality: Quality,
     #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
@@ -45,12 +51,15 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let surface = Surface::of_mesh(mesh);
     let options = CurvatureOptions {
         estimator: args.estimator,
+        quality: args.quality,
     };
     let field = curvature(&surface, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;
     let mesh = &surface.mesh;
     let mut files = OutputSet::default();
     report.stage("write", || {
-        files.write(&args.output, |p| write_curvature_ply(p, mesh, &field))
+        files.write(&args.output, |p| {
+            write_curvature_ply_with_quality(p, mesh, &field, options.quality)
+        })
     })?;
     if let Some(path) = &args.report.report {
         report.count("vertices", mesh.vertex_count());

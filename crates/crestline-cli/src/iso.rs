@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use crestline::curvature::{write_curvature_ply, Estimator};
 use crestline::io::{soup_format, write_soup, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
-use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::Result;
 
 use super::load::{report_with_progress, StrictArg};
@@ -20,8 +19,8 @@ pub struct IsoArgs {
     /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
     pub volume: PathBuf,
     /// Output surface: .ply (with the double vertex properties k_max, k_min, mean,
-    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z and unreliable), .obj or .vtk (the
-    /// surface alone).
+    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable and quality, the mean
+    /// curvature again for MeshLab), .obj or .vtk (the surface alone).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     #[command(flatten)]
@@ -66,6 +65,7 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     report.count("boundary_loops", mesh.boundary_loops().len());
     let curvature_options = CurvatureOptions {
         estimator: options.estimator,
+        ..CurvatureOptions::default()
     };
     let field = with_curvature
         .then(|| curvature(&surface, &curvature_options, &mut report))
@@ -73,15 +73,6 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
             Some(field) => write_curvature_ply(p, mesh, field),
-            None => write_soup(p, &soup(mesh)),
+            None => write_soup(p, &mesh.to_soup()),
         })
-}
-
-/// The mesh's positions and triangles.
-fn soup(mesh: &Mesh) -> TriangleSoup {
-    TriangleSoup {
-        positions: mesh.positions().to_vec(),
-        triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
-    }
 }

@@ -4,9 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::io::{choose_format, is_volume_path, FileFormat};
+use crestline::io::is_volume_path;
 use crestline::jobs::{landmarks, CrestLinesOptions, LandmarksOptions, Length, LinesFrom};
-use crestline::landmarks::{write_landmarks, LandmarkFormat, Space};
+use crestline::landmarks::{write_landmarks, LandmarkFormat};
+use crestline::space::{self, Space};
 use crestline::Result;
 
 use super::failure::explain;
@@ -15,15 +16,6 @@ use super::outputs::check_paths;
 use super::ridges::{load_for_tracing, options_for, TracerArgs};
 use super::surface::{naming, read_image, required_level};
 use super::ReportArg;
-
-/// The frame of the input's coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum SpaceArg {
-    /// Right, anterior, superior (the NIfTI world).
-    Ras,
-    /// Left, posterior, superior (DICOM, NRRD, MetaImage, 3D Slicer's models).
-    Lps,
-}
 
 /// Arguments of `crestline landmarks`.
 #[derive(clap::Args, Debug)]
@@ -49,10 +41,12 @@ pub struct LandmarksArgs {
     /// three voxels.
     #[arg(long, value_name = "L")]
     pub min_length: Option<f64>,
-    /// The frame of the input's coordinates. Default: RAS for NIfTI, LPS for the
-    /// other images and for meshes (as 3D Slicer reads models).
-    #[arg(long, value_enum)]
-    pub space: Option<SpaceArg>,
+    /// The frame of the input's coordinates, for a mesh that does not state it
+    /// (3D Slicer's `SPACE=` mark): RAS or LPS; default LPS, as 3D Slicer reads
+    /// models. Images state their own (NIfTI: RAS; NRRD: its space; MetaImage:
+    /// LPS); a contradiction is an error.
+    #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
+    pub space: Option<Space>,
     #[command(flatten)]
     pub tracer: TracerArgs,
     #[command(flatten)]
@@ -113,27 +107,11 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
         landmarks(input, &args.options(), &mut report).map_err(|e| explain(e, path))?
     };
     found.source = path.display().to_string();
-    let space = input_space(args);
+    let space = space::resolve(found.space, args.space)
+        .map_err(|e| naming(e, path))?
+        .unwrap_or(Space::Lps);
     args.report
         .write_with_output(&mut report, &args.output, |p| {
             write_landmarks(p, &found, space)
         })
-}
-
-/// The frame `--space` names.
-pub fn space_of(arg: SpaceArg) -> Space {
-    match arg {
-        SpaceArg::Ras => Space::Ras,
-        SpaceArg::Lps => Space::Lps,
-    }
-}
-
-/// `--space`, or the frame the input's format implies.
-fn input_space(args: &LandmarksArgs) -> Space {
-    let nifti = choose_format(&args.input, "", &[FileFormat::Nifti, FileFormat::NiftiGz]).is_ok();
-    match args.space {
-        Some(space) => space_of(space),
-        None if nifti => Space::Ras,
-        None => Space::Lps,
-    }
 }

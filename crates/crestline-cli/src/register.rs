@@ -4,16 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::jobs::register;
-use crestline::landmarks::FORMAT as LANDMARKS;
-use crestline::landmarks::{read_landmarks, LandmarkKind, Space};
-use crestline::lines::read_json;
+use crestline::jobs::{read_point_set, register};
 use crestline::register::{
     write_transform, PointSet, Registration, RegistrationOptions, TransformFormat,
 };
-use crestline::{Error, Result};
+use crestline::{Error, Result, Space};
 
-use super::landmarks::{space_of, SpaceArg};
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::ReportArg;
@@ -38,52 +34,20 @@ pub struct RegisterArgs {
     /// At most this many ICP iterations after the coarse stage.
     #[arg(long, value_name = "N", default_value_t = RegistrationOptions::default().max_iterations)]
     pub max_iterations: usize,
-    /// The frame of the points of line files (landmark files state their own):
-    /// ras (NIfTI images) or lps (DICOM, NRRD and MetaImage images, 3D Slicer's
-    /// models). Points are registered in RAS.
-    #[arg(long, value_enum, default_value = "ras")]
-    pub space: SpaceArg,
+    /// The frame of the points of files that do not state theirs (lines of a
+    /// mesh, or from an older version): RAS (NIfTI images) or LPS (DICOM, NRRD
+    /// and MetaImage images, 3D Slicer's models). Files of images and landmark
+    /// files state their own; a contradiction is an error. Points are registered
+    /// in RAS.
+    #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
+    pub space: Option<Space>,
     #[command(flatten)]
     pub report: ReportArg,
 }
 
-/// The `format` key of a JSON file, read before the file itself.
-#[derive(serde::Deserialize)]
-struct FormatOnly {
-    format: Option<String>,
-}
-
-/// The points to register of a `crestline-lines/1` file (every line point, in
-/// `space`) or of a landmarks file (every line point, and the extremal points as
-/// key points, in the file's space), in RAS.
-fn point_set(path: &Path, space: Space) -> Result<PointSet> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    let format = serde_json::from_str::<FormatOnly>(&text)
-        .ok()
-        .and_then(|f| f.format);
-    if format.as_deref() == Some(LANDMARKS) {
-        let (landmarks, space) = read_landmarks(path)?;
-        let line_points = landmarks.lines.iter().flat_map(|line| &line.points);
-        let extremal = landmarks
-            .points
-            .iter()
-            .filter(|p| p.kind == LandmarkKind::Extremal);
-        return Ok(PointSet {
-            line_points: line_points.map(|p| space.to_ras(p)).collect(),
-            key_points: extremal.map(|p| space.to_ras(&p.position)).collect(),
-        });
-    }
-    let lines = read_json(path)?;
-    let line_points = lines.iter().flat_map(|line| &line.points);
-    Ok(PointSet {
-        line_points: line_points.map(|p| space.to_ras(p)).collect(),
-        key_points: Vec::new(),
-    })
-}
-
-/// [`point_set`], with an error naming `path` if it holds too few line points.
-fn enough_points(path: &Path, space: Space) -> Result<PointSet> {
-    let set = point_set(path, space)?;
+/// [`read_point_set`], with an error naming `path` if it holds too few line points.
+fn enough_points(path: &Path, space: Option<Space>) -> Result<PointSet> {
+    let set = read_point_set(path, space)?;
     if set.line_points.len() < 3 {
         return Err(Error::File {
             path: path.to_path_buf(),
@@ -134,7 +98,7 @@ pub fn run(args: &RegisterArgs) -> Result<()> {
         &outputs,
     )?;
     let mut report = report_with_progress("register", &args.moving);
-    let space = space_of(args.space);
+    let space = args.space;
     let fixed = report.stage("read fixed", || enough_points(&args.fixed, space))?;
     let moving = report.stage("read moving", || enough_points(&args.moving, space))?;
     let registration = register(&fixed, &moving, &options, &mut report)?;

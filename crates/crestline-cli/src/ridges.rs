@@ -108,7 +108,8 @@ pub struct RidgesArgs {
     /// .mha, .mhd; with --level).
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
-    /// Output lines: .json, .obj, .ply or .vtk.
+    /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
+    /// or .mrk.json (3D Slicer markups).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     #[command(flatten)]

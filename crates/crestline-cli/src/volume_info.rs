@@ -7,7 +7,7 @@ use crate::report::Report;
 use crestline::io::read_volume;
 use crestline::jobs::image_info;
 use crestline::volume::{ValueSummary, Volume};
-use crestline::Result;
+use crestline::{Result, Space};
 
 use super::outputs::OutputSet;
 use super::ReportArg;
@@ -23,6 +23,7 @@ pub fn run(path: &Path, report_arg: &ReportArg, mut report: Report) -> Result<()
         report.count("ny", ny);
         report.count("nz", nz);
         report.count("voxels", volume.len());
+        report.section("space", volume.space());
         report.section("spacing", volume.spacing());
         report.section("origin", volume.origin());
         report.section("direction", volume.direction().transpose().as_slice());
@@ -52,6 +53,7 @@ fn summary(path: &Path, volume: &Volume, values: &ValueSummary) -> String {
             "dimensions        {nx} × {ny} × {nz} ({} voxels)",
             volume.len()
         ),
+        format!("world frame       {}", frame(volume)),
         format!("spacing           {sx:.6} × {sy:.6} × {sz:.6}"),
         format!("origin            [{ox:.4}, {oy:.4}, {oz:.4}]"),
         format!("index axes        {}", axis_directions(volume)),
@@ -73,6 +75,20 @@ fn summary(path: &Path, volume: &Volume, values: &ValueSummary) -> String {
     ]
     .join("\n")
         + "\n"
+}
+
+/// The anatomical frame of the world coordinates, as the file declares it.
+fn frame(volume: &Volume) -> String {
+    match volume.space() {
+        Some(space) => format!(
+            "{space} (x to the {})",
+            match space {
+                Space::Ras => "right, y to the front, z up",
+                Space::Lps => "left, y to the back, z up",
+            }
+        ),
+        None => "none declared (not an anatomical frame)".to_string(),
+    }
 }
 
 /// Where the index axes point, e.g. `i → +x, j → −y, k → +z` (the world axis each

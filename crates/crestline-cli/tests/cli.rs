@@ -872,7 +872,7 @@ fn landmarks_of_a_mesh_need_a_known_format_and_sane_options() {
         out_path.to_str().unwrap(),
     ]);
     let text = std::fs::read_to_string(&out_path).unwrap();
-    assert!(text.starts_with("id,kind,x,y,z,curvature,line\n") && text.lines().count() > 50);
+    assert!(text.starts_with("id,kind,x,y,z,curvature,line,space\n") && text.lines().count() > 50);
     let bad = crestline(&[
         "landmarks",
         "meshes/bunny.obj",
@@ -1059,6 +1059,20 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
     ] {
         succeeds(&["ridges", &mesh, "-o", &lines]);
     }
+    // Lines of a mesh do not say their frame: without --space they are refused.
+    let refused = crestline(&[
+        "register",
+        &path("fixed.json"),
+        &path("moving.json"),
+        "-o",
+        &path("t.json"),
+    ]);
+    let said = String::from_utf8_lossy(&refused.stderr).into_owned();
+    assert_eq!(refused.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("fixed.json") && said.contains("--space"),
+        "{said}"
+    );
     let run = succeeds(&[
         "register",
         &path("fixed.json"),
@@ -1067,6 +1081,8 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         &path("t.json"),
         "--report",
         &path("r.json"),
+        "--space",
+        "ras",
     ]);
     let said = String::from_utf8_lossy(&run.stdout).into_owned();
     assert!(said.contains("rotation 30.000°"), "{said}");
@@ -1092,6 +1108,8 @@ fn register_recovers_the_motion_between_ridge_lines_of_a_moved_mesh() {
         &path("moving.json"),
         "-o",
         &path("t.tfm"),
+        "--space",
+        "RAS",
     ]);
     let tfm = std::fs::read_to_string(path("t.tfm")).unwrap();
     assert!(

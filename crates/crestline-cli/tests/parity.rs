@@ -122,7 +122,10 @@ fn curvature_equals_the_job() {
             "k.ply",
             &[&["curvature", BUNNY][..], &args].concat(),
         );
-        let options = jobs::CurvatureOptions { estimator };
+        let options = jobs::CurvatureOptions {
+            estimator,
+            ..Default::default()
+        };
         let field = jobs::curvature(&mesh, &options, &mut Silent).unwrap();
         let written = read_mesh(&file).unwrap();
         let k_max = &written

@@ -25,6 +25,7 @@ fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
                 .collect(),
         },
         vertex_scalars: Vec::new(),
+        space: None,
     }
 }
 
@@ -115,8 +116,10 @@ pub fn write_mesh(
     vertices: numpy::PyReadonlyArray2<'_, f64>,
     faces: numpy::PyReadonlyArray2<'_, i64>,
     values: Vec<(String, Vec<f64>)>,
+    space: Option<&str>,
 ) -> PyResult<()> {
     let mut soup = soup(vertices.as_array(), faces.as_array());
+    soup.space = crate::volume::frame(space)?;
     soup.vertex_scalars = values
         .into_iter()
         .map(|(name, values)| crestline::mesh::ScalarProperty { name, values })

@@ -39,6 +39,7 @@ fn names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     dict.set_item("cells", Cells::NAMES)?;
     dict.set_item("indicator", Indicator::NAMES)?;
     dict.set_item("lines", LinesChoice::NAMES)?;
+    dict.set_item("space", crestline::Space::NAMES)?;
     Ok(dict)
 }
 

@@ -92,14 +92,22 @@ pub fn feature_lines(lines: Vec<LineParts<'_>>) -> PyResult<FeatureLines> {
     Ok(FeatureLines {
         source: "arrays".to_string(),
         lines,
+        space: None,
     })
 }
 
 /// Write lines to `path` in the format of its extension (.json, .obj, .ply,
-/// .vtk), atomically.
+/// .vtk, .mrk.json: 3D Slicer markups), atomically.
 #[pyfunction]
-pub fn write_lines(py: Python<'_>, path: &str, lines: Vec<LineParts<'_>>) -> PyResult<()> {
-    let lines = feature_lines(lines)?;
+#[pyo3(signature = (path, lines, space=None))]
+pub fn write_lines(
+    py: Python<'_>,
+    path: &str,
+    lines: Vec<LineParts<'_>>,
+    space: Option<&str>,
+) -> PyResult<()> {
+    let mut lines = feature_lines(lines)?;
+    lines.space = crate::volume::frame(space)?;
     py.detach(|| crestline::lines::write_lines(Path::new(path), &lines))
         .map_err(raised)
 }

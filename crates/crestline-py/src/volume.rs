@@ -38,7 +38,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 }
 
 /// The samples `(nz, ny, nx)` and the 4 × 4 voxel-to-world affine of an image.
-type ImageArrays<'py> = (Bound<'py, PyArray3<f32>>, Bound<'py, PyArray2<f64>>);
+type ImageArrays<'py> = (
+    Bound<'py, PyArray3<f32>>,
+    Bound<'py, PyArray2<f64>>,
+    Option<&'static str>,
+);
 
 /// Read a 3D image (NIfTI, NRRD, MetaImage).
 #[pyfunction]
@@ -52,7 +56,8 @@ fn read_volume<'py>(py: Python<'py>, path: &str) -> PyResult<ImageArrays<'py>> {
         .expect("x fastest, one sample per voxel");
     let placed = volume.affine();
     let affine = Array2::from_shape_fn((4, 4), |(r, c)| placed[(r, c)]);
-    Ok((samples.into_pyarray(py), affine.into_pyarray(py)))
+    let space = volume.space().map(crestline::Space::name);
+    Ok((samples.into_pyarray(py), affine.into_pyarray(py), space))
 }
 
 /// The volume of the samples `(nz, ny, nx)` and the affine, checked by
@@ -191,15 +196,28 @@ fn lines_landmarks(lines: Vec<LineParts<'_>>, unit: f64, options: &str) -> PyRes
 
 /// Write landmarks given as the JSON the library serializes them to, in the
 /// format of the file's extension (`.mrk.json`, `.json`, `.csv`), their
-/// positions in the frame `space` (`RAS` or `LPS`).
+/// positions in the frame they `declared`, else the one `given`, else LPS
+/// ([`crestline::space::resolve`]).
 #[pyfunction]
-fn write_landmarks(path: &str, landmarks: &str, space: &str) -> PyResult<()> {
+#[pyo3(signature = (path, landmarks, declared, given))]
+fn write_landmarks(
+    path: &str,
+    landmarks: &str,
+    declared: Option<&str>,
+    given: Option<&str>,
+) -> PyResult<()> {
     let invalid = |e: serde_json::Error| raised(crestline::Error::Argument(e.to_string()));
     let found: crestline::landmarks::Landmarks =
         serde_json::from_str(landmarks).map_err(invalid)?;
-    let space: crestline::landmarks::Space =
-        serde_json::from_value(serde_json::Value::from(space.to_uppercase())).map_err(invalid)?;
+    let space = crestline::space::resolve(frame(declared)?, frame(given)?)
+        .map_err(raised)?
+        .unwrap_or(crestline::Space::Lps);
     crestline::landmarks::write_landmarks(Path::new(path), &found, space).map_err(raised)
+}
+
+/// The frame `name` names (`RAS` or `LPS`, any case), if any.
+pub fn frame(name: Option<&str>) -> PyResult<Option<crestline::Space>> {
+    name.map(str::parse).transpose().map_err(raised)
 }
 
 /// One voxel of an image placed by `affine`: its largest spacing, the unit of

@@ -28,9 +28,11 @@ FUNCTIONS = [
 ]
 # The library's options a function leaves at their defaults on purpose: the
 # isosurface returns the surface alone (its curvature is crestline.curvature's),
-# and registration's inner schedule is the library's to tune.
+# curvature's quality is a property of the tool's PLY file, which the package does
+# not write, and registration's inner schedule is the library's to tune.
 NOT_ARGUMENTS = {
     "iso": {"curvature", "estimator"},
+    "curvature": {"quality"},
     "register": {"coarse_iterations", "coarse_points", "tolerance"},
 }
 

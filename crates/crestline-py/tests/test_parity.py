@@ -187,12 +187,13 @@ def test_draw(bunny, tmp_path, args, kwargs):
 @pytest.mark.parametrize("args, kwargs", [([], {}), (["--min-overlap", 0.6, "--max-iterations", 50],
                                                       {"min_overlap": 0.6, "max_iterations": 50})])
 def test_register(brain, tmp_path, args, kwargs):
-    fixed = crestline.Lines(line for line in crestline.crest_lines(brain, LEVEL, min_length=20.0))
+    fixed = crestline.crest_lines(brain, LEVEL, min_length=20.0)
     turn = np.radians(6.0)
     rotation = np.array([[np.cos(turn), -np.sin(turn), 0], [np.sin(turn), np.cos(turn), 0], [0, 0, 1]])
     moving = crestline.Lines(
-        crestline.Line(line.kind, line.closed, line.strength, line.points @ rotation.T + [4.0, -2.0, 1.0], {})
-        for line in fixed
+        (crestline.Line(line.kind, line.closed, line.strength, line.points @ rotation.T + [4.0, -2.0, 1.0], {})
+         for line in fixed),
+        space=fixed.space,
     )
     fixed.save(tmp_path / "fixed.json")
     moving.save(tmp_path / "moving.json")

@@ -169,7 +169,7 @@ fn main() {
             .map(|p| motion * (p * SCALE))
             .collect(),
         triangles: surface.mesh.triangles(),
-        vertex_scalars: Vec::new(),
+        ..TriangleSoup::default()
     };
     let clean = Mesh::from_soup(soup).unwrap().0;
     let noisy = generate::with_normal_noise(&clean, 0.2, 5).unwrap();

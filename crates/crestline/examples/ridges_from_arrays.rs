@@ -68,6 +68,7 @@ fn main() -> crestline::Result<()> {
         positions: positions.iter().map(|&p| Point::from(p)).collect(),
         triangles,
         vertex_scalars: Vec::new(),
+        space: None,
     };
     let (mesh, _repairs) = Mesh::from_soup(soup)?;
     let curvature = CurvatureField::from_fn(mesh.vertex_count(), |v| {

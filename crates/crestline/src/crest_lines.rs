@@ -392,6 +392,7 @@ pub fn trace_observed(
 impl LineExtractor<Volume> for LineTracing {
     fn extract(&self, volume: &Volume, observer: &mut dyn Observer) -> Result<FeatureLines> {
         let mut lines = FeatureLines::new(String::new());
+        lines.space = volume.space();
         lines.lines = trace_observed(volume, self, observer)?;
         Ok(lines)
     }

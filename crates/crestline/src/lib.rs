@@ -82,9 +82,11 @@ mod named;
 pub mod progress;
 pub mod register;
 pub mod ridges;
+pub mod space;
 pub mod volume;
 
 pub use error::{Error, Result};
+pub use space::Space;
 
 /// A point in 3D space.
 pub type Point = nalgebra::Point3<f64>;

@@ -9,6 +9,8 @@ use crestline::curvature::{
     ShapeOperator,
 };
 use crestline::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
+use crestline::curvature::{write_curvature_ply, write_curvature_ply_with_quality, Quality};
+use crestline::jobs;
 use crestline::mesh::generate::{self, AnalyticMesh, Paraboloid, Sampling};
 use crestline::mesh::Mesh;
 use crestline::ridges::{extremality, Principal};
@@ -349,4 +351,72 @@ fn extremalities_are_checked_with_the_field() {
     assert!(field.check(&mesh).is_err());
     field.extremality.as_mut().unwrap()[1].pop();
     assert!(field.check(&mesh).is_err());
+}
+
+/// The vertex property `name` of the PLY file at `path`.
+fn ply_property(path: &std::path::Path, name: &str) -> Vec<f64> {
+    let soup = crestline::io::read_mesh(path).unwrap();
+    soup.vertex_scalars
+        .into_iter()
+        .find(|p| p.name == name)
+        .unwrap_or_else(|| panic!("{} has no vertex property {name}", path.display()))
+        .values
+}
+
+#[test]
+fn the_curvature_ply_carries_the_chosen_quantity_as_quality() {
+    // On a sphere of radius r: k_max = k_min = mean = curvedness = 1/r, gauss = 1/r².
+    let radius = 2.0;
+    let sphere = generate::sphere(radius, 3000, Sampling::Regular).unwrap();
+    let field = estimate_curvature(&sphere.mesh, &JetFit::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for &name in Quality::NAMES {
+        let quality: Quality = name.parse().unwrap();
+        let exact = match quality {
+            Quality::Gauss => 1.0 / (radius * radius),
+            _ => 1.0 / radius,
+        };
+        let path = dir.path().join(format!("{name}.ply"));
+        write_curvature_ply_with_quality(&path, &sphere.mesh, &field, quality).unwrap();
+        let written = ply_property(&path, "quality");
+        assert_eq!(written, quality.values(&field), "{name}");
+        for (v, q) in written.iter().enumerate() {
+            assert!(
+                (q / exact - 1.0).abs() < 2e-3,
+                "{name} at {v}: {q}, not {exact}"
+            );
+        }
+        // The quantities that have a property of their own are that property again.
+        if name != "curvedness" {
+            assert_eq!(written, ply_property(&path, name), "{name}");
+        }
+    }
+}
+
+#[test]
+fn the_quality_is_the_mean_curvature_by_default() {
+    assert_eq!(Quality::default(), Quality::Mean);
+    assert_eq!(
+        jobs::CurvatureOptions::default().quality,
+        Quality::default()
+    );
+    assert_eq!(
+        jobs::defaults()["curvature"]["quality"],
+        Quality::default().name()
+    );
+    let chosen: jobs::CurvatureOptions =
+        jobs::options_from_json("curvature", &serde_json::json!({"quality": "gauss"})).unwrap();
+    assert_eq!(chosen.quality, Quality::Gauss);
+    let message = "k1".parse::<Quality>().unwrap_err().to_string();
+    assert!(
+        message.contains("k_max, k_min, mean, gauss, curvedness"),
+        "{message}"
+    );
+    // The writer without a choice writes the default.
+    let sphere = generate::sphere(1.5, 500, Sampling::Regular).unwrap();
+    let field = estimate_curvature(&sphere.mesh, &ShapeOperator).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("default.ply");
+    write_curvature_ply(&path, &sphere.mesh, &field).unwrap();
+    assert_eq!(ply_property(&path, "quality"), field.mean());
 }

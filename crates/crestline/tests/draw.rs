@@ -61,6 +61,7 @@ fn lines(list: Vec<Polyline>) -> FeatureLines {
     FeatureLines {
         source: "sphere".into(),
         lines: list,
+        space: None,
     }
 }
 

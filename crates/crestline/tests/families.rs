@@ -21,6 +21,7 @@ fn mesh(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
         positions,
         triangles,
         vertex_scalars: Vec::new(),
+        space: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }

@@ -254,15 +254,23 @@ fn json_round_trips_and_csv_has_one_row_per_point() {
     write_landmarks(&json, &found, Space::Lps).unwrap();
     let (read, space) = read_landmarks(&json).unwrap();
     assert_eq!(space, Space::Lps);
-    assert_eq!(read, found);
+    assert_eq!(read.space, Some(Space::Lps), "the frame the file declares");
+    assert_eq!(
+        read,
+        Landmarks {
+            space: Some(Space::Lps),
+            ..found.clone()
+        }
+    );
     let csv = dir.path().join("landmarks.csv");
     write_landmarks(&csv, &found, Space::Lps).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<&str> = text.lines().collect();
-    assert_eq!(rows[0], "id,kind,x,y,z,curvature,line");
+    assert_eq!(rows[0], "id,kind,x,y,z,curvature,line,space");
     assert_eq!(rows.len(), 1 + found.points.len());
     let first: Vec<&str> = rows[1].split(',').collect();
-    assert_eq!(first.len(), 7);
+    assert_eq!(first.len(), 8);
+    assert_eq!(first[7], "LPS");
     assert_eq!(first[1], found.points[0].kind.name());
     assert_eq!(first[2].parse::<f64>().unwrap(), found.points[0].position.x);
 }

@@ -17,6 +17,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("progress", 0),
     ("linalg", 0),
     ("named", 0),
+    ("space", 0),
     ("mesh", 1),
     ("chain", 2),
     ("volume", 3),
@@ -115,7 +116,8 @@ fn is_test_file(file: &Path) -> bool {
 
 /// The code of a file before its inline unit tests (`#[cfg(test)] mod tests`).
 fn without_tests(text: &str) -> &str {
-    text.find("#[cfg(test)]\nmod tests").map_or(text, |at| &text[..at])
+    text.find("#[cfg(test)]\nmod tests")
+        .map_or(text, |at| &text[..at])
 }
 
 /// Every `(file, importer, imported)` edge that breaks the layering.

@@ -9,7 +9,7 @@ use crestline::lines::{
     read_json, write_json, write_lines, write_obj, write_ply, write_vtk, FeatureLines, LineFormat,
     LineKind, Polyline, SurfaceLocation, FORMAT,
 };
-use crestline::{Error, Point};
+use crestline::{Error, Point, Space};
 use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::Deserialize;
 
@@ -158,7 +158,7 @@ fn json_has_the_documented_shape_and_round_trips() {
     let text = std::fs::read_to_string(&path).expect("read back");
 
     let top: KeyOrder = serde_json::from_str(&text).expect("top-level keys");
-    assert_eq!(top.0, ["format", "source", "lines"]);
+    assert_eq!(top.0, ["format", "source", "space", "lines"]);
     let per_line: LineKeys = serde_json::from_str(&text).expect("line keys");
     assert_eq!(per_line.lines.len(), 2);
     for keys in &per_line.lines {
@@ -167,7 +167,8 @@ fn json_has_the_documented_shape_and_round_trips() {
 
     let value: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
     assert_eq!(value["format"], FORMAT);
-    assert_eq!(FORMAT, "crestline-lines/1");
+    assert_eq!(FORMAT, "crestline-lines/1.1");
+    assert_eq!(value["space"], serde_json::Value::Null);
     assert_eq!(value["source"], "meshes/bunny.obj");
     let first = &value["lines"][0];
     assert_eq!(first["kind"], "ridge");
@@ -181,6 +182,64 @@ fn json_has_the_documented_shape_and_round_trips() {
     assert_eq!(second["points"].as_array().map(Vec::len), Some(3));
 
     assert_eq!(read_json(&path).expect("read json"), lines);
+
+    let in_lps = FeatureLines {
+        space: Some(Space::Lps),
+        ..lines.clone()
+    };
+    write_json(&path, &in_lps).expect("write json");
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(value["space"], "LPS");
+    assert_eq!(read_json(&path).expect("read json"), in_lps);
+}
+
+#[test]
+fn older_versions_read_and_newer_minor_versions_keep_what_they_know() {
+    let dir = temp_dir();
+    let write = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let line = r#"{"kind": "ridge", "closed": false, "strength": 1.0, "points": [[0,0,0],[1,0,0]]"#;
+    let old = write(
+        "old.json",
+        &format!(r#"{{"format": "crestline-lines/1", "source": "s", "lines": [{line}}}]}}"#),
+    );
+    let read = read_json(&old).expect("version 1 reads");
+    assert_eq!((read.len(), read.space), (1, None));
+    let newer = write(
+        "newer.json",
+        &format!(
+            r#"{{"format": "crestline-lines/1.7", "source": "s", "space": "RAS", "units": "mm",
+                "lines": [{line}, "colour": "red"}}]}}"#
+        ),
+    );
+    let read = read_json(&newer).expect("a newer minor version reads");
+    assert_eq!((read.len(), read.space), (1, Some(Space::Ras)));
+    let unknown = write(
+        "unknown.json",
+        &format!(
+            r#"{{"format": "crestline-lines/1.1", "source": "s", "units": "mm", "lines": [{line}}}]}}"#
+        ),
+    );
+    let error = read_json(&unknown).unwrap_err().to_string();
+    assert!(
+        error.contains("unknown.json") && error.contains("units"),
+        "{error}"
+    );
+    for format in [
+        "crestline-lines/2",
+        "crestline-lines/10",
+        "crestline-lines/1.x",
+    ] {
+        let other = write(
+            "other.json",
+            &format!(r#"{{"format": "{format}", "source": "s", "lines": []}}"#),
+        );
+        assert!(read_json(&other).is_err(), "{format}");
+    }
 }
 
 #[test]

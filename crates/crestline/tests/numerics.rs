@@ -24,6 +24,7 @@ fn mesh_from(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
         positions,
         triangles,
         vertex_scalars: Vec::new(),
+        space: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }
@@ -198,6 +199,7 @@ fn scaled_sphere(radius: f64) -> (Mesh, usize) {
         positions,
         triangles: unit.triangles(),
         vertex_scalars: Vec::new(),
+        space: None,
     };
     let (mesh, report) = Mesh::from_soup(soup).unwrap();
     assert!(report.is_clean(), "{radius}: {report}");
@@ -343,6 +345,7 @@ fn drawing_a_scrambled_mesh_returns() {
         positions: ball.positions().to_vec(),
         triangles,
         vertex_scalars: Vec::new(),
+        space: None,
     };
     let (mesh, _) = Mesh::from_soup(soup).unwrap();
     let mut lines = FeatureLines::new(String::new());

@@ -36,6 +36,7 @@ fn mobius(n: u32) -> TriangleSoup {
             name: "u".into(),
             values: u_values,
         }],
+        space: None,
     }
 }
 

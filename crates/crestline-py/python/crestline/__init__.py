@@ -39,6 +39,7 @@ from ._jobs import DEFAULTS as _DEFAULTS
 from ._volume import (
     Image,
     Landmarks,
+    Space,
     Volume,
     crease_surface,
     crest_lines,
@@ -72,6 +73,7 @@ __all__ = [
     "Lines",
     "MeshError",
     "Progress",
+    "Space",
     "StageError",
     "Volume",
     "crease_surface",

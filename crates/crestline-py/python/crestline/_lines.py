@@ -58,14 +58,17 @@ class Line:
 
 class Lines(Sequence[Line]):
     """The feature lines found on one surface: a sequence of :class:`Line`, in the
-    order the library produced them."""
+    order the library produced them. ``space`` is the anatomical frame of the
+    points (``"RAS"`` or ``"LPS"``: that of the image they were found in), or
+    ``None``; :meth:`save` writes it into the file."""
 
-    def __init__(self, lines: Iterable[Line]) -> None:
+    def __init__(self, lines: Iterable[Line], space: Optional[str] = None) -> None:
         self._lines = list(lines)
+        self.space = None if space is None else _frame(space)
 
     @classmethod
-    def _from_dicts(cls, dicts: Iterable[Dict[str, Any]]) -> "Lines":
-        return cls(Line(**d) for d in dicts)
+    def _from_dicts(cls, dicts: Iterable[Dict[str, Any]], space: Optional[str] = None) -> "Lines":
+        return cls((Line(**d) for d in dicts), space)
 
     @overload
     def __getitem__(self, index: int) -> Line: ...
@@ -73,7 +76,7 @@ class Lines(Sequence[Line]):
     def __getitem__(self, index: slice) -> "Lines": ...
     def __getitem__(self, index: Union[int, slice]) -> Union[Line, "Lines"]:
         if isinstance(index, slice):
-            return Lines(self._lines[index])
+            return Lines(self._lines[index], self.space)
         return self._lines[index]
 
     def __len__(self) -> int:
@@ -88,7 +91,7 @@ class Lines(Sequence[Line]):
 
     def of_kind(self, kind: str) -> "Lines":
         """The lines of one kind."""
-        return Lines(line for line in self._lines if line.kind == kind)
+        return Lines((line for line in self._lines if line.kind == kind), self.space)
 
     def kinds(self) -> Dict[str, int]:
         """How many lines of each kind."""
@@ -101,11 +104,12 @@ class Lines(Sequence[Line]):
     def save(self, path: Union[str, "PathLike[str]"]) -> None:
         """Write the lines in the format of the file's extension, as the
         command-line tool does: ``.json`` (points, per-point values), ``.ply``,
-        ``.obj`` or ``.vtk``. The file is written under a temporary name and
-        renamed, so it is never left half written."""
+        ``.obj``, ``.vtk`` or ``.mrk.json`` (3D Slicer markups, a curve per line),
+        each saying :attr:`space` where the format can. The file is written under
+        a temporary name and renamed, so it is never left half written."""
         from . import _crestline
 
-        _crestline.write_lines(str(path), self._parts())
+        _crestline.write_lines(str(path), self._parts(), self.space)
 
     def _parts(self) -> List[Tuple[str, bool, float, npt.NDArray[np.float64], List[Tuple[str, List[float]]]]]:
         """The lines as the extension module takes them."""
@@ -119,3 +123,13 @@ class Lines(Sequence[Line]):
             )
             for line in self._lines
         ]
+
+
+def _frame(space: str) -> str:
+    """``space`` as the library names frames (``"RAS"``, ``"LPS"``)."""
+    from ._jobs import NAMES
+
+    name = str(space).upper()
+    if name not in NAMES["space"]:
+        raise ValueError(f"space: expected one of {NAMES['space']}, got {space!r}")
+    return name

@@ -60,13 +60,17 @@ def write_mesh(
     vertices: Any,
     faces: Optional[npt.ArrayLike] = None,
     values: Optional[Dict[str, npt.ArrayLike]] = None,
+    space: Optional[str] = None,
 ) -> None:
     """Write a triangle mesh in the format of the file's extension: ``.ply`` (with
     ``values``, one float per vertex each, as vertex properties), ``.obj`` or
-    ``.vtk``. The file is written under a temporary name and renamed."""
+    ``.vtk``. ``space`` (``"RAS"`` or ``"LPS"``: for a surface of an image, the
+    image's :attr:`Volume.space`) is written as 3D Slicer's ``SPACE=`` mark, so
+    that Slicer places the surface on its image. The file is written under a
+    temporary name and renamed."""
     v, f = mesh_arrays(vertices, faces)
     named = [(str(name), per_vertex(array, f"values[{name!r}]", len(v)).tolist()) for name, array in (values or {}).items()]
-    _crestline.write_mesh(str(path), v, f, named)
+    _crestline.write_mesh(str(path), v, f, named, space)
 
 
 def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curvature:

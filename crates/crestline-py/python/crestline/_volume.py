@@ -24,14 +24,23 @@ from ._lines import Lines
 from ._mesh import Progress
 
 
+Space = Literal["RAS", "LPS"]
+"""An anatomical world frame: ``"RAS"`` (x to the right, y to the front, z up:
+NIfTI) or ``"LPS"`` (x to the left, y to the back: DICOM, NRRD, MetaImage, 3D
+Slicer's files); either letter case is accepted."""
+
+
 @dataclass(frozen=True)
 class Volume:
-    """A 3-D image: ``data`` (nx, ny, nz) float32 indexed ``[i, j, k]`` and the
-    voxel-to-world ``affine`` (4 × 4), world coordinates in the image's frame
-    (NIfTI: RAS, millimetres)."""
+    """A 3-D image: ``data`` (nx, ny, nz) float32 indexed ``[i, j, k]``, the
+    voxel-to-world ``affine`` (4 × 4) and ``space``, the anatomical frame of the
+    world coordinates as the file declares it (NIfTI: ``"RAS"``; NRRD: its
+    ``space``; MetaImage: ``"LPS"``; ``None``: not anatomical). Lines and landmarks
+    found in the image carry its ``space``."""
 
     data: npt.NDArray[np.float32]
     affine: npt.NDArray[np.float64]
+    space: Optional[Space] = None
 
     @property
     def spacing(self) -> npt.NDArray[np.float64]:
@@ -59,8 +68,19 @@ def read_volume(path: Union[str, "PathLike[str]"]) -> Volume:
     """Read a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or MetaImage
     (.mha, .mhd). Raises :class:`crestline.FileError` naming the file if it cannot
     be read."""
-    samples, affine = _crestline.read_volume(str(path))
-    return Volume(samples.transpose(2, 1, 0), affine)
+    samples, affine, space = _crestline.read_volume(str(path))
+    frame: Optional[Space] = "RAS" if space == "RAS" else "LPS" if space == "LPS" else None
+    return Volume(samples.transpose(2, 1, 0), affine, frame)
+
+
+def _space(volume: Image) -> Optional[Space]:
+    """The frame of an image's world coordinates: a :class:`Volume`'s own, RAS for
+    a nibabel image (NIfTI's world), none for an array."""
+    if isinstance(volume, Volume):
+        return volume.space
+    if hasattr(volume, "affine") and callable(getattr(volume, "get_fdata", None)):
+        return "RAS"
+    return None
 
 
 def _image(volume: Image, spacing: Optional[Sequence[float]], origin: Optional[Sequence[float]]) -> Tuple[Any, Any]:
@@ -187,7 +207,7 @@ def crest_lines(
     )
     level = number(level, "level", low=-np.inf)
     dicts = _crestline.crest_lines(samples, affine, level, given, callback(progress, "progress"))
-    return Lines._from_dicts(dicts)
+    return Lines._from_dicts(dicts, space=_space(volume))
 
 
 @documented("crease")
@@ -229,19 +249,25 @@ def crease_surface(
 
 
 Landmarks = Dict[str, Any]
-"""``{"source": str, "points": {"id": (n,) int, "kind": (n,) str, "position": (n,
-3), "curvature": (n,), "line": (n,) int}, "lines": [dict per crest line: id,
-kind, closed, length, mean_curvature, strength, convex, points]}``; ids number
-points and lines from 1, and ``line`` is the id of a point's line."""
+"""``{"source": str, "space": "RAS", "LPS" or None, "points": {"id": (n,) int,
+"kind": (n,) str, "position": (n, 3), "curvature": (n,), "line": (n,) int},
+"lines": [dict per crest line: id, kind, closed, length, mean_curvature,
+strength, convex, points]}``; ids number points and lines from 1, ``line`` is the
+id of a point's line, and ``space`` the frame of the positions (the image's, or
+the lines')."""
 
 
-def write_landmarks(path: Union[str, "PathLike[str]"], found: Landmarks, space: Literal["ras", "lps"]) -> None:
+def write_landmarks(
+    path: Union[str, "PathLike[str]"], found: Landmarks, space: Optional[Space] = None
+) -> None:
     """Write landmarks (as :func:`landmarks` returns them) as the command-line
     tool's ``landmarks`` does, in the format of the file's extension: ``.mrk.json``
     (3D Slicer markups, in LPS), ``.json`` (every landmark and line) or ``.csv``
-    (the point landmarks: id, kind, x, y, z, curvature, line). ``space`` is the
-    frame of the positions: ``"ras"`` (NIfTI) or ``"lps"`` (DICOM, NRRD, 3D
-    Slicer's models). The file is written under a temporary name and renamed."""
+    (the point landmarks: id, kind, x, y, z, curvature, line, space). The frame of
+    the positions is the landmarks' own ``space``; ``space`` gives it when they
+    have none (landmarks of a mesh; default ``"LPS"``, as 3D Slicer reads models)
+    and must not contradict it. The file is written under a temporary name and
+    renamed."""
     points = found["points"]
     document = {
         "source": str(found.get("source", "")),
@@ -254,7 +280,9 @@ def write_landmarks(path: Union[str, "PathLike[str]"], found: Landmarks, space: 
         "lines": [{**line, "points": np.asarray(line["points"], dtype=np.float64).tolist()}
                   for line in found["lines"]],
     }
-    _crestline.write_landmarks(str(path), json.dumps(document), str(space))
+    _crestline.write_landmarks(
+        str(path), json.dumps(document), found.get("space"), None if space is None else str(space)
+    )
 
 
 @documented("landmarks", unit="unit")
@@ -306,6 +334,7 @@ def landmarks(
                              "or both radius and persistence, or pass the mesh or the image")
         scale = 1.0 if unit is None else number(unit, "unit", strict=True)
         found = _crestline.lines_landmarks(source._parts(), scale, marks)
+        space = source.space
     elif level is not None:
         samples, affine = _image(source, spacing, origin)
         crest = options(
@@ -313,6 +342,7 @@ def landmarks(
             min_length=None if min_length is None else number(min_length, "min_length"),
         )
         found = _crestline.image_landmarks(samples, affine, number(level, "level", low=-np.inf), crest, marks, progress)
+        space = _space(source)
     else:
         if sigma is not None or min_length is not None:
             raise ValueError("sigma, min_length: for an image (with level), not for a mesh")
@@ -322,7 +352,8 @@ def landmarks(
             threshold=None if threshold is None else number(threshold, "threshold"),
         )
         found = _crestline.mesh_landmarks(v, f, tracing, marks, None, progress)
-    return _landmark_arrays(json.loads(found))
+        space = None
+    return {**_landmark_arrays(json.loads(found)), "space": space}
 
 
 def _landmark_arrays(found: Dict[str, Any]) -> Landmarks:
@@ -342,10 +373,12 @@ def _landmark_arrays(found: Dict[str, Any]) -> Landmarks:
 
 
 def _line_points(value: Any, name: str) -> Vertices:
-    """The points of ridge and valley lines, or an (n, 3) array of points."""
+    """The points of ridge and valley lines (in RAS when the lines have a frame),
+    or an (n, 3) array of points."""
     if isinstance(value, Lines):
         crests = [line.points for line in value if line.kind in ("ridge", "valley")]
-        return points(np.vstack(crests) if crests else np.zeros((0, 3)), name)
+        found = points(np.vstack(crests) if crests else np.zeros((0, 3)), name)
+        return found * np.array([-1.0, -1.0, 1.0]) if value.space == "LPS" else found
     return points(value, name)
 
 
@@ -365,6 +398,9 @@ def register(
     both, when given, guide the coarse stage. ``min_overlap`` (default
     {min_overlap}) is the least share of moving points expected to match;
     ``max_iterations`` (default {max_iterations}) bounds the final ICP.
+    :class:`Lines` with a frame (:attr:`Lines.space`, e.g. of an NRRD and of a
+    NIfTI image) are first brought to RAS, as the tool does, and the matrix is
+    then in RAS; arrays and lines without a frame are taken as they are.
 
     Returns ``{{"matrix": 4 × 4 (moving → fixed), "rms", "matched",
     "matched_share", "iterations"}}``.

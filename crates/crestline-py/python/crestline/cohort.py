@@ -31,8 +31,8 @@ the package's functions):
 - ``landmarks``: images (``level`` required, ``sigma``, ``min_length``) or meshes
   (``estimator``, ``smooth_steps``, ``smooth_time``, ``threshold``), then
   ``radius`` and ``persistence`` (the library's defaults, in voxels or mean edge
-  lengths, when not given): ``landmarks.csv`` (id, kind, x, y, z, curvature,
-  line, as the command-line tool writes it) and ``lines.json``;
+  lengths, when not given): ``landmarks.csv`` (id, kind, x, y, z, curvature, line,
+  space, as the command-line tool writes it) and ``lines.json``;
 - ``ridges`` (meshes), ``crest_lines`` (images; ``level`` required): ``lines.json``;
 - ``isosurface`` (images; ``level`` required): ``surface.ply``;
 - ``curvature`` (meshes; ``estimator``): ``curvature.ply`` with k_max, k_min.
@@ -168,8 +168,7 @@ def _task_landmarks(path: str, options: Dict[str, Any], folder: Path) -> Tuple[D
     lines, scale = _image_lines(path, options) if _is_image(path) else _mesh_lines(path, options)
     found = landmarks(lines, unit=scale, radius=options.get("radius"), persistence=options.get("persistence"))
     points = found["points"]
-    # The positions are as the input has them: the frame only matters to .mrk.json.
-    write_landmarks(folder / "landmarks.csv", found, "ras")
+    write_landmarks(folder / "landmarks.csv", found)
     counts, outputs = _save_lines(lines, folder)
     return {"points": len(points["kind"]), "lines": counts["lines"]}, ["landmarks.csv", *outputs]
 
@@ -185,8 +184,9 @@ def _task_crest_lines(path: str, options: Dict[str, Any], folder: Path) -> Tuple
 def _task_isosurface(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Dict[str, int], List[str]]:
     if "level" not in options:
         raise ValueError("the option 'level' (the isosurface's value) is needed")
-    vertices, faces = isosurface(read_volume(path), options["level"], sigma=options.get("sigma"))
-    write_mesh(folder / "surface.ply", vertices, faces)
+    image = read_volume(path)
+    vertices, faces = isosurface(image, options["level"], sigma=options.get("sigma"))
+    write_mesh(folder / "surface.ply", vertices, faces, space=image.space)
     return {"points": len(vertices), "lines": 0}, ["surface.ply"]
 
 
@@ -291,11 +291,13 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
     tables = {"summary": [{c: row[c] for c in SUMMARY_COLUMNS} for row in rows]}
     if task == "landmarks":
         records = []
+        header: List[str] = []
         for row in rows:
             if row["status"] == "ok":
                 with open(out / row["subject"] / "landmarks.csv", newline="") as f:
-                    records += [[row["subject"], *r] for r in list(csv.reader(f))[1:]]
-        columns = ("subject", "id", "kind", "x", "y", "z", "curvature", "line")
+                    header, *table = list(csv.reader(f))
+                records += [[row["subject"], *r] for r in table]
+        columns = ("subject", *header)
         write_csv(out / "landmarks.csv", columns, records)
         tables["landmarks"] = [dict(zip(columns, r)) for r in records]
     try:

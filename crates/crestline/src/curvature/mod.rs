@@ -19,6 +19,7 @@ mod field;
 mod image;
 mod jet;
 mod output;
+mod quality;
 mod robust;
 mod shape_operator;
 
@@ -27,7 +28,8 @@ pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature};
 pub use image::{image_isosurface, ImageCurvature};
 pub use jet::JetFit;
-pub use output::{estimate_curvature, write_curvature_ply};
+pub use output::{estimate_curvature, write_curvature_ply, write_curvature_ply_with_quality};
+pub use quality::Quality;
 pub use robust::{repair_outliers, OUTLIER_SCALES};
 pub use shape_operator::ShapeOperator;
 

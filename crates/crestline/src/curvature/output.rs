@@ -6,7 +6,7 @@ use crate::io::{write_ply, VertexAttribute};
 use crate::mesh::Mesh;
 use crate::Result;
 
-use super::{CurvatureEstimator, CurvatureField};
+use super::{CurvatureEstimator, CurvatureField, Quality};
 
 /// Run `estimator` on `mesh` and check its output fits the mesh and is finite: the
 /// one entry point through which every stage gets curvature, so a custom estimator
@@ -20,10 +20,24 @@ pub fn estimate_curvature(
     Ok(field)
 }
 
-/// Write `mesh` as binary PLY with the float vertex properties `k_max`, `k_min`,
-/// `mean`, `gauss`, `dmax_x/y/z`, `dmin_x/y/z`, `n_x/y/z` and `unreliable` (1 or 0).
+/// Write `mesh` as binary PLY with the double vertex properties `k_max`, `k_min`,
+/// `mean`, `gauss`, `dmax_x/y/z`, `dmin_x/y/z`, `n_x/y/z`, `unreliable` (1 or 0)
+/// and `quality`: the quantity [`Quality::default`] chooses, under the name that
+/// MeshLab and pymeshlab colour and filter by.
 pub fn write_curvature_ply(path: &Path, mesh: &Mesh, field: &CurvatureField) -> Result<()> {
+    write_curvature_ply_with_quality(path, mesh, field, Quality::default())
+}
+
+/// [`write_curvature_ply`] with the `quality` property holding the quantity that
+/// `quality` chooses.
+pub fn write_curvature_ply_with_quality(
+    path: &Path,
+    mesh: &Mesh,
+    field: &CurvatureField,
+    quality: Quality,
+) -> Result<()> {
     let (mean, gauss) = (field.mean(), field.gauss());
+    let chosen = quality.values(field);
     let unreliable: Vec<f64> = field
         .unreliable
         .iter()
@@ -61,6 +75,10 @@ pub fn write_curvature_ply(path: &Path, mesh: &Mesh, field: &CurvatureField) -> 
         VertexAttribute::Scalar {
             name: "unreliable",
             values: &unreliable,
+        },
+        VertexAttribute::Scalar {
+            name: "quality",
+            values: &chosen,
         },
     ];
     write_ply(path, mesh, &attributes)

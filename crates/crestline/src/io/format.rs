@@ -26,6 +26,10 @@ pub enum FileFormat {
     Stl,
     /// `.vtk`: legacy VTK poly data (surfaces, feature lines).
     Vtk,
+    /// `.vtp`: VTK XML poly data (feature lines).
+    Vtp,
+    /// `.vtu`: VTK XML unstructured grids (feature lines as segments).
+    Vtu,
     /// `.json`: crestline's own JSON documents (feature lines, landmarks,
     /// transforms, reports).
     Json,
@@ -55,12 +59,14 @@ pub enum FileFormat {
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 17] = [
+    pub const ALL: [FileFormat; 19] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
         FileFormat::Stl,
         FileFormat::Vtk,
+        FileFormat::Vtp,
+        FileFormat::Vtu,
         FileFormat::Json,
         FileFormat::SlicerMarkups,
         FileFormat::Csv,
@@ -84,6 +90,8 @@ impl FileFormat {
             FileFormat::Off => "off",
             FileFormat::Stl => "stl",
             FileFormat::Vtk => "vtk",
+            FileFormat::Vtp => "vtp",
+            FileFormat::Vtu => "vtu",
             FileFormat::Json => "json",
             FileFormat::SlicerMarkups => "mrk.json",
             FileFormat::Csv => "csv",

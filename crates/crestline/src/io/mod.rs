@@ -51,7 +51,7 @@ pub use volume::{
 use std::path::Path;
 
 use crate::mesh::TriangleSoup;
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Space};
 
 /// Whether `value` can be stored as a finite 32-bit float (values below f32's
 /// smallest positive number round towards zero).
@@ -130,11 +130,24 @@ fn parse_bytes(
     if bytes.is_empty() {
         return Err(Error::Parse("the file is empty".to_string()));
     }
-    let soup = parse(&mut Input::new(bytes, progress))?;
+    let mut soup = parse(&mut Input::new(bytes, progress))?;
+    soup.space = declared_space(bytes);
     if let Some(progress) = progress {
         progress(bytes.len() as u64, bytes.len() as u64);
     }
     Ok(soup)
+}
+
+/// How far into a mesh file its frame may be declared, in bytes: the header of a
+/// PLY file, the leading comments of an OBJ or OFF file, the header of an STL file.
+const FRAME_MARK_REACH: usize = 1024;
+
+/// The frame the head of a mesh file declares by 3D Slicer's mark (`SPACE=RAS`
+/// or `SPACE=LPS` in a PLY comment, an OBJ comment or the STL header; see
+/// [`Space::from_header`]), if any.
+fn declared_space(bytes: &[u8]) -> Option<Space> {
+    let head = &bytes[..bytes.len().min(FRAME_MARK_REACH)];
+    Space::from_header(&String::from_utf8_lossy(head))
 }
 
 /// Report progress after at least this many bytes.

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use super::{line_error, parse_number, parse_point, push_polygon, Input};
 use crate::mesh::{Mesh, TriangleSoup};
-use crate::{Point, Result};
+use crate::{Point, Result, Space};
 
 /// Read an OBJ file from memory.
 ///
@@ -103,16 +103,21 @@ fn face_corner(token: &str, defined: usize) -> std::result::Result<u32, String> 
 /// so reading the file back gives the same coordinates) and one 1-based `f a b c`
 /// line per triangle. The file is written atomically.
 pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<()> {
-    write_triangles_obj(path, mesh.positions(), &mesh.triangles())
+    write_triangles_obj(path, mesh.positions(), &mesh.triangles(), mesh.space())
 }
 
-/// [`write_obj`] for any indexed triangles (checked by the caller to be in range).
+/// [`write_obj`] for any indexed triangles (checked by the caller to be in range),
+/// with their frame marked in a leading comment as 3D Slicer does.
 pub(super) fn write_triangles_obj(
     path: &Path,
     positions: &[Point],
     triangles: &[[u32; 3]],
+    space: Option<Space>,
 ) -> Result<()> {
     crate::atomic::write_atomically(path, |w| {
+        if let Some(space) = space {
+            writeln!(w, "# {}", space.slicer_mark())?;
+        }
         for p in positions {
             writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
         }

@@ -13,7 +13,7 @@ use super::ply_header::{self, Element, Encoding, Header, Property, PropertyType,
 use super::ply_records::read_element;
 use super::{push_polygon, Input};
 use crate::mesh::{Mesh, ScalarProperty, TriangleSoup};
-use crate::{Error, Point, Result, Vector};
+use crate::{Error, Point, Result, Space, Vector};
 
 /// Names under which PLY files store a face's vertex list.
 const FACE_INDEX_NAMES: &[&str] = &["vertex_indices", "vertex_index"];
@@ -314,15 +314,19 @@ impl VertexAttribute<'_> {
 /// is created then. Everything is written in double precision, so that the
 /// values read back exactly.
 pub fn write_ply(path: &Path, mesh: &Mesh, attributes: &[VertexAttribute<'_>]) -> Result<()> {
-    write_triangles_ply(path, mesh.positions(), &mesh.triangles(), attributes)
+    let triangles = mesh.triangles();
+    write_triangles_ply(
+        path,
+        (mesh.positions(), &triangles, mesh.space()),
+        attributes,
+    )
 }
 
 /// [`write_ply`] for any indexed triangles (checked by the caller to be in range),
-/// orientable or not.
+/// orientable or not, with their frame, marked in a comment as 3D Slicer does.
 pub(super) fn write_triangles_ply(
     path: &Path,
-    positions: &[Point],
-    triangles: &[[u32; 3]],
+    (positions, triangles, space): (&[Point], &[[u32; 3]], Option<Space>),
     attributes: &[VertexAttribute<'_>],
 ) -> Result<()> {
     let elements = header_elements(positions.len(), triangles.len(), attributes)?;
@@ -336,7 +340,10 @@ pub(super) fn write_triangles_ply(
         });
     }
     crate::atomic::write_atomically(path, |w| {
-        ply_header::write_header(w, &["written by crestline"], &elements)?;
+        let comments: Vec<String> = std::iter::once("written by crestline".to_string())
+            .chain(space.map(Space::slicer_mark))
+            .collect();
+        ply_header::write_header(w, &comments, &elements)?;
         for (v, p) in positions.iter().enumerate() {
             p.coords
                 .iter()

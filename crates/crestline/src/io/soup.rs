@@ -104,12 +104,16 @@ fn write_soup_ply(path: &Path, soup: &TriangleSoup) -> Result<()> {
             values: &s.values,
         })
         .collect();
-    write_triangles_ply(path, &soup.positions, &soup.triangles, &attributes)
+    write_triangles_ply(
+        path,
+        (&soup.positions, &soup.triangles, soup.space),
+        &attributes,
+    )
 }
 
 /// OBJ of the positions and triangles.
 fn write_soup_obj(path: &Path, soup: &TriangleSoup) -> Result<()> {
-    write_triangles_obj(path, &soup.positions, &soup.triangles)
+    write_triangles_obj(path, &soup.positions, &soup.triangles, soup.space)
 }
 
 /// Legacy ASCII VTK: `POINTS`, `POLYGONS` of three corners, and `POINT_DATA` with
@@ -117,7 +121,10 @@ fn write_soup_obj(path: &Path, soup: &TriangleSoup) -> Result<()> {
 fn write_soup_vtk(path: &Path, soup: &TriangleSoup) -> Result<()> {
     let n = soup.positions.len();
     write_atomically(path, |w| {
-        vtk::write_header(w, "triangle surface written by crestline")?;
+        vtk::write_header(
+            w,
+            &vtk::title("triangle surface written by crestline", soup.space),
+        )?;
         vtk::write_points(w, n, &soup.positions)?;
         vtk::write_cells(w, CellType::Polygons, || {
             soup.triangles.iter().map(|t| t.map(|v| v as usize))

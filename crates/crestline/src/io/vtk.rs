@@ -14,10 +14,24 @@
 
 use std::io::{self, Write};
 
-use crate::Point;
+use crate::{Point, Space};
 
 /// The longest title line legacy VTK readers accept, in bytes.
 const MAX_TITLE: usize = 255;
+
+/// A title line: `text`, then 3D Slicer's mark of `space` if there is one (kept
+/// within the length readers accept).
+pub(crate) fn title(text: &str, space: Option<Space>) -> String {
+    match space {
+        Some(space) => {
+            let mark = space.slicer_mark();
+            let room = MAX_TITLE - mark.len() - 1;
+            let text: String = text.chars().take(room).collect();
+            format!("{text} {mark}")
+        }
+        None => text.to_string(),
+    }
+}
 
 /// The version line, `title` (control characters as spaces, other non-ASCII
 /// characters as `?`, cut to [`MAX_TITLE`] bytes), `ASCII` and the dataset type.

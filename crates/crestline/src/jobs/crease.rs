@@ -85,5 +85,8 @@ pub fn crease(
     if soup.triangles.is_empty() {
         observer.warning("no crease surface is as strong as asked; try a lower `strength`");
     }
-    Ok(soup)
+    Ok(TriangleSoup {
+        space: volume.space(),
+        ..soup
+    })
 }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::image::Surface;
-use crate::curvature::{estimate_curvature, CurvatureField, Estimator};
+use crate::curvature::{estimate_curvature, CurvatureField, Estimator, Quality};
 use crate::progress::{try_stage, Observer};
 use crate::Result;
 
@@ -14,6 +14,10 @@ pub struct CurvatureOptions {
     /// The estimator of a mesh (an isosurface may carry its image's curvature
     /// instead). Default: the shape operator.
     pub estimator: Estimator,
+    /// The quantity the curvature PLY file also carries as its `quality` vertex
+    /// property, which MeshLab and pymeshlab colour and filter by. Default: the
+    /// mean curvature.
+    pub quality: Quality,
 }
 
 /// The principal curvatures and directions at every vertex of `surface`: the

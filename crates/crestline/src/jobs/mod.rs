@@ -57,7 +57,7 @@ pub use landmarks::{landmarks, landmarks_of_lines, LandmarksOptions, LinesFrom};
 pub use length::Length;
 pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
-pub use register::register;
+pub use register::{read_point_set, register};
 pub use ridges::{ridges, RidgesOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":

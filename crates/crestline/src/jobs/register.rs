@@ -1,9 +1,14 @@
 //! The rigid motion taking one scan's crest lines onto another's (`crestline
 //! register`; trimmed ICP, Chetverikov et al. 2002).
 
+use std::path::Path;
+
+use crate::landmarks::{read_landmarks, LandmarkKind, FORMAT as LANDMARKS};
+use crate::lines::read_json;
 use crate::progress::{checkpoint, stage, Observer};
 use crate::register::{register as align, PointSet, Registration, RegistrationOptions};
-use crate::Result;
+use crate::space::{self, Space};
+use crate::{Error, Point, Result};
 
 /// The rigid motion taking `moving` onto `fixed` as `options` say
 /// ([`crate::register::register`]): the stage `registration`, and the counts
@@ -22,4 +27,59 @@ pub fn register(
     observer.count("moving_points", moving.line_points.len());
     observer.count("matched", found.matched);
     Ok(found)
+}
+
+/// The points to register of a file, in RAS: a lines file (`crestline-lines`
+/// JSON; every line point) or a landmarks file (`crestline-landmarks` JSON; every
+/// line point, and the extremal points as key points), each in the frame it
+/// declares. `space` is the frame of a file that declares none (a lines file of a
+/// mesh, or of an older version); such a file without `space` is refused, as is a
+/// `space` that contradicts the file, so that frames are never mixed silently.
+///
+/// Errors are [`Error::File`] naming `path`.
+pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
+    let in_file = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let format = serde_json::from_str::<FormatOnly>(&text)
+        .ok()
+        .and_then(|f| f.format);
+    let (line_points, key_points, declared) = if format.as_deref() == Some(LANDMARKS) {
+        let (landmarks, declared) = read_landmarks(path)?;
+        let line_points = landmarks.lines.iter().flat_map(|line| line.points.clone());
+        let extremal = landmarks
+            .points
+            .iter()
+            .filter(|p| p.kind == LandmarkKind::Extremal)
+            .map(|p| p.position);
+        (line_points.collect(), extremal.collect(), Some(declared))
+    } else {
+        let lines = read_json(path)?;
+        let line_points = lines.iter().flat_map(|line| line.points.clone());
+        (line_points.collect::<Vec<_>>(), Vec::new(), lines.space)
+    };
+    let frame = space::resolve(declared, space)
+        .map_err(|e| match e {
+            Error::Argument(message) => in_file(message),
+            other => other,
+        })?
+        .ok_or_else(|| {
+            in_file(
+                "the file does not say the frame of its points (RAS or LPS); give it with `space`"
+                    .to_string(),
+            )
+        })?;
+    let to_ras = |points: Vec<Point>| points.iter().map(|p| frame.to_ras(p)).collect();
+    Ok(PointSet {
+        line_points: to_ras(line_points),
+        key_points: to_ras(key_points),
+    })
+}
+
+/// The `format` key of a JSON file, read before the file itself.
+#[derive(serde::Deserialize)]
+struct FormatOnly {
+    format: Option<String>,
 }

@@ -7,48 +7,17 @@ use std::io::Write;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
+use serde_json::Value;
 
 use super::{Landmarks, LineLandmark};
 use crate::atomic::write_atomically;
 use crate::io::{choose_format, FileFormat, FormatChoice};
-use crate::{Error, Point, Result};
+use crate::lines::markups;
+pub use crate::space::Space;
+use crate::{Error, Result};
 
 /// The `format` of this crate's landmark JSON files.
 pub const FORMAT: &str = "crestline-landmarks/1";
-
-/// The schema URL that 3D Slicer writes into markups files.
-pub const SLICER_SCHEMA: &str = "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/Schema/markups-schema-v1.0.3.json#";
-
-/// The world frame of the positions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Space {
-    /// x to the right, y to the front (anterior), z up: the NIfTI world.
-    #[serde(rename = "RAS")]
-    Ras,
-    /// x to the left, y to the back (posterior), z up: DICOM, ITK, NRRD and
-    /// 3D Slicer's files.
-    #[serde(rename = "LPS")]
-    Lps,
-}
-
-impl Space {
-    /// The position `p` of this frame in LPS.
-    pub fn to_lps(self, p: &Point) -> Point {
-        match self {
-            Space::Ras => Point::new(-p.x, -p.y, p.z),
-            Space::Lps => *p,
-        }
-    }
-
-    /// The position `p` of this frame in RAS.
-    pub fn to_ras(self, p: &Point) -> Point {
-        match self {
-            Space::Ras => *p,
-            Space::Lps => Point::new(-p.x, -p.y, p.z),
-        }
-    }
-}
 
 /// A landmark file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,7 +81,7 @@ pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Resu
                 writeln!(w)
             })
         }
-        LandmarkFormat::Csv => write_atomically(path, |w| write_csv(w, landmarks)),
+        LandmarkFormat::Csv => write_atomically(path, |w| write_csv(w, landmarks, space)),
         LandmarkFormat::Slicer => {
             let document = slicer_markups(landmarks, space);
             write_atomically(path, |w| {
@@ -139,16 +108,22 @@ pub fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {
             document.format
         )));
     }
-    Ok((document.landmarks, document.space))
+    let landmarks = Landmarks {
+        space: Some(document.space),
+        ..document.landmarks
+    };
+    Ok((landmarks, document.space))
 }
 
-/// The point landmarks as CSV: `id,kind,x,y,z,curvature,line`.
-fn write_csv(w: &mut impl Write, landmarks: &Landmarks) -> std::io::Result<()> {
-    writeln!(w, "id,kind,x,y,z,curvature,line")?;
+/// The point landmarks as CSV: `id,kind,x,y,z,curvature,line,space`, the frame
+/// of the positions (`RAS` or `LPS`) in a column of its own rather than a comment,
+/// which spreadsheets and CSV readers would take for a row.
+fn write_csv(w: &mut impl Write, landmarks: &Landmarks, space: Space) -> std::io::Result<()> {
+    writeln!(w, "id,kind,x,y,z,curvature,line,space")?;
     for p in &landmarks.points {
         let [x, y, z] = [p.position.x, p.position.y, p.position.z];
         let (id, kind, k, line) = (p.id, p.kind.name(), p.curvature, p.line);
-        writeln!(w, "{id},{kind},{x},{y},{z},{k},{line}")?;
+        writeln!(w, "{id},{kind},{x},{y},{z},{k},{line},{space}")?;
     }
     Ok(())
 }
@@ -156,48 +131,23 @@ fn write_csv(w: &mut impl Write, landmarks: &Landmarks) -> std::io::Result<()> {
 /// The markups document: a `Fiducial` markup of the point landmarks, then one
 /// `Curve` per line, positions in LPS millimetres.
 fn slicer_markups(landmarks: &Landmarks, space: Space) -> Value {
-    let position = |p: &Point| {
-        let p = space.to_lps(p);
-        json!([p.x, p.y, p.z])
-    };
-    let point = |id: usize, label: String, description: String, p: &Point| {
-        json!({
-            "id": id.to_string(),
-            "label": label,
-            "description": description,
-            "position": position(p),
-            "positionStatus": "defined",
-        })
-    };
     let fiducials: Vec<Value> = landmarks
         .points
         .iter()
         .map(|p| {
             let label = format!("{}-{}", p.kind.name(), p.id);
             let description = format!("line {}, curvature {}", p.line, p.curvature);
-            point(p.id, label, description, &p.position)
+            markups::control_point(p.id, label, description, &space.to_lps(&p.position))
         })
         .collect();
-    let mut markups = vec![markup("Fiducial", "landmarks", fiducials)];
-    markups.extend(landmarks.lines.iter().map(|line| curve(line, &point)));
-    json!({ "@schema": SLICER_SCHEMA, "markups": markups })
-}
-
-/// One markup of `kind` named `name` with `control_points`.
-fn markup(kind: &str, name: &str, control_points: Vec<Value>) -> Value {
-    json!({
-        "type": kind,
-        "name": name,
-        "coordinateSystem": "LPS",
-        "coordinateUnits": "mm",
-        "locked": true,
-        "controlPoints": control_points,
-    })
+    let mut all = vec![markups::markup("Fiducial", "landmarks", fiducials)];
+    all.extend(landmarks.lines.iter().map(|line| curve(line, space)));
+    markups::document(all)
 }
 
 /// A line as a `Curve` (`ClosedCurve` for a loop) markup named by kind and id,
 /// with its descriptors in the description of its first point.
-fn curve(line: &LineLandmark, point: &impl Fn(usize, String, String, &Point) -> Value) -> Value {
+fn curve(line: &LineLandmark, space: Space) -> Value {
     let name = format!("{}-{}", line.kind.name(), line.id);
     let description = format!(
         "length {}, mean curvature {}, strength {}, {}",
@@ -206,19 +156,5 @@ fn curve(line: &LineLandmark, point: &impl Fn(usize, String, String, &Point) -> 
         line.strength,
         if line.convex { "convex" } else { "concave" }
     );
-    let points = line
-        .points
-        .iter()
-        .enumerate()
-        .map(|(n, p)| {
-            let text = if n == 0 {
-                description.clone()
-            } else {
-                String::new()
-            };
-            point(n + 1, format!("{name}-{}", n + 1), text, p)
-        })
-        .collect();
-    let kind = if line.closed { "ClosedCurve" } else { "Curve" };
-    markup(kind, &name, points)
+    markups::curve(&name, line.closed, &description, (&line.points, space))
 }

@@ -104,6 +104,10 @@ pub struct Landmarks {
     pub points: Vec<PointLandmark>,
     /// The crest lines, numbered from 1.
     pub lines: Vec<LineLandmark>,
+    /// The anatomical frame of the positions, if the lines had one; the landmark
+    /// files write it as their `space`.
+    #[serde(skip)]
+    pub space: Option<Space>,
 }
 
 /// Parameters of [`landmarks`].
@@ -138,6 +142,7 @@ pub fn landmarks(lines: &FeatureLines, options: &LandmarkOptions) -> Result<Land
     }
     let mut result = Landmarks {
         source: lines.source.clone(),
+        space: lines.space,
         ..Landmarks::default()
     };
     let crests = lines

@@ -10,7 +10,13 @@
 //! | `.obj` | Wavefront OBJ, `v` and `l` records | [`write_obj`] |
 //! | `.ply` | binary little-endian PLY, `vertex` and `edge` elements | [`write_ply`] |
 //! | `.vtk` | legacy ASCII VTK `POLYDATA` (ParaView, VisIt) | [`write_vtk`] |
+//! | `.vtp` | VTK XML poly data, a polyline per line (ParaView, 3D Slicer) | [`write_vtp`] |
+//! | `.vtu` | VTK XML unstructured grid of segments (meshio, ParaView, 3D Slicer) | [`write_vtu`] |
+//! | `.mrk.json` | 3D Slicer markups, a curve per line | [`write_markups`] |
 //!
+//! Every format that can says the frame of the points ([`FeatureLines::space`]):
+//! the JSON's `space` key, 3D Slicer's `SPACE=` mark in the VTK title and in PLY
+//! and OBJ comments, LPS positions in markups.
 //! Every writer first checks the lines ([`FeatureLines::validate`]), so a NaN or an
 //! infinite value is an error before any file is created, then writes under a
 //! temporary name and renames on success
@@ -22,12 +28,14 @@ pub(crate) mod fair;
 mod indexing;
 mod json;
 mod location;
+pub(crate) mod markups;
 mod obj;
 pub(crate) mod oriented;
 mod pipeline;
 mod ply;
 pub(crate) mod surface_fair;
 mod vtk;
+mod vtk_xml;
 pub(crate) mod zero_set;
 
 use std::collections::BTreeMap;
@@ -39,16 +47,18 @@ use serde::{Deserialize, Serialize};
 
 use crate::atomic::write_atomically;
 use crate::io::{choose_format, FileFormat, FormatChoice};
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Space};
 
 pub use crate::chain::{chain, Chain};
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;
+pub use markups::{write_markups, SLICER_SCHEMA};
 pub use obj::write_obj;
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
 pub use vtk::write_vtk;
+pub use vtk_xml::{write_vtp, write_vtu};
 pub use zero_set::{LinePoint, ZeroSet};
 
 /// What a feature line is. Serialized in lowercase (`"ridge"`, `"valley"`, ...).
@@ -256,6 +266,9 @@ pub struct FeatureLines {
     pub source: String,
     /// The lines, in the order extractors produced them.
     pub lines: Vec<Polyline>,
+    /// The anatomical frame of the points, if the input had one (the image's, or
+    /// the frame a mesh file declared); written into every output that can say it.
+    pub space: Option<Space>,
 }
 
 impl FeatureLines {
@@ -264,7 +277,22 @@ impl FeatureLines {
         FeatureLines {
             source: source.into(),
             lines: Vec::new(),
+            space: None,
         }
+    }
+
+    /// The lines with their points in `space`: converted from their own frame, or
+    /// taken to be in it when they have none.
+    pub fn in_space(&self, space: Space) -> FeatureLines {
+        let from = self.space.unwrap_or(space);
+        let mut moved = self.clone();
+        for line in &mut moved.lines {
+            for p in &mut line.points {
+                *p = from.convert(p, space);
+            }
+        }
+        moved.space = Some(space);
+        moved
     }
 
     /// Append a line.
@@ -382,15 +410,24 @@ pub enum LineFormat {
     Ply,
     /// Legacy ASCII VTK `POLYDATA` ([`write_vtk`]).
     Vtk,
+    /// VTK XML poly data ([`write_vtp`]).
+    Vtp,
+    /// VTK XML unstructured grid of segments ([`write_vtu`]).
+    Vtu,
+    /// 3D Slicer markups, a curve per line ([`write_markups`]).
+    Markups,
 }
 
 impl LineFormat {
     /// Every format, in the order listed in error messages.
-    pub const ALL: [LineFormat; 4] = [
+    pub const ALL: [LineFormat; 7] = [
         LineFormat::Json,
         LineFormat::Obj,
         LineFormat::Ply,
         LineFormat::Vtk,
+        LineFormat::Vtp,
+        LineFormat::Vtu,
+        LineFormat::Markups,
     ];
 
     /// The file extension of the format, lowercase and without the dot.
@@ -412,6 +449,9 @@ impl LineFormat {
             LineFormat::Obj => write_obj(path, lines),
             LineFormat::Ply => write_ply(path, lines),
             LineFormat::Vtk => write_vtk(path, lines),
+            LineFormat::Vtp => write_vtp(path, lines),
+            LineFormat::Vtu => write_vtu(path, lines),
+            LineFormat::Markups => write_markups(path, lines),
         }
     }
 }
@@ -423,6 +463,9 @@ impl FormatChoice for LineFormat {
             LineFormat::Obj => FileFormat::Obj,
             LineFormat::Ply => FileFormat::Ply,
             LineFormat::Vtk => FileFormat::Vtk,
+            LineFormat::Vtp => FileFormat::Vtp,
+            LineFormat::Vtu => FileFormat::Vtu,
+            LineFormat::Markups => FileFormat::SlicerMarkups,
         }
     }
 }

@@ -19,7 +19,10 @@ pub fn write_obj(path: &Path, lines: &FeatureLines) -> Result<()> {
 
 /// The whole file.
 fn write_body(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
-    writeln!(w, "# {FORMAT} feature lines")?;
+    match lines.space {
+        Some(space) => writeln!(w, "# {FORMAT} feature lines {}", space.slicer_mark())?,
+        None => writeln!(w, "# {FORMAT} feature lines")?,
+    }
     writeln!(w, "# source: {}", one_line(&lines.source))?;
     writeln!(w, "# {} lines, {} points", lines.len(), lines.point_count())?;
     for p in points(lines) {

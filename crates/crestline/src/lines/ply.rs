@@ -8,6 +8,7 @@ use std::path::Path;
 use super::indexing::{indexed, point_values, points, shared_value_names};
 use super::{one_line, write_checked, FeatureLines, LineKind, FORMAT};
 use crate::io::ply_header::{self, Element, Property, ScalarType};
+use crate::Space;
 use crate::{Error, Result};
 
 /// Write `lines` to `path` as a binary little-endian PLY file:
@@ -36,12 +37,15 @@ pub fn write_ply(path: &Path, lines: &FeatureLines) -> Result<()> {
 
 /// The ASCII header, up to and including `end_header`.
 fn write_header(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
-    let comments = [
+    let comments: Vec<String> = [
         format!("{FORMAT} feature lines"),
         format!("source: {}", one_line(&lines.source)),
         format!("edge kind codes: {}", LineKind::code_table()),
         "edge line: index of the polyline the edge belongs to".to_string(),
-    ];
+    ]
+    .into_iter()
+    .chain(lines.space.map(Space::slicer_mark))
+    .collect();
     let vertex = Element {
         name: "vertex".to_string(),
         count: lines.point_count(),

@@ -18,7 +18,8 @@ use crate::Result;
 /// [`super::write_json`] does.
 pub fn write_vtk(path: &Path, lines: &FeatureLines) -> Result<()> {
     write_checked(path, lines, |w| {
-        vtk::write_header(w, &format!("{FORMAT} feature lines from {}", lines.source))?;
+        let text = format!("{FORMAT} feature lines from {}", lines.source);
+        vtk::write_header(w, &vtk::title(&text, lines.space))?;
         vtk::write_points(w, lines.point_count(), points(lines))?;
         vtk::write_cells(w, CellType::Lines, || {
             indexed(lines).map(|item| item.path())

@@ -176,6 +176,7 @@ fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport
         positions,
         triangles,
         vertex_scalars,
+        space,
     } = soup;
     validate(&positions, &triangles, &vertex_scalars)?;
     let mut report = RepairReport::default();
@@ -216,7 +217,8 @@ fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport
     let referenced = compact_vertices(&mut tris, &mut positions, &mut scalars);
     report.unreferenced_vertices = weld.distinct - (referenced - report.non_manifold_vertices);
 
-    Ok((connect(positions, &tris, &partner, scalars), report))
+    let mesh = connect(positions, &tris, &partner, scalars).with_space(space);
+    Ok((mesh, report))
 }
 
 /// Reject non-finite coordinates, out-of-range indices and mis-sized properties.
@@ -980,5 +982,6 @@ fn connect(
         halfedge_target: target,
         halfedge_face: face,
         vertex_scalars: scalars,
+        space: None,
     }
 }

@@ -315,7 +315,7 @@ fn analytic(
     let (mesh, _) = Mesh::from_soup(TriangleSoup {
         positions,
         triangles,
-        vertex_scalars: Vec::new(),
+        ..TriangleSoup::default()
     })?;
     let exact = mesh
         .positions()
@@ -424,7 +424,7 @@ pub fn with_normal_noise(mesh: &Mesh, sigma: f64, seed: u64) -> Result<Mesh> {
     let soup = TriangleSoup {
         positions,
         triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
+        ..TriangleSoup::default()
     };
     Ok(Mesh::from_soup(soup)?.0)
 }

@@ -28,7 +28,7 @@ pub use ids::{EdgeId, FaceId, HalfedgeId, VertexId};
 pub use soup::{ScalarProperty, TriangleSoup};
 pub use topology::ComponentInfo;
 
-use crate::Point;
+use crate::{Point, Space};
 
 /// An oriented manifold triangle mesh with halfedge connectivity.
 #[derive(Clone, Debug)]
@@ -45,9 +45,21 @@ pub struct Mesh {
     /// The face on a halfedge's left, or [`FaceId::INVALID`] on the boundary.
     halfedge_face: Vec<FaceId>,
     vertex_scalars: Vec<ScalarProperty>,
+    /// The anatomical frame of the positions, from the soup ([`TriangleSoup::space`]).
+    space: Option<Space>,
 }
 
 impl Mesh {
+    /// The anatomical frame of the positions, if known ([`TriangleSoup::space`]).
+    pub fn space(&self) -> Option<Space> {
+        self.space
+    }
+
+    /// The mesh with its positions declared to be in `space`.
+    pub fn with_space(self, space: Option<Space>) -> Mesh {
+        Mesh { space, ..self }
+    }
+
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
@@ -226,6 +238,16 @@ impl Mesh {
     #[inline]
     pub fn face_points(&self, f: FaceId) -> [Point; 3] {
         self.face_vertices(f).map(|v| self.position(v))
+    }
+
+    /// The mesh as a soup: its positions, triangles, vertex scalars and frame.
+    pub fn to_soup(&self) -> TriangleSoup {
+        TriangleSoup {
+            positions: self.positions.clone(),
+            triangles: self.triangles(),
+            vertex_scalars: self.vertex_scalars.clone(),
+            space: self.space,
+        }
     }
 
     /// All triangles as corner index triples (for writers and external code).

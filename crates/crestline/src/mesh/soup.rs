@@ -1,6 +1,6 @@
 //! The indexed triangle list that readers produce and [`crate::mesh::Mesh`] is built from.
 
-use crate::Point;
+use crate::{Point, Space};
 
 /// A named per-vertex scalar, e.g. a PLY vertex property such as `quality` or a
 /// user's indicator field.
@@ -23,4 +23,7 @@ pub struct TriangleSoup {
     pub triangles: Vec<[u32; 3]>,
     /// Per-vertex scalars carried along through construction (same length as `positions`).
     pub vertex_scalars: Vec<ScalarProperty>,
+    /// The anatomical frame of the positions, if known: a surface of an image has
+    /// the image's, a file that declares one (3D Slicer's `SPACE=` mark) has that.
+    pub space: Option<Space>,
 }

@@ -81,6 +81,7 @@ pub fn lines(
     // The walks above mark what is drawn, in order; the fairing of each line is
     // independent.
     let mut lines = FeatureLines::new(String::new());
+    lines.space = mesh.space();
     lines.lines = cells
         .into_par_iter()
         .map(|(kind, strength, locations)| {

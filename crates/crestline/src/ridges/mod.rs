@@ -343,6 +343,7 @@ impl ExtremalityTracer {
             }
         })?;
         let mut lines = FeatureLines::new(String::new());
+        lines.space = input.space();
         for (&which, field_values) in fields.iter().zip(&values) {
             let traced =
                 self.trace_field(work, field, which, field_values.clone(), input, observer);

@@ -41,7 +41,7 @@ pub use marching_lines::{
 };
 pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
 
-use crate::{Error, Point, Result, Vector};
+use crate::{Error, Point, Result, Space, Vector};
 use grid::Grid;
 use nalgebra::{Matrix3, Matrix4};
 
@@ -58,6 +58,8 @@ pub struct Volume {
     /// `(direction · diag(spacing))⁻¹`, cached for [`Volume::world_to_index`].
     world_to_grid: Matrix3<f64>,
     samples: Vec<f32>,
+    /// The anatomical frame of the world coordinates, if the file declared one.
+    space: Option<Space>,
 }
 
 impl Volume {
@@ -103,7 +105,21 @@ impl Volume {
             direction,
             world_to_grid,
             samples,
+            space: None,
         })
+    }
+
+    /// The volume with its world coordinates declared to be in `space` (`None`:
+    /// no anatomical frame, e.g. a volume made from arrays).
+    pub fn with_space(self, space: Option<Space>) -> Volume {
+        Volume { space, ..self }
+    }
+
+    /// The anatomical frame of the world coordinates, if known: from the reader
+    /// (NIfTI: RAS; NRRD: its `space`; MetaImage: LPS) or [`Volume::with_space`].
+    /// Every surface, line and landmark derived from the volume carries it.
+    pub fn space(&self) -> Option<Space> {
+        self.space
     }
 
     /// The number of samples along x, y and z.
@@ -236,16 +252,17 @@ impl Volume {
         Volume::new(dims, spacing, origin, direction, samples)
     }
 
-    /// A volume with this one's grid and placement and other `samples` (e.g. a
-    /// filtered copy). Errors if their number differs.
+    /// A volume with this one's grid, placement and frame and other `samples`
+    /// (e.g. a filtered copy). Errors if their number differs.
     pub fn with_samples(&self, samples: Vec<f32>) -> Result<Volume> {
-        Volume::new(
+        Ok(Volume::new(
             self.dims,
             self.spacing,
             self.origin,
             self.direction,
             samples,
-        )
+        )?
+        .with_space(self.space))
     }
 }
 

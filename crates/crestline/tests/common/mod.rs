@@ -8,7 +8,7 @@ pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
     let soup = TriangleSoup {
         positions: mesh.positions().iter().map(map).collect(),
         triangles: mesh.triangles(),
-        vertex_scalars: Vec::new(),
+        ..TriangleSoup::default()
     };
     Mesh::from_soup(soup).unwrap().0
 }

@@ -18,7 +18,7 @@ use nalgebra::Matrix3;
 use super::text_header::{lines, read_detached, Field, Fields};
 use super::{read_file, Compression, DataLayout, SampleType};
 use crate::volume::Volume;
-use crate::{Error, Result};
+use crate::{Error, Result, Space};
 
 /// Read a `.mha` or `.mhd` file.
 pub(super) fn read(path: &Path) -> Result<Volume> {
@@ -35,7 +35,8 @@ pub(super) fn read(path: &Path) -> Result<Volume> {
         _ => read_detached(path, data_file, &layout)?,
     };
     let (spacing, origin, direction) = geometry(&fields)?;
-    Volume::new(layout.dims, spacing, origin, direction, samples)
+    // ITK's geometry is LPS whatever `AnatomicalOrientation` says (ITK ignores it).
+    Ok(Volume::new(layout.dims, spacing, origin, direction, samples)?.with_space(Some(Space::Lps)))
 }
 
 /// The fields of the header, which ends with the `ElementDataFile` line, and the

@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use super::{little_endian_array, read_until_length, DataLayout, SampleType, Skip};
 use crate::volume::{split_affine, Volume};
-use crate::{Error, Result};
+use crate::{Error, Result, Space};
 
 /// Size of a NIfTI-1 header.
 const NIFTI1_SIZE: usize = 348;
@@ -30,11 +30,12 @@ pub(super) fn read(path: &Path) -> Result<Volume> {
     let file = std::fs::File::open(path).map_err(|e| super::open_error(path, e))?;
     let mut buffered = BufReader::new(file);
     let start = buffered.fill_buf().map_err(|e| Error::io(path, e))?;
-    if start.starts_with(&GZIP_MAGIC) {
+    let volume = if start.starts_with(&GZIP_MAGIC) {
         read_stream(&mut MultiGzDecoder::new(buffered))
     } else {
         read_stream(&mut buffered)
-    }
+    }?;
+    Ok(volume.with_space(Some(Space::Ras)))
 }
 
 /// Read a NIfTI image from the (decompressed) bytes of a `.nii` file.

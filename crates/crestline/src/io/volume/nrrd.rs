@@ -13,7 +13,7 @@ use nalgebra::Matrix3;
 use super::text_header::{lines, read_detached, Field, Fields};
 use super::{read_file, Compression, DataLayout, SampleType};
 use crate::volume::Volume;
-use crate::{Error, Result};
+use crate::{Error, Result, Space};
 
 /// Read a `.nrrd` or `.nhdr` file.
 pub(super) fn read(path: &Path) -> Result<Volume> {
@@ -32,8 +32,19 @@ pub(super) fn read(path: &Path) -> Result<Volume> {
             layout.read(&bytes[start..])?
         }
     };
-    let (spacing, origin, direction) = geometry(&fields)?;
-    Volume::new(layout.dims, spacing, origin, direction, samples)
+    let (spacing, mut origin, mut direction) = geometry(&fields)?;
+    let space = match fields.get(&["space"]).map(|field| field.value.trim()) {
+        Some("right-anterior-superior" | "RAS") => Some(Space::Ras),
+        Some("left-posterior-superior" | "LPS") => Some(Space::Lps),
+        Some("left-anterior-superior" | "LAS") => {
+            // LAS differs from RAS by the sign of x alone: read as RAS.
+            origin[0] = -origin[0];
+            direction.row_mut(0).neg_mut();
+            Some(Space::Ras)
+        }
+        _ => None,
+    };
+    Ok(Volume::new(layout.dims, spacing, origin, direction, samples)?.with_space(space))
 }
 
 /// The fields of the header and, if it ends with a blank line, the offset of the

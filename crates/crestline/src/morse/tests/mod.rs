@@ -321,6 +321,7 @@ fn ridge_landscape(
             name: "height".into(),
             values: height,
         }],
+        space: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }

@@ -241,5 +241,6 @@ pub(super) fn compact(mesh: Mesh) -> TriangleSoup {
         positions: kept.iter().map(|&i| positions[i]).collect(),
         vertex_scalars: vec![scalar(STRENGTH, &strength), scalar(DEGENERATE, &degenerate)],
         triangles,
+        space: None,
     }
 }

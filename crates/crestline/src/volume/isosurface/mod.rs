@@ -175,6 +175,7 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
             positions: extraction.positions,
             triangles: extraction.triangles,
             vertex_scalars: Vec::new(),
+            space: volume.space(),
         },
         keys: extraction.keys,
         fractions: extraction.fractions,
