@@ -7,6 +7,7 @@ use crestline::io::write_soup;
 use crestline::jobs::{crease, CreaseOptions};
 use crestline::Result;
 
+use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::surface::{naming, read_image, require_image};
@@ -40,6 +41,8 @@ pub struct CreaseArgs {
     #[arg(long, default_value_t = CreaseOptions::default().min_component, value_name = "N")]
     pub min_component: usize,
     #[command(flatten)]
+    pub frame: OutputSpaceArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -60,6 +63,7 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
     let mut report = report_with_progress("crease", &args.volume);
     let volume = read_image(&args.volume, &mut report)?;
     let soup = crease(&volume, &options, &mut report).map_err(|e| naming(e, &args.volume))?;
+    let soup = args.frame.soup(soup)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| write_soup(p, &soup))
 }

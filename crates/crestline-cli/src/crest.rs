@@ -9,6 +9,7 @@ use crestline::jobs::{crest_lines, CrestLinesOptions, Length};
 use crestline::lines::{write_lines, LineFormat};
 use crestline::Result;
 
+use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::surface::{naming, read_image, require_image};
@@ -59,6 +60,8 @@ pub struct CrestArgs {
     #[arg(long, default_value_t = CrestLinesOptions::default().min_strength, value_name = "T")]
     pub min_strength: f64,
     #[command(flatten)]
+    pub frame: OutputSpaceArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -90,6 +93,7 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     let mut lines = crest_lines(&volume, args.level, &args.options(), &mut report)
         .map_err(|e| naming(e, &args.volume))?;
     lines.source = args.volume.display().to_string();
+    let lines = args.frame.lines(lines)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
 }

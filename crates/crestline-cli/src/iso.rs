@@ -8,6 +8,7 @@ use crestline::io::{soup_format, write_soup, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
 use crestline::Result;
 
+use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::check_paths;
 use super::surface::{load_surface, require_image, VolumeArgs};
@@ -29,6 +30,14 @@ pub struct IsoArgs {
     #[arg(long, default_value_t = IsoOptions::default().estimator,
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
+    /// Close the surface where it reaches the border of the image (padding the
+    /// image by one voxel outside the surface), so that it is watertight; false
+    /// leaves it open there.
+    #[arg(long, value_name = "BOOL", default_value_t = IsoOptions::default().close,
+          action = clap::ArgAction::Set)]
+    pub close: bool,
+    #[command(flatten)]
+    pub frame: OutputSpaceArg,
     #[command(flatten)]
     pub report: ReportArg,
 }
@@ -38,6 +47,7 @@ impl IsoArgs {
     fn options(&self) -> IsoOptions {
         IsoOptions {
             estimator: self.estimator,
+            close: self.close,
             ..self.surface.iso_options()
         }
     }
@@ -70,9 +80,10 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     let field = with_curvature
         .then(|| curvature(&surface, &curvature_options, &mut report))
         .transpose()?;
+    let (mesh, field) = args.frame.surface(mesh, field)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
-            Some(field) => write_curvature_ply(p, mesh, field),
+            Some(field) => write_curvature_ply(p, &mesh, field),
             None => write_soup(p, &mesh.to_soup()),
         })
 }

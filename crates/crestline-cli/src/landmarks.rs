@@ -11,6 +11,7 @@ use crestline::space::{self, Space};
 use crestline::Result;
 
 use super::failure::explain;
+use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
 use super::ridges::{load_for_tracing, options_for, TracerArgs};
@@ -49,6 +50,8 @@ pub struct LandmarksArgs {
     pub space: Option<Space>,
     #[command(flatten)]
     pub tracer: TracerArgs,
+    #[command(flatten)]
+    pub frame: OutputSpaceArg,
     #[command(flatten)]
     pub report: ReportArg,
 }
@@ -110,6 +113,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
     let space = space::resolve(found.space, args.space)
         .map_err(|e| naming(e, path))?
         .unwrap_or(Space::Lps);
+    let (found, space) = args.frame.landmarks(found, space)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| {
             write_landmarks(p, &found, space)

@@ -7,6 +7,7 @@ mod crest;
 mod curvature;
 mod draw;
 mod failure;
+mod frame;
 mod info;
 mod iso;
 mod landmarks;

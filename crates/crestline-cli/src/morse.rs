@@ -10,6 +10,7 @@ use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
 use crestline::Result;
 
 use super::failure::explain;
+use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
@@ -98,6 +99,8 @@ pub struct MorseCommand {
     #[command(flatten)]
     pub volume: VolumeArgs,
     #[command(flatten)]
+    pub frame: OutputSpaceArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -153,6 +156,7 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     )?;
     let surface = (&loaded.surface, args.estimator);
     let (lines, summary) = extract(surface, &args.mesh, &args.morse, &mut report)?;
+    let lines = args.frame.lines(lines)?;
     let mut files = OutputSet::default();
     report.stage("write", || {
         files.write(&args.output, |p| write_lines(p, &lines))

@@ -12,6 +12,7 @@ use crestline::ridges::Solver;
 use crestline::{Error, Result};
 
 use super::failure::explain;
+use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::{check_paths, Role};
 use super::surface::{load_surface, Loaded, VolumeArgs};
@@ -115,6 +116,8 @@ pub struct RidgesArgs {
     #[command(flatten)]
     pub tracer: TracerArgs,
     #[command(flatten)]
+    pub frame: OutputSpaceArg,
+    #[command(flatten)]
     pub report: ReportArg,
 }
 
@@ -195,6 +198,7 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
     let mut report = report_with_progress("ridges", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let lines = trace_loaded(&loaded.surface, &args.mesh, &args.tracer, &mut report)?;
+    let lines = args.frame.lines(lines)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
 }

@@ -773,12 +773,29 @@ fn iso_writes_a_closed_brain_surface_with_image_curvature() {
     ]);
     let json: serde_json::Value = json_file(&report);
     let counts = &json["counts"];
-    // The brain's outer surface is one sphere-like sheet, open only where the
-    // brain stem leaves the grid through its lowest slice: χ = 2 − 1 hole.
-    assert_eq!(counts["boundary_loops"], 1, "{counts}");
-    assert_eq!(counts["euler_characteristic"], 1, "{counts}");
+    // The brain's outer surface is one sphere-like sheet, closed by a cap where
+    // the brain stem leaves the grid through its lowest slice: χ = 2.
+    assert_eq!(counts["boundary_loops"], 0, "{counts}");
+    assert_eq!(counts["euler_characteristic"], 2, "{counts}");
     assert!(counts["vertices"].as_u64().unwrap() > 100_000, "{counts}");
     assert_eq!(json["sigma"], 1.0);
+    // Left open: one hole there, χ = 2 − 1.
+    let open = dir.path().join("open.obj");
+    succeeds(&[
+        "iso",
+        MNI,
+        "--level",
+        "60",
+        "--close",
+        "false",
+        "-o",
+        open.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let counts = &json_file(&report)["counts"];
+    assert_eq!(counts["boundary_loops"], 1, "{counts}");
+    assert_eq!(counts["euler_characteristic"], 1, "{counts}");
     let header = std::fs::read(&surface).unwrap();
     let header = String::from_utf8_lossy(&header[..600]);
     for property in ["k_max", "k_min", "n_x", "unreliable"] {

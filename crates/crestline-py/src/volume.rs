@@ -9,7 +9,7 @@ use std::path::Path;
 
 use crestline::jobs;
 use crestline::mesh::TriangleSoup;
-use crestline::register::{PointSet, RegistrationOptions};
+use crestline::register::{PointSet, RegistrationOptions, RigidTransform};
 use crestline::volume::Volume;
 use nalgebra::Matrix4;
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -34,6 +34,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_landmarks, m)?)?;
     m.add_function(wrap_pyfunction!(voxel_size, m)?)?;
     m.add_function(wrap_pyfunction!(register_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(write_transform, m)?)?;
     Ok(())
 }
 
@@ -213,6 +214,25 @@ fn write_landmarks(
         .map_err(raised)?
         .unwrap_or(crestline::Space::Lps);
     crestline::landmarks::write_landmarks(Path::new(path), &found, space).map_err(raised)
+}
+
+/// Write the moving → fixed motion `matrix` (4 × 4), in the frame `space`, as
+/// the tool's `register` writes its result (`.json` in RAS, `.tfm` for ITK and
+/// 3D Slicer), atomically.
+#[pyfunction]
+fn write_transform(path: &str, matrix: PyReadonlyArray2<'_, f64>, space: &str) -> PyResult<()> {
+    let matrix = matrix.as_array();
+    if matrix.dim() != (4, 4) {
+        let message = format!("matrix: expected 4 × 4, got {:?}", matrix.dim());
+        return Err(raised(crestline::Error::Argument(message)));
+    }
+    let motion =
+        RigidTransform::from_matrix4(&Matrix4::from_fn(|r, c| matrix[(r, c)])).map_err(raised)?;
+    let in_ras = match frame(Some(space))? {
+        Some(crestline::Space::Lps) => motion.flip_xy(),
+        _ => motion,
+    };
+    crestline::register::write_rigid_transform(Path::new(path), &in_ras).map_err(raised)
 }
 
 /// The frame `name` names (`RAS` or `LPS`, any case), if any.

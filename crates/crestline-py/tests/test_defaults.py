@@ -15,7 +15,7 @@ from crestline._jobs import DEFAULTS, NAMES, describe
 # Each function and the job whose options its keyword arguments are, with the
 # unit of that job's relative lengths in the documentation.
 FUNCTIONS = [
-    (crestline.isosurface, "iso", "voxel", {"sigma"}),
+    (crestline.isosurface, "iso", "voxel", {"sigma", "close"}),
     (crestline.crest_lines, "crest_lines", "voxel", {"sigma", "min_length", "min_strength", "seeds", "rng_seed"}),
     (crestline.crease_surface, "crease", "voxel", {"valley", "sigma", "strength", "min_component"}),
     (crestline.ridges, "ridges", "mean edge length",

@@ -410,3 +410,62 @@ def test_markups_of_lines_and_landmarks_follow_slicers_schema_and_sit_on_the_ima
     lps, _ = markups_points(tmp_path / "bunny.mrk.json")
     plain = np.concatenate([line["points"] for line in json.loads((tmp_path / "bunny.json").read_text())["lines"]])
     assert np.abs(lps - plain).max() < 1e-9
+
+
+def test_output_space_writes_the_other_frame_and_says_so(copies, tmp_path):
+    nifti = copies["nifti"]
+    for suffix in (".vtk", ".ply"):
+        tool("iso", nifti, "--level", LEVEL, "-o", tmp_path / f"ras{suffix}")
+        tool("iso", nifti, "--level", LEVEL, "--output-space", "lps", "-o", tmp_path / f"lps{suffix}")
+        ras, ras_mesh = read_model(tmp_path / f"ras{suffix}")
+        lps, lps_mesh = read_model(tmp_path / f"lps{suffix}")
+        assert np.abs(ras - lps).max() < 1e-9, suffix
+        raw = np.array([lps_mesh.GetPoint(i) for i in range(lps_mesh.GetNumberOfPoints())])
+        assert np.abs(raw - lps).max() == 0.0, "written in LPS, and marked so"
+    # The curvature directions turn with the surface; the curvatures stay.
+    meshio = pytest.importorskip("meshio")
+    ras, lps = meshio.read(tmp_path / "ras.ply"), meshio.read(tmp_path / "lps.ply")
+    assert np.array_equal(ras.point_data["k_max"], lps.point_data["k_max"])
+    for axis, sign in (("x", -1.0), ("y", -1.0), ("z", 1.0)):
+        assert np.array_equal(lps.point_data[f"dmax_{axis}"], sign * ras.point_data[f"dmax_{axis}"]), axis
+    tool("crest-lines", nifti, "--level", LEVEL, "--seeds", 100, "-o", tmp_path / "ras.json")
+    tool("crest-lines", nifti, "--level", LEVEL, "--seeds", 100, "--output-space", "LPS", "-o", tmp_path / "lps.json")
+    ras, lps = (json.loads((tmp_path / f"{f}.json").read_text()) for f in ("ras", "lps"))
+    assert (ras["space"], lps["space"]) == ("RAS", "LPS")
+    points = [np.concatenate([line["points"] for line in d["lines"]]) for d in (ras, lps)]
+    assert np.abs(to_lps(points[0], "RAS") - points[1]).max() == 0.0
+    # A mesh that does not say its frame cannot be converted.
+    refused = tool("ridges", ROOT / "meshes" / "bunny.obj", "--output-space", "LPS", "-o", tmp_path / "b.json",
+                   check=False)
+    assert refused.returncode == 1 and "--output-space" in refused.stderr, refused.stderr
+    assert not (tmp_path / "b.json").exists()
+
+
+def test_the_package_registers_across_frames_and_writes_transforms_itk_reads(tmp_path):
+    import crestline
+
+    image = sitk.ReadImage(str(MNI), sitk.sitkFloat32)
+    motion = sitk.Euler3DTransform()
+    motion.SetCenter(image.TransformContinuousIndexToPhysicalPoint([s / 2 for s in image.GetSize()]))
+    motion.SetRotation(-0.05, 0.03, 0.07)
+    motion.SetTranslation((-3.0, 2.0, 4.0))
+    moving_image = moved(image, motion)
+    sitk.WriteImage(moving_image, str(tmp_path / "moving.mha"))
+    fixed = crestline.crest_lines(crestline.read_volume(MNI), LEVEL)
+    moving = crestline.crest_lines(crestline.read_volume(tmp_path / "moving.mha"), LEVEL)
+    assert (fixed.space, moving.space) == ("RAS", "LPS")
+    found = crestline.register(fixed, moving)
+    crestline.write_transform(tmp_path / "t.tfm", found)
+    transform = sitk.ReadTransform(str(tmp_path / "t.tfm"))
+    realigned = sitk.Resample(moving_image, image, transform, sitk.sitkLinear, 0.0)
+    assert correlation(realigned, image) >= 0.99 > correlation(moving_image, image)
+    # The same motion given in LPS writes the same file.
+    flip = np.diag([-1.0, -1.0, 1.0, 1.0])
+    crestline.write_transform(tmp_path / "lps.tfm", flip @ found["matrix"] @ flip, space="LPS")
+    assert np.allclose(sitk.ReadTransform(str(tmp_path / "lps.tfm")).GetParameters(),
+                       transform.GetParameters(), atol=1e-12)
+    crestline.write_transform(tmp_path / "t.json", found)
+    written = json.loads((tmp_path / "t.json").read_text())
+    assert written["coordinate_system"] == "RAS" and np.allclose(written["matrix"], found["matrix"])
+    with pytest.raises(crestline.ArgumentError, match="rotation"):
+        crestline.write_transform(tmp_path / "bad.tfm", np.diag([2.0, 1.0, 1.0, 1.0]))

@@ -19,7 +19,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Vector};
 
 /// The anatomical world frame of positions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -48,10 +48,16 @@ impl Space {
     /// The position `p` of this frame in `to`: x and y change sign between RAS
     /// and LPS.
     pub fn convert(self, p: &Point, to: Space) -> Point {
+        Point::from(self.convert_vector(&p.coords, to))
+    }
+
+    /// The vector `v` (a direction or a normal) of this frame in `to`: the frames
+    /// differ by a half turn about z, which keeps orientations.
+    pub fn convert_vector(self, v: &Vector, to: Space) -> Vector {
         if self == to {
-            *p
+            *v
         } else {
-            Point::new(-p.x, -p.y, p.z)
+            Vector::new(-v.x, -v.y, v.z)
         }
     }
 
@@ -80,6 +86,20 @@ impl Space {
             Some(Space::Lps)
         } else {
             None
+        }
+    }
+}
+
+/// Convert `points`, in frame `from`, into `to`; points without a frame are
+/// taken to be in `to` already.
+pub fn convert_all<'a>(
+    from: Option<Space>,
+    to: Space,
+    points: impl IntoIterator<Item = &'a mut Point>,
+) {
+    if let Some(from) = from {
+        for p in points {
+            *p = from.convert(p, to);
         }
     }
 }

@@ -259,6 +259,23 @@ fn gyroid(period: f64) -> impl Fn(Point) -> f64 {
 }
 
 #[test]
+fn the_clipped_gyroid_padded_outside_the_surface_is_watertight() {
+    let volume = cube(37, gyroid(16.0));
+    let padded = volume.padded(-10.0).unwrap();
+    assert_eq!(padded.dims(), [39, 39, 39]);
+    // The padding is around the grid, which stays where it was.
+    assert!((padded.index_to_world([1.0; 3]) - volume.index_to_world([0.0; 3])).norm() < 1e-12);
+    assert_eq!(padded.value(1, 1, 1), volume.value(0, 0, 0));
+    assert_eq!(padded.value(0, 5, 5), Some(-10.0));
+    let (_, open) = surface(&volume, 0.3);
+    let (_, closed) = surface(&padded, 0.3);
+    assert!(!open.boundary_loops().is_empty());
+    assert!(closed.boundary_loops().is_empty(), "closed by the caps");
+    assert!(closed.face_count() > open.face_count());
+    assert_euler_consistent(&closed);
+}
+
+#[test]
 fn clipped_gyroid_is_open_only_at_the_volume_border() {
     let volume = cube(37, gyroid(16.0));
     let (iso, mesh) = surface(&volume, 0.3);

@@ -48,6 +48,7 @@ from ._volume import (
     read_volume,
     register,
     write_landmarks,
+    write_transform,
 )
 
 
@@ -90,4 +91,5 @@ __all__ = [
     "ridges",
     "write_landmarks",
     "write_mesh",
+    "write_transform",
 ]

@@ -131,6 +131,7 @@ def isosurface(
     sigma: Optional[float] = None,
     progress: Progress = None,
     *,
+    close: Optional[bool] = None,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
 ) -> Tuple[Vertices, Faces]:
@@ -139,11 +140,13 @@ def isosurface(
     samples), by marching cubes with the asymptotic decider, inside being
     ``f ≥ level``, as the command-line tool's ``iso`` extracts it: vertices (world
     coordinates) and faces, counter-clockwise seen from outside, ready for
-    :func:`crestline.ridges`. Non-finite samples are set to the smallest value
-    with a ``UserWarning``.
+    :func:`crestline.ridges`. With ``close`` (default {close}) the surface is
+    closed where it reaches the border of the image, watertight. Non-finite
+    samples are set to the smallest value with a ``UserWarning``.
     """
     samples, affine = _image(volume, spacing, origin)
-    given = options(sigma=None if sigma is None else number(sigma, "sigma"))
+    given = options(sigma=None if sigma is None else number(sigma, "sigma"),
+                    close=None if close is None else bool(close))
     vertices, faces = _crestline.isosurface(
         samples, affine, number(level, "level", low=-np.inf), given, callback(progress, "progress")
     )
@@ -416,3 +419,18 @@ def register(
         callback(progress, "progress"),
     )
     return result
+
+
+def write_transform(
+    path: Union[str, "PathLike[str]"], transform: Union[Dict[str, Any], npt.ArrayLike], space: Space = "RAS"
+) -> None:
+    """Write a rigid motion as the command-line tool's ``register`` does, in the
+    format of the file's extension: ``.json`` (moving → fixed, RAS) or ``.tfm``
+    (ITK and 3D Slicer: fixed → moving, LPS, what ``SimpleITK.ReadTransform`` and
+    Slicer's transform reader take). ``transform`` is what :func:`register`
+    returns, or a 4 × 4 moving → fixed matrix whose frame is ``space``
+    (:func:`register`'s matrices are RAS). The file is written under a
+    temporary name and renamed."""
+    matrix = transform["matrix"] if isinstance(transform, dict) else transform
+    array = np.ascontiguousarray(np.asarray(matrix, dtype=np.float64))
+    _crestline.write_transform(str(path), array, str(space))

@@ -3,7 +3,7 @@
 use rayon::prelude::*;
 
 use crate::mesh::{Mesh, VertexId};
-use crate::{Result, Vector};
+use crate::{Result, Space, Vector};
 
 use super::PrincipalCurvatures;
 
@@ -45,6 +45,21 @@ pub struct CurvatureField {
 }
 
 impl CurvatureField {
+    /// The field of the same surface with its positions converted from frame
+    /// `from` to `to` (a half turn about z when they differ): the curvatures stay,
+    /// the directions and normals turn with the surface.
+    pub fn in_space(&self, from: Space, to: Space) -> CurvatureField {
+        let turn = |vectors: &[Vector]| -> Vec<Vector> {
+            vectors.iter().map(|v| from.convert_vector(v, to)).collect()
+        };
+        CurvatureField {
+            d_max: turn(&self.d_max),
+            d_min: turn(&self.d_min),
+            normal: turn(&self.normal),
+            ..self.clone()
+        }
+    }
+
     /// The field of `n` vertices whose values at vertex `v` are
     /// `estimate(v) = (curvatures, normal, unreliable)`, evaluated in parallel and
     /// written straight into the field's arrays.

@@ -80,6 +80,11 @@ pub struct IsoOptions {
     /// (the line jobs use their own options' estimator). Default: the shape
     /// operator.
     pub estimator: Estimator,
+    /// Close the surface where it reaches the border of the grid (the image is
+    /// padded by one voxel outside the surface), so that it is watertight; the
+    /// caps' vertices lie outside the image, so their image curvature is marked
+    /// unreliable. Default: on (see `docs/design.md`, "Isosurfaces").
+    pub close: bool,
 }
 
 impl Default for IsoOptions {
@@ -88,6 +93,7 @@ impl Default for IsoOptions {
             sigma: Length::units(1.0),
             curvature: CurvatureSource::Image,
             estimator: Estimator::default(),
+            close: true,
         }
     }
 }
@@ -137,6 +143,15 @@ impl Surface {
     }
 }
 
+/// A sample value outside the surface `f = level` (below the level), as far
+/// below it as the largest sample is above, so that a cap closing the surface at
+/// the border of the grid lies within half a voxel of the border.
+fn outside(volume: &Volume, level: f64) -> f32 {
+    let max = volume.samples().iter().copied().fold(f32::MIN, f32::max);
+    let below = 2.0 * level - f64::from(max);
+    below.min(level - level.abs().max(1.0) * 1e-3) as f32
+}
+
 /// The isosurface `f = level` of `volume` (inside is `f ≥ level`) smoothed as
 /// `options` say, as a closed oriented mesh with the curvature `options` choose:
 /// the stages `smoothing`, `isosurface` and `mesh`, and the counts `vertices` and
@@ -154,7 +169,12 @@ pub fn isosurface(
         ImageCurvature::new(&volume, sigma)
     })?;
     let surface = try_stage(observer, "isosurface", || {
-        marching_cubes(&*curvature.surface_volume(&volume)?, level)
+        let smoothed = curvature.surface_volume(&volume)?;
+        if options.close {
+            marching_cubes(&smoothed.padded(outside(&smoothed, level))?, level)
+        } else {
+            marching_cubes(&smoothed, level)
+        }
     })?;
     let mesh = try_stage(observer, "mesh", || surface.to_mesh())?;
     observer.count("vertices", mesh.vertex_count());

@@ -110,6 +110,22 @@ pub struct Landmarks {
     pub space: Option<Space>,
 }
 
+impl Landmarks {
+    /// The landmarks with their positions in `space`: converted from their own
+    /// frame, or taken to be in it when they have none.
+    pub fn in_space(&self, space: Space) -> Landmarks {
+        let mut moved = self.clone();
+        let points = moved.points.iter_mut().map(|point| &mut point.position);
+        let on_lines = moved
+            .lines
+            .iter_mut()
+            .flat_map(|line| line.points.iter_mut());
+        crate::space::convert_all(self.space, space, points.chain(on_lines));
+        moved.space = Some(space);
+        moved
+    }
+}
+
 /// Parameters of [`landmarks`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LandmarkOptions {

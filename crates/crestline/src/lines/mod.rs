@@ -284,13 +284,12 @@ impl FeatureLines {
     /// The lines with their points in `space`: converted from their own frame, or
     /// taken to be in it when they have none.
     pub fn in_space(&self, space: Space) -> FeatureLines {
-        let from = self.space.unwrap_or(space);
         let mut moved = self.clone();
-        for line in &mut moved.lines {
-            for p in &mut line.points {
-                *p = from.convert(p, space);
-            }
-        }
+        let points = moved
+            .lines
+            .iter_mut()
+            .flat_map(|line| line.points.iter_mut());
+        crate::space::convert_all(self.space, space, points);
         moved.space = Some(space);
         moved
     }

@@ -60,6 +60,16 @@ impl Mesh {
         Mesh { space, ..self }
     }
 
+    /// The mesh with its positions in `space`: converted from its own frame (a
+    /// half turn about z, which keeps the orientation), or taken to be in it when
+    /// it has none. The connectivity is the same.
+    pub fn in_space(&self, space: Space) -> Mesh {
+        let mut moved = self.clone();
+        crate::space::convert_all(self.space, space, &mut moved.positions);
+        moved.space = Some(space);
+        moved
+    }
+
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()

@@ -27,3 +27,13 @@ pub struct TriangleSoup {
     /// the image's, a file that declares one (3D Slicer's `SPACE=` mark) has that.
     pub space: Option<Space>,
 }
+
+impl TriangleSoup {
+    /// The soup with its positions in `space`: converted from its own frame, or
+    /// taken to be in it when it has none.
+    pub fn in_space(mut self, space: Space) -> TriangleSoup {
+        crate::space::convert_all(self.space, space, &mut self.positions);
+        self.space = Some(space);
+        self
+    }
+}

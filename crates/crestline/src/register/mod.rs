@@ -36,7 +36,7 @@ use icp::{trimmed_icp, Alignment, Schedule, Target};
 use initial::{hypotheses, principal_frame};
 
 pub use fit::best_rigid_fit;
-pub use output::{write_transform, TransformFormat};
+pub use output::{write_rigid_transform, write_transform, TransformFormat};
 pub use transform::{rotation_angle, RigidTransform};
 
 /// The points of one scan to register.

@@ -36,6 +36,13 @@ struct Document {
     matrix: [[f64; 4]; 4],
     rotation_degrees: f64,
     translation: [f64; 3],
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    fit: Option<Fit>,
+}
+
+/// The figures of a registration's fit.
+#[derive(Serialize)]
+struct Fit {
     rms: f64,
     matched_share: f64,
     matched: usize,
@@ -79,8 +86,24 @@ impl FormatChoice for TransformFormat {
 /// Errors: [`Error::File`] for another extension or a failed write,
 /// [`Error::Argument`] for a transform with a non-finite entry.
 pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
+    let fit = Fit {
+        rms: registration.rms,
+        matched_share: registration.matched_share,
+        matched: registration.matched,
+        iterations: registration.iterations,
+    };
+    write(path, &registration.transform, Some(fit))
+}
+
+/// Write a moving → fixed motion in RAS (of a registration made elsewhere, say)
+/// as [`write_transform`] does, without the fit's figures.
+pub fn write_rigid_transform(path: &Path, transform: &RigidTransform) -> Result<()> {
+    write(path, transform, None)
+}
+
+/// Write `transform`, with the `fit` it came from if any.
+fn write(path: &Path, transform: &RigidTransform, fit: Option<Fit>) -> Result<()> {
     let format = TransformFormat::from_path(path)?;
-    let transform = &registration.transform;
     if !transform.to_matrix4().iter().all(|x| x.is_finite()) {
         return Err(Error::Argument(format!(
             "the transform to write has a non-finite entry: {:?}",
@@ -88,15 +111,14 @@ pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
         )));
     }
     let text = match format {
-        TransformFormat::Json => json_text(registration)?,
+        TransformFormat::Json => json_text(transform, fit)?,
         TransformFormat::Itk => itk_text(transform),
     };
     write_atomically(path, |w| w.write_all(text.as_bytes()))
 }
 
-/// The JSON document of `registration`, one line.
-fn json_text(registration: &Registration) -> Result<String> {
-    let transform = &registration.transform;
+/// The JSON document of `transform` and its `fit`, one line.
+fn json_text(transform: &RigidTransform, fit: Option<Fit>) -> Result<String> {
     let matrix = transform.to_matrix4();
     let document = Document {
         format: FORMAT,
@@ -105,10 +127,7 @@ fn json_text(registration: &Registration) -> Result<String> {
         matrix: std::array::from_fn(|row| std::array::from_fn(|column| matrix[(row, column)])),
         rotation_degrees: transform.angle_degrees(),
         translation: transform.translation.into(),
-        rms: registration.rms,
-        matched_share: registration.matched_share,
-        matched: registration.matched,
-        iterations: registration.iterations,
+        fit,
     };
     let text = serde_json::to_string(&document)
         .map_err(|e| Error::Argument(format!("the transform cannot be written as JSON: {e}")))?;

@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix3, Matrix4, Rotation3};
 
-use crate::{Point, Vector};
+use crate::{Error, Point, Result, Vector};
 
 /// The rigid motion `x ↦ rotation · x + translation`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +26,30 @@ impl RigidTransform {
             rotation,
             translation,
         }
+    }
+
+    /// The motion of a homogeneous 4×4 matrix `[[R, t], [0, 1]]`: an
+    /// [`Error::Argument`] unless its last row is `0 0 0 1` and `R` is a proper
+    /// rotation (orthonormal to 1e-6, determinant +1).
+    pub fn from_matrix4(matrix: &Matrix4<f64>) -> Result<RigidTransform> {
+        let rotation: Matrix3<f64> = matrix.fixed_view::<3, 3>(0, 0).into_owned();
+        let translation: Vector = matrix.fixed_view::<3, 1>(0, 3).into_owned();
+        let last_row = matrix.row(3).iter().copied().eq([0.0, 0.0, 0.0, 1.0]);
+        let orthonormal = (rotation.transpose() * rotation - Matrix3::identity()).amax() <= 1e-6;
+        if !matrix.iter().all(|x| x.is_finite()) || !last_row {
+            return Err(Error::Argument(format!(
+                "not a finite homogeneous matrix with last row 0 0 0 1: {matrix}"
+            )));
+        }
+        if !orthonormal || rotation.determinant() <= 0.0 {
+            return Err(Error::Argument(format!(
+                "the 3 × 3 part is not a rotation (orthonormal, determinant +1): {rotation}"
+            )));
+        }
+        Ok(RigidTransform::new(
+            Rotation3::from_matrix(&rotation),
+            translation,
+        ))
     }
 
     /// The motion that moves nothing.

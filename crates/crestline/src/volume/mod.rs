@@ -252,6 +252,28 @@ impl Volume {
         Volume::new(dims, spacing, origin, direction, samples)
     }
 
+    /// The volume with one more sample of `value` on every side of the grid (and
+    /// its origin moved back by a voxel), in the same place and frame: an
+    /// isosurface of it that reaches the border of the grid is closed there when
+    /// `value` is outside the surface.
+    pub fn padded(&self, value: f32) -> Result<Volume> {
+        let [nx, ny, nz] = self.dims;
+        let dims = [nx + 2, ny + 2, nz + 2];
+        let mut samples = vec![value; voxel_count(dims)?];
+        for k in 0..nz {
+            for j in 0..ny {
+                let from = nx * (j + ny * k);
+                let to = 1 + dims[0] * (j + 1 + dims[1] * (k + 1));
+                samples[to..to + nx].copy_from_slice(&self.samples[from..from + nx]);
+            }
+        }
+        let origin = self.index_to_world([-1.0; 3]);
+        Ok(
+            Volume::new(dims, self.spacing, origin.into(), self.direction, samples)?
+                .with_space(self.space),
+        )
+    }
+
     /// A volume with this one's grid, placement and frame and other `samples`
     /// (e.g. a filtered copy). Errors if their number differs.
     pub fn with_samples(&self, samples: Vec<f32>) -> Result<Volume> {
