@@ -196,7 +196,7 @@ def test_crest_lines_and_landmarks_land_on_the_same_points(copies, image, tmp_pa
         document = json.loads(lines_path.read_text())
         assert document["format"] == "crestline-lines/1.1"
         expected = "RAS" if "nifti" in name else "LPS"
-        assert document["space"] == expected, name
+        assert (document["space"], document["units"]) == (expected, "mm"), name
         points = np.concatenate([line["points"] for line in document["lines"]])
         lps = to_lps(points, document["space"])
         assert at_level(image, lps) > AT_LEVEL, name
@@ -204,7 +204,7 @@ def test_crest_lines_and_landmarks_land_on_the_same_points(copies, image, tmp_pa
         marks = tmp_path / f"{name}.landmarks.json"
         tool("landmarks", path, "--level", LEVEL, "-o", marks)
         found = json.loads(marks.read_text())
-        assert found["space"] == expected, name
+        assert (found["space"], found["units"]) == (expected, "mm"), name
         positions = to_lps(np.array([p["position"] for p in found["points"]]), found["space"])
         found_points[name, "landmarks"] = positions
     for name in copies:

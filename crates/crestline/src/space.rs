@@ -33,7 +33,18 @@ pub enum Space {
     Lps,
 }
 
+/// The length unit of coordinates in an anatomical frame: millimetres, as DICOM,
+/// ITK and NIfTI's usual `xyzt_units` have them (other NIfTI units are not
+/// converted).
+pub const UNITS: &str = "mm";
+
 impl Space {
+    /// The unit of the coordinates of points in `space`: [`UNITS`] in an
+    /// anatomical frame, none without one.
+    pub fn units_of(space: Option<Space>) -> Option<&'static str> {
+        space.map(|_| UNITS)
+    }
+
     /// Every name, in the order of the variants.
     pub const NAMES: &'static [&'static str] = &["RAS", "LPS"];
 

@@ -158,7 +158,7 @@ fn json_has_the_documented_shape_and_round_trips() {
     let text = std::fs::read_to_string(&path).expect("read back");
 
     let top: KeyOrder = serde_json::from_str(&text).expect("top-level keys");
-    assert_eq!(top.0, ["format", "source", "space", "lines"]);
+    assert_eq!(top.0, ["format", "source", "space", "units", "lines"]);
     let per_line: LineKeys = serde_json::from_str(&text).expect("line keys");
     assert_eq!(per_line.lines.len(), 2);
     for keys in &per_line.lines {
@@ -169,6 +169,7 @@ fn json_has_the_documented_shape_and_round_trips() {
     assert_eq!(value["format"], FORMAT);
     assert_eq!(FORMAT, "crestline-lines/1.1");
     assert_eq!(value["space"], serde_json::Value::Null);
+    assert_eq!(value["units"], serde_json::Value::Null);
     assert_eq!(value["source"], "meshes/bunny.obj");
     let first = &value["lines"][0];
     assert_eq!(first["kind"], "ridge");
@@ -191,6 +192,7 @@ fn json_has_the_documented_shape_and_round_trips() {
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(value["space"], "LPS");
+    assert_eq!(value["units"], "mm");
     assert_eq!(read_json(&path).expect("read json"), in_lps);
 }
 
@@ -212,7 +214,7 @@ fn older_versions_read_and_newer_minor_versions_keep_what_they_know() {
     let newer = write(
         "newer.json",
         &format!(
-            r#"{{"format": "crestline-lines/1.7", "source": "s", "space": "RAS", "units": "mm",
+            r#"{{"format": "crestline-lines/1.7", "source": "s", "space": "RAS", "scale": 2,
                 "lines": [{line}, "colour": "red"}}]}}"#
         ),
     );
@@ -221,12 +223,12 @@ fn older_versions_read_and_newer_minor_versions_keep_what_they_know() {
     let unknown = write(
         "unknown.json",
         &format!(
-            r#"{{"format": "crestline-lines/1.1", "source": "s", "units": "mm", "lines": [{line}}}]}}"#
+            r#"{{"format": "crestline-lines/1.1", "source": "s", "scale": 2, "lines": [{line}}}]}}"#
         ),
     );
     let error = read_json(&unknown).unwrap_err().to_string();
     assert!(
-        error.contains("unknown.json") && error.contains("units"),
+        error.contains("unknown.json") && error.contains("scale"),
         "{error}"
     );
     for format in [

@@ -61,6 +61,8 @@ impl FormatChoice for LandmarkFormat {
 struct Document {
     format: String,
     space: Space,
+    #[serde(default)]
+    units: Option<String>,
     #[serde(flatten)]
     landmarks: Landmarks,
 }
@@ -74,6 +76,7 @@ pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Resu
             let document = Document {
                 format: FORMAT.to_string(),
                 space,
+                units: Space::units_of(Some(space)).map(str::to_string),
                 landmarks: landmarks.clone(),
             };
             write_atomically(path, |w| {

@@ -1,12 +1,13 @@
 //! The `crestline-lines/1.1` JSON format:
 //!
 //! ```json
-//! {"format": "crestline-lines/1.1", "source": "...", "space": "RAS",
+//! {"format": "crestline-lines/1.1", "source": "...", "space": "RAS", "units": "mm",
 //!  "lines": [{"kind": "ridge", "closed": false, "strength": 3.2, "points": [[x, y, z], ...]}]}
 //! ```
 //!
 //! Keys appear in exactly this order. `space` is the anatomical frame of the
-//! points (`"RAS"`, `"LPS"`, or `null` when the input declared none). Numbers are
+//! points (`"RAS"`, `"LPS"`, or `null` when the input declared none) and `units`
+//! their length unit (`"mm"` in an anatomical frame, else `null`). Numbers are
 //! written so that they read back bit for bit.
 //!
 //! Versions: the reader takes `crestline-lines/1` (no `space`: read as `null`) and
@@ -34,7 +35,7 @@ const MAJOR: &str = "crestline-lines/1";
 const MINOR: u32 = 1;
 
 /// The keys of the document and of a line that this version knows.
-const DOCUMENT_KEYS: [&str; 4] = ["format", "source", "space", "lines"];
+const DOCUMENT_KEYS: [&str; 5] = ["format", "source", "space", "units", "lines"];
 const LINE_KEYS: [&str; 6] = [
     "kind",
     "closed",
@@ -52,6 +53,8 @@ struct Document<'a> {
     source: Cow<'a, str>,
     #[serde(default)]
     space: Option<Space>,
+    #[serde(default)]
+    units: Option<Cow<'a, str>>,
     lines: Cow<'a, [Polyline]>,
 }
 
@@ -71,6 +74,7 @@ pub fn write_json(path: &Path, lines: &FeatureLines) -> Result<()> {
         format: Cow::Borrowed(FORMAT),
         source: Cow::Borrowed(&lines.source),
         space: lines.space,
+        units: Space::units_of(lines.space).map(Cow::Borrowed),
         lines: Cow::Borrowed(&lines.lines),
     };
     write_checked(path, lines, |w| {
