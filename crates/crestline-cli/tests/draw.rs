@@ -1,14 +1,10 @@
 //! The `draw` command: SVG, PNG and report files, and one-line errors.
 
+mod common;
+
 use std::process::Command;
 
-fn crestline(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the binary runs")
-}
+use common::crestline;
 
 #[test]
 fn the_draw_command_writes_svg_png_and_report() {

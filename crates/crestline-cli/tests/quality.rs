@@ -1,20 +1,15 @@
 //! `crestline curvature --quality`: the quantity MeshLab reads as `quality`.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use crestline::curvature::Quality;
 use crestline::jobs::CurvatureOptions;
 
 const MESH: &str = "meshes/bunny_small.obj";
 
-fn crestline(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crestline"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the binary runs")
-}
+mod common;
+
+use common::crestline;
 
 /// The vertex property `name` of the PLY file at `path`.
 fn property(path: &Path, name: &str) -> Vec<f64> {
