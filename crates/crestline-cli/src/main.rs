@@ -98,14 +98,26 @@ impl ReportArg {
     }
 }
 
+/// The most threads `--threads` may ask for, per core: more only adds switching
+/// (and spawning 100,000 threads takes minutes).
+const MAX_THREADS_PER_CORE: usize = 8;
+
 /// Size the global thread pool every parallel stage (and the sparse solver) runs
-/// on; 0 keeps one thread per core.
+/// on; 0 keeps one thread per core, and more than [`MAX_THREADS_PER_CORE`] per
+/// core is capped with a warning.
 fn use_threads(threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
     if threads == 0 {
         return Ok(());
     }
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let most = MAX_THREADS_PER_CORE * cores;
+    if threads > most {
+        eprintln!(
+            "warning: --threads {threads}: capped at {most} ({MAX_THREADS_PER_CORE} per core)"
+        );
+    }
     rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
+        .num_threads(threads.min(most))
         .build_global()
 }
 

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::io::{choose_format, FileFormat};
+use crestline::io::{choose_format, is_volume_path, volume_files, FileFormat};
 use crestline::{Error, Result};
 use tempfile::TempPath;
 
@@ -18,10 +18,29 @@ pub type Role<'a> = (&'a str, &'a Path);
 /// after resolving `.`, `..` and symbolic links (an output that does not exist yet
 /// by its directory), so `./x.obj`, `x.obj` and a link to it are the same file.
 /// Inputs that do not exist are not compared (reading them fails anyway).
+/// An image's detached data file (of a NRRD or MetaImage header) counts as an
+/// input too.
 pub fn check_paths(inputs: &[Role<'_>], outputs: &[Role<'_>]) -> Result<()> {
-    let inputs: Vec<(&str, &Path, PathBuf)> = inputs
+    let files: Vec<(String, PathBuf)> = inputs
         .iter()
-        .filter_map(|&(role, path)| Some((role, path, std::fs::canonicalize(path).ok()?)))
+        .flat_map(|&(role, path)| {
+            let data_files = is_volume_path(path)
+                .then(|| volume_files(path).into_iter().skip(1))
+                .into_iter()
+                .flatten();
+            std::iter::once((role.to_string(), path.to_path_buf()))
+                .chain(data_files.map(move |data| (format!("the data file of {role}"), data)))
+        })
+        .collect();
+    let inputs: Vec<(&str, &Path, PathBuf)> = files
+        .iter()
+        .filter_map(|(role, path)| {
+            Some((
+                role.as_str(),
+                path.as_path(),
+                std::fs::canonicalize(path).ok()?,
+            ))
+        })
         .collect();
     let mut checked: Vec<(&str, PathBuf)> = Vec::new();
     for &(role, path) in outputs {

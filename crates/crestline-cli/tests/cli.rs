@@ -1371,3 +1371,99 @@ fn sigint_stops_a_long_command_promptly_without_output() {
         assert!(leftovers.is_empty(), "{leftovers:?}");
     }
 }
+
+/// A 6³ ball of bright voxels as a header (`name`, with `header` the text before
+/// the data file's name) and a detached raw data file `data`, in `dir`.
+fn detached_ball(dir: &std::path::Path, name: &str, header: &str, data: &str) -> (String, String) {
+    let samples: Vec<u8> = (0..216)
+        .map(|i| {
+            let (x, y, z) = (i % 6, (i / 6) % 6, i / 36);
+            let d2 =
+                (x * 2 - 5) * (x * 2 - 5) + (y * 2 - 5) * (y * 2 - 5) + (z * 2 - 5) * (z * 2 - 5);
+            if d2 < 30 {
+                200
+            } else {
+                0
+            }
+        })
+        .collect();
+    let data_path = dir.join(data);
+    std::fs::write(&data_path, &samples).unwrap();
+    let header_path = dir.join(name);
+    std::fs::write(&header_path, format!("{header}{data}\n")).unwrap();
+    (
+        header_path.to_str().unwrap().to_string(),
+        data_path.to_str().unwrap().to_string(),
+    )
+}
+
+#[test]
+fn the_data_file_of_an_input_image_is_never_written_over() {
+    let dir = tempfile::tempdir().unwrap();
+    let mhd = "ObjectType = Image\nNDims = 3\nDimSize = 6 6 6\nElementType = MET_UCHAR\nElementDataFile = ";
+    let nhdr = "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 6 6 6\nencoding: raw\ndata file: ";
+    for (name, header, data) in [
+        ("ball.mhd", mhd, "ball_u8.raw"),
+        ("ball.nhdr", nhdr, "ball.vtk"),
+    ] {
+        let (image, data) = detached_ball(dir.path(), name, header, data);
+        let before = std::fs::read(&data).unwrap();
+        let out = dir.path().join("out.ply");
+        // A data file named like an output (ball.vtk) is refused as -o too.
+        let flags: &[&str] = if data.ends_with(".vtk") {
+            &["--report", "-o"]
+        } else {
+            &["--report"]
+        };
+        for &flag in flags {
+            let mut args = vec!["iso", image.as_str(), "--level", "50"];
+            if flag == "--report" {
+                args.extend(["-o", out.to_str().unwrap()]);
+            }
+            args.extend([flag, data.as_str()]);
+            let refused = crestline(&args);
+            assert_one_line_error(&refused, &data, "the data file of the input image");
+            assert_eq!(std::fs::read(&data).unwrap(), before, "{name} {flag}");
+        }
+        succeeds(&["iso", &image, "--level", "50", "-o", out.to_str().unwrap()]);
+    }
+}
+
+#[test]
+fn a_data_file_that_is_a_device_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, header) in [
+        ("zero.nhdr", "NRRD0004\ntype: float\ndimension: 3\nsizes: 512 512 512\nendian: little\nencoding: raw\ndata file: /dev/zero\n"),
+        ("zero.mhd", "ObjectType = Image\nNDims = 3\nDimSize = 512 512 512\nElementType = MET_FLOAT\nElementDataFile = /dev/zero\n"),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, header).unwrap();
+        let out = crestline(&["info", path.to_str().unwrap()]);
+        assert_one_line_error(&out, path.to_str().unwrap(), "not a regular file");
+    }
+}
+
+#[test]
+fn absurd_thread_and_seed_counts_are_bounded() {
+    let start = std::time::Instant::now();
+    let out = succeeds(&["--threads", "100000", "info", "meshes/bunny_small.obj"]);
+    assert!(
+        stderr(&out).contains("--threads 100000: capped at"),
+        "{}",
+        stderr(&out)
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let lines = dir.path().join("l.json");
+    succeeds(&[
+        "crest-lines",
+        MNI,
+        "--level",
+        "80",
+        "--seeds",
+        "18446744073709551615",
+        "-o",
+        lines.to_str().unwrap(),
+    ]);
+    // Not a timing: a run that drew 2⁶⁴ seeds would never end at all.
+    eprintln!("bounded runs took {:.1} s", start.elapsed().as_secs_f64());
+}

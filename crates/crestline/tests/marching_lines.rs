@@ -531,6 +531,19 @@ fn seeded_lines_are_whole_lines_of_the_full_sweep_longest_first() {
 }
 
 #[test]
+fn more_seeds_than_crossed_cells_seed_every_cell_once_and_find_every_line() {
+    let (f, g_volume) = random_pair([14, 12, 10], 3);
+    let g = SampledField::new(&f, g_volume.samples()).unwrap();
+    let every = bi_iso_lines(&f, 0.0, g_volume.samples(), 0.0).unwrap();
+    // 2⁶⁴ − 1 seeds would run for ever; the work is bounded by the cells.
+    let seeded = seeded_marching_lines(&f, 0.0, &g, 0.0, usize::MAX, 1).unwrap();
+    let ours: std::collections::BTreeSet<_> = seeded.iter().map(key_set).collect();
+    let theirs: std::collections::BTreeSet<_> = every.iter().map(key_set).collect();
+    assert!(theirs.len() > 3);
+    assert_eq!(ours, theirs);
+}
+
+#[test]
 fn a_few_seeds_find_the_crest_of_an_ellipsoid() {
     let (a, b, c) = (16.0, 11.0, 7.0);
     let ellipsoid = move |p: Point| -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2));

@@ -45,7 +45,8 @@ pub use ply::{read_ply, write_ply, VertexAttribute};
 pub use soup::{soup_format, write_soup};
 pub use stl::read_stl;
 pub use volume::{
-    is_volume_path, read_raw_volume, read_volume, SampleType, SUPPORTED_VOLUME_EXTENSIONS,
+    is_volume_path, read_raw_volume, read_volume, volume_files, SampleType,
+    SUPPORTED_VOLUME_EXTENSIONS,
 };
 
 use std::path::Path;

@@ -11,12 +11,12 @@
 //! clear error: other dimensions, types, multi-channel and ASCII data, and lists
 //! of data files.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::Matrix3;
 
-use super::text_header::{lines, read_detached, Field, Fields};
-use super::{read_file, Compression, DataLayout, SampleType};
+use super::text_header::{detached_path, lines, read_detached, Field, Fields};
+use super::{read_file, read_head, Compression, DataLayout, SampleType};
 use crate::volume::Volume;
 use crate::{Error, Result, Space};
 
@@ -37,6 +37,17 @@ pub(super) fn read(path: &Path) -> Result<Volume> {
     let (spacing, origin, direction) = geometry(&fields)?;
     // ITK's geometry is LPS whatever `AnatomicalOrientation` says (ITK ignores it).
     Ok(Volume::new(layout.dims, spacing, origin, direction, samples)?.with_space(Some(Space::Lps)))
+}
+
+/// The detached data file the MetaImage header at `path` names, if any.
+pub(super) fn data_file(path: &Path) -> Result<Option<PathBuf>> {
+    let bytes = read_head(path)?;
+    let (fields, _) = parse_header(&bytes)?;
+    let data_file = fields.require(&["ElementDataFile"])?;
+    Ok(match data_file.value {
+        "LOCAL" | "local" | "Local" => None,
+        name => Some(detached_path(path, name)),
+    })
 }
 
 /// The fields of the header, which ends with the `ElementDataFile` line, and the

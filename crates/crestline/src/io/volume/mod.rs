@@ -19,7 +19,7 @@ mod nrrd;
 mod text_header;
 
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use flate2::read::{MultiGzDecoder, ZlibDecoder};
 
@@ -102,6 +102,34 @@ pub fn read_volume(path: &Path) -> Result<Volume> {
     read(path).map_err(|e| in_file(e, path))
 }
 
+/// The files reading the image at `path` reads: the file itself and, for a
+/// NRRD or MetaImage header that names one, its detached data file (so that a
+/// caller can refuse to write over any of them). A header that cannot be parsed
+/// gives the file alone; reading it will say what is wrong.
+pub fn volume_files(path: &Path) -> Vec<PathBuf> {
+    let data_file = match choose_format(path, "", &READERS).map(|(format, _)| format) {
+        Ok(FileFormat::Nrrd | FileFormat::NrrdHeader) => nrrd::data_file(path),
+        Ok(FileFormat::MetaImage | FileFormat::MetaImageHeader) => metaimage::data_file(path),
+        _ => Ok(None),
+    };
+    std::iter::once(path.to_path_buf())
+        .chain(data_file.ok().flatten())
+        .collect()
+}
+
+/// How much of a header file [`volume_files`] reads: headers are a few hundred
+/// bytes.
+const HEAD_BYTES: u64 = 1 << 16;
+
+/// The first [`HEAD_BYTES`] of the file at `path`.
+fn read_head(path: &Path) -> Result<Vec<u8>> {
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|file| file.take(HEAD_BYTES).read_to_end(&mut head))
+        .map_err(|e| open_error(path, e))?;
+    Ok(head)
+}
+
 /// Read a file of bare samples: `dims` samples (x fastest) of type `sample_type`
 /// in little- or big-endian byte order, placed with `spacing`, at the origin and
 /// axis-aligned. The file must hold exactly the samples.
@@ -162,6 +190,16 @@ fn in_file(err: Error, path: &Path) -> Error {
 
 /// The bytes of `path`, with a plain message for a missing file.
 fn read_file(path: &Path) -> Result<Vec<u8>> {
+    let metadata = std::fs::metadata(path).map_err(|e| open_error(path, e))?;
+    if !metadata.is_file() {
+        // A device (/dev/zero), a pipe or standard input never ends, or ends when
+        // someone else decides: only a file has the size its header promises.
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: "is not a regular file (a folder, device or pipe); images are read from files"
+                .to_string(),
+        });
+    }
     std::fs::read(path).map_err(|e| open_error(path, e))
 }
 

@@ -6,12 +6,12 @@
 //! written, in the file's `space`. Refused with a clear error: other dimensions,
 //! encodings (`ascii`, `hex`, `bzip2`), types, `line skip` and multi-file data.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use nalgebra::Matrix3;
 
-use super::text_header::{lines, read_detached, Field, Fields};
-use super::{read_file, Compression, DataLayout, SampleType};
+use super::text_header::{detached_path, lines, read_detached, Field, Fields};
+use super::{read_file, read_head, Compression, DataLayout, SampleType};
 use crate::volume::Volume;
 use crate::{Error, Result, Space};
 
@@ -45,6 +45,15 @@ pub(super) fn read(path: &Path) -> Result<Volume> {
         _ => None,
     };
     Ok(Volume::new(layout.dims, spacing, origin, direction, samples)?.with_space(space))
+}
+
+/// The detached data file the NRRD header at `path` names, if any.
+pub(super) fn data_file(path: &Path) -> Result<Option<PathBuf>> {
+    let bytes = read_head(path)?;
+    let (fields, _) = parse_header(&bytes)?;
+    Ok(fields
+        .get(&["data file", "datafile"])
+        .map(|field| detached_path(path, field.value)))
 }
 
 /// The fields of the header and, if it ends with a blank line, the offset of the

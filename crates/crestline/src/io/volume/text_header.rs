@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use super::{open_error, DataLayout, Skip};
+use super::{read_file, DataLayout, Skip};
 use crate::{Error, Result};
 
 /// One line of a text header.
@@ -155,8 +155,8 @@ pub(super) fn read_detached(
     layout: &DataLayout,
 ) -> Result<Vec<f32>> {
     let data_path = detached_path(header_path, field.value);
-    let bytes = std::fs::read(&data_path).map_err(|e| {
-        let reason = match open_error(&data_path, e) {
+    let bytes = read_file(&data_path).map_err(|e| {
+        let reason = match e {
             Error::File { message, .. } => message,
             other => other.to_string(),
         };
@@ -174,7 +174,7 @@ pub(super) fn read_detached(
 }
 
 /// The path of a data file named `name` in the header at `header_path`.
-fn detached_path(header_path: &Path, name: &str) -> PathBuf {
+pub(super) fn detached_path(header_path: &Path, name: &str) -> PathBuf {
     header_path
         .parent()
         .map_or_else(|| PathBuf::from(name), |folder| folder.join(name))

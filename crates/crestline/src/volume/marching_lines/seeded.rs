@@ -28,7 +28,8 @@ use crate::Result;
 /// the randomized Marching Lines (Thirion & Gourdon 1993, §5). Seeds are drawn
 /// uniformly among the crossed cells, so a line is found with a probability that
 /// grows with the number of cells it crosses; every line found is a line of
-/// [`marching_lines`](super::marching_lines()), point for point.
+/// [`marching_lines`](super::marching_lines()), point for point. With at least
+/// as many seeds as crossed cells, every cell is a seed once: every line is found.
 ///
 /// Errors as [`marching_lines`](super::marching_lines()).
 pub fn seeded_marching_lines(
@@ -52,9 +53,15 @@ pub fn seeded_marching_lines(
         used: HashSet::new(),
     };
     let mut rng = StdRng::seed_from_u64(rng_seed);
+    // As many seeds as crossed cells or more: every cell once, so that the work
+    // is bounded by the surface, not by the number asked for.
+    let all_cells = seeds >= candidates.len();
+    let drawn = (0..seeds.min(candidates.len())).map(|i| match all_cells {
+        true => candidates[i],
+        false => candidates[rng.random_range(0..candidates.len())],
+    });
     let mut lines = Vec::new();
-    for _ in 0..seeds {
-        let seed = candidates[rng.random_range(0..candidates.len())];
+    for seed in drawn {
         for n in 0..walker.segments_of(seed).len() {
             if walker.used.insert((seed, n)) {
                 lines.extend(chain::chain(&walker.follow(seed, n)));
