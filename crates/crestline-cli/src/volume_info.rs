@@ -68,13 +68,19 @@ fn summary(path: &Path, volume: &Volume, values: &ValueSummary) -> String {
         format!("non-finite        {}", values.non_finite),
         format!("percentiles       {percentiles}"),
         format!("histogram (log)   {}", sparkline(&values.histogram)),
-        format!(
-            "Otsu level        {:.6} (separates object from background; a first --level to try)",
-            values.otsu
-        ),
+        otsu_line(values.otsu),
     ]
     .join("\n")
         + "\n"
+}
+
+/// Otsu's level, or why there is none (a constant image has no two classes).
+fn otsu_line(otsu: f64) -> String {
+    if otsu.is_finite() {
+        format!("Otsu level        {otsu:.6} (separates object from background; a first --level to try)")
+    } else {
+        "Otsu level        none (the image has a single value: no object to separate)".to_string()
+    }
 }
 
 /// The anatomical frame of the world coordinates, as the file declares it.

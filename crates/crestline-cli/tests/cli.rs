@@ -1467,3 +1467,41 @@ fn absurd_thread_and_seed_counts_are_bounded() {
     // Not a timing: a run that drew 2⁶⁴ seeds would never end at all.
     eprintln!("bounded runs took {:.1} s", start.elapsed().as_secs_f64());
 }
+
+#[test]
+fn a_level_outside_the_image_or_filters_that_keep_nothing_are_errors_not_empty_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("l.json");
+    let out = out.to_str().unwrap();
+    for (command, level) in [("crest-lines", "300"), ("landmarks", "1000")] {
+        let refused = crestline(&[command, MNI, "--level", level, "-o", out]);
+        assert_one_line_error(&refused, MNI, "--level");
+        assert!(
+            stderr(&refused).contains("[0, 255]"),
+            "{}",
+            stderr(&refused)
+        );
+    }
+    for option in ["--min-length=nan", "--min-length=-1", "--min-strength=inf"] {
+        let refused = crestline(&["crest-lines", MNI, "--level", "80", option, "-o", out]);
+        let flag = option.split('=').next().unwrap();
+        assert_one_line_error(&refused, MNI, flag);
+    }
+    assert!(!std::path::Path::new(out).exists());
+}
+
+#[test]
+fn info_of_a_constant_image_prints_no_non_finite_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flat.nrrd");
+    let mut bytes =
+        b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nencoding: raw\n\n".to_vec();
+    bytes.extend([7u8; 64]);
+    std::fs::write(&path, bytes).unwrap();
+    let out = succeeds(&["info", path.to_str().unwrap()]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("Otsu level        none"), "{text}");
+    for bad in ["NaN", "inf"] {
+        assert!(!text.contains(bad), "{text}");
+    }
+}

@@ -11,7 +11,7 @@ use crate::crest_lines::{LineFamily, LineTracing};
 use crate::lines::{FeatureLines, LineExtractor, MinLength, MinStrength};
 use crate::progress::Observer;
 use crate::volume::{Sweep, Volume};
-use crate::Result;
+use crate::{Error, Result};
 
 /// Options of [`crest_lines`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -64,6 +64,9 @@ pub fn crest_lines(
 ) -> Result<FeatureLines> {
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
     let voxel = voxel_size(&volume);
+    let (min_length, min_strength) = (options.min_length.resolve(voxel), options.min_strength);
+    check_filters(min_length, min_strength)?;
+    check_level(&volume, level)?;
     let tracing = LineTracing {
         family: options.family,
         sweep: options.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
@@ -74,8 +77,8 @@ pub fn crest_lines(
     };
     let mut lines = tracing.extract(&volume, observer)?;
     observer.count("traced", lines.len());
-    lines.filter(&MinLength(options.min_length.resolve(voxel)));
-    lines.filter(&MinStrength(options.min_strength));
+    lines.filter(&MinLength(min_length));
+    lines.filter(&MinStrength(min_strength));
     observer.count("lines", lines.len());
     if lines.is_empty() {
         observer.warning(
@@ -83,4 +86,35 @@ pub fn crest_lines(
         );
     }
     Ok(lines)
+}
+
+/// The shortest length and least strength a line may have must be finite and at
+/// least 0: a NaN or infinite one keeps no line (or every line) whatever the image.
+fn check_filters(min_length: f64, min_strength: f64) -> Result<()> {
+    for (name, value) in [("min_length", min_length), ("min_strength", min_strength)] {
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(Error::Argument(format!(
+                "`{name}` is {value}; it must be a finite length or strength of at least 0"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A level outside the samples' range crosses no isosurface, so there can be no
+/// line: an error saying the range rather than an empty result.
+fn check_level(volume: &Volume, level: f64) -> Result<()> {
+    let (low, high) = volume
+        .samples()
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    if (f64::from(low)..=f64::from(high)).contains(&level) {
+        return Ok(());
+    }
+    Err(Error::Argument(format!(
+        "`level` {level} is outside the image's values [{low}, {high}]: there is no isosurface \
+         to trace lines on"
+    )))
 }
