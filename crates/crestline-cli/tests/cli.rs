@@ -1505,3 +1505,38 @@ fn info_of_a_constant_image_prints_no_non_finite_number() {
         assert!(!text.contains(bad), "{text}");
     }
 }
+
+#[test]
+fn option_errors_name_the_option_as_typed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.json");
+    let out = out.to_str().unwrap();
+    for (args, flag) in [
+        (
+            vec!["landmarks", "meshes/bunny_small.obj", "--radius=0"],
+            "--radius",
+        ),
+        (
+            vec!["landmarks", "meshes/bunny_small.obj", "--persistence=nan"],
+            "--persistence",
+        ),
+        (
+            vec!["ridges", "meshes/bunny_small.obj", "--threshold=-1"],
+            "--threshold",
+        ),
+        (
+            vec!["ridges", "meshes/bunny_small.obj", "--smooth-time=0"],
+            "--smooth-time",
+        ),
+    ] {
+        let mut args = args;
+        args.extend(["-o", out]);
+        let refused = crestline(&args);
+        let said = stderr(&refused);
+        assert_eq!(refused.status.code(), Some(1), "{said}");
+        assert!(
+            said.contains(flag) && said.lines().count() == 1,
+            "{args:?}: {said}"
+        );
+    }
+}

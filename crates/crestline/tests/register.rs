@@ -574,35 +574,35 @@ fn bad_input_is_an_error_naming_the_problem() {
                 min_overlap: 0.0,
                 ..options
             },
-            "min_overlap is 0",
+            "`min_overlap` is 0",
         ),
         (
             RegistrationOptions {
                 min_overlap: f64::NAN,
                 ..options
             },
-            "min_overlap is NaN",
+            "`min_overlap` is NaN",
         ),
         (
             RegistrationOptions {
                 max_iterations: 0,
                 ..options
             },
-            "max_iterations is 0",
+            "`max_iterations` is 0",
         ),
         (
             RegistrationOptions {
                 coarse_points: 2,
                 ..options
             },
-            "coarse_points is 2",
+            "`coarse_points` is 2",
         ),
         (
             RegistrationOptions {
                 tolerance: -1.0,
                 ..options
             },
-            "tolerance is -1",
+            "`tolerance` is -1",
         ),
     ] {
         expect(&good, &good, &bad, words);

@@ -146,8 +146,11 @@ pub struct LandmarkOptions {
 /// and positive.
 pub fn landmarks(lines: &FeatureLines, options: &LandmarkOptions) -> Result<Landmarks> {
     let checks = [
-        ("the radius of curvature maxima", options.radius),
-        ("the persistence of extremal points", options.persistence),
+        ("the radius of curvature maxima `radius`", options.radius),
+        (
+            "the persistence of extremal points `persistence`",
+            options.persistence,
+        ),
     ];
     for (what, value) in checks {
         if !(value.is_finite() && value > 0.0) {

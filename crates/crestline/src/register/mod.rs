@@ -85,7 +85,7 @@ impl RegistrationOptions {
         let bad = |message: String| Err(Error::Argument(message));
         if !(0.1..=1.0).contains(&self.min_overlap) {
             return bad(format!(
-                "min_overlap is {}, expected a share in [0.1, 1]",
+                "`min_overlap` is {}, expected a share in [0.1, 1]",
                 self.min_overlap
             ));
         }
@@ -94,18 +94,18 @@ impl RegistrationOptions {
             ("coarse_iterations", self.coarse_iterations),
         ] {
             if !(1..=10_000).contains(&value) {
-                return bad(format!("{name} is {value}, expected 1 to 10000"));
+                return bad(format!("`{name}` is {value}, expected 1 to 10000"));
             }
         }
         if self.coarse_points < 3 {
             return bad(format!(
-                "coarse_points is {}, expected at least 3",
+                "`coarse_points` is {}, expected at least 3",
                 self.coarse_points
             ));
         }
         if !(0.0..=0.1).contains(&self.tolerance) {
             return bad(format!(
-                "tolerance is {}, expected a number in [0, 0.1]",
+                "`tolerance` is {}, expected a number in [0, 0.1]",
                 self.tolerance
             ));
         }

@@ -383,10 +383,13 @@ impl ExtremalityTracer {
             ))
         };
         if !(self.smooth_time.is_finite() && self.smooth_time > 0.0) {
-            return Err(bad("the smoothing time", self.smooth_time));
+            return Err(bad("the smoothing time `smooth_time`", self.smooth_time));
         }
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
-            return Err(negative("the strength threshold", self.threshold));
+            return Err(negative(
+                "the strength threshold `threshold`",
+                self.threshold,
+            ));
         }
         if let Some(f) = self.fairing {
             if !(f.max_distance.is_finite() && f.max_distance >= 0.0) {
@@ -394,8 +397,11 @@ impl ExtremalityTracer {
             }
         }
         for (what, steps) in [
-            ("extremality smoothing steps", self.smooth_steps),
-            ("presmoothing steps", self.presmooth_steps),
+            (
+                "extremality smoothing steps (`smooth_steps`)",
+                self.smooth_steps,
+            ),
+            ("presmoothing steps (`presmooth`)", self.presmooth_steps),
         ] {
             if steps > Self::MAX_STEPS {
                 return Err(Error::Argument(format!(
