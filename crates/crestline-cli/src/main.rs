@@ -18,6 +18,7 @@ mod plot;
 mod register;
 mod report;
 mod ridges;
+mod signals;
 mod surface;
 mod volume_info;
 
@@ -129,6 +130,10 @@ pub fn warn(mesh: &std::path::Path, message: &str) {
 /// Parse the command line, run the command, and turn its outcome into an exit code.
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(err) = signals::install() {
+        eprintln!("error: the signal handlers cannot be installed: {err}");
+        return ExitCode::from(1);
+    }
     if let Err(err) = use_threads(cli.threads) {
         eprintln!("error: --threads {}: {err}", cli.threads);
         return ExitCode::from(1);
@@ -147,6 +152,12 @@ fn main() -> ExitCode {
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
+        Err(_) if signals::received().is_some() => {
+            // Stopped before its outputs were renamed into place: none was written.
+            let signal = signals::received().unwrap_or_default();
+            eprintln!("interrupted by signal {signal}: no output was written");
+            ExitCode::from(128 + signal as u8)
+        }
         Err(err) => {
             eprintln!("error: {}", as_flags(&err.to_string()));
             ExitCode::from(1)

@@ -157,6 +157,10 @@ impl OutputSet {
     /// directory, so they only fail if the directory changed during the run; the
     /// files not yet renamed are then removed.
     pub fn commit(self) -> Result<()> {
+        if crate::signals::received().is_some() {
+            // Dropped, the temporary files are removed: nothing lands.
+            return Err(Error::Cancelled);
+        }
         for (path, temporary) in self.staged {
             temporary
                 .persist(&path)

@@ -131,6 +131,11 @@ impl Observer for Report {
         Report::count(self, key, value);
     }
 
+    /// Until SIGINT or SIGTERM ([`crate::signals`]).
+    fn keep_going(&mut self) -> bool {
+        crate::signals::received().is_none()
+    }
+
     /// Printed on stderr as `warning: <input>: <message>` with the options it
     /// names as flags, and kept in the report.
     fn warning(&mut self, message: &str) {

@@ -1314,7 +1314,7 @@ fn ridges_smoothing_defaults_follow_the_estimator() {
     assert_eq!(shape, shape_explicit);
 }
 
-/// Ctrl-C (SIGINT) during a long command ends it at once, by the signal, and
+/// Ctrl-C (SIGINT) during a long command ends it at once, with status 130, and
 /// leaves no output file behind.
 #[cfg(unix)]
 #[test]
@@ -1358,10 +1358,8 @@ fn sigint_stops_a_long_command_promptly_without_output() {
         assert!(kill.success());
         let status = child.wait().unwrap();
         let took = sent.elapsed();
-        assert!(
-            status.signal() == Some(2) || status.code() == Some(130),
-            "{command:?}: {status:?}"
-        );
+        assert_eq!(status.code(), Some(130), "{command:?}: {status:?}");
+        assert_eq!(status.signal(), None);
         assert!(
             took < Duration::from_secs(2),
             "{command:?} took {took:?} to stop"
@@ -1539,4 +1537,49 @@ fn option_errors_name_the_option_as_typed() {
             "{args:?}: {said}"
         );
     }
+}
+
+/// SIGTERM at any moment of a run, the writing included: either the run had
+/// finished (its output complete) or it ends with status 143 and leaves no file,
+/// temporary or not.
+#[cfg(unix)]
+#[test]
+fn sigterm_at_any_moment_leaves_a_whole_output_or_nothing() {
+    use std::time::Duration;
+
+    let mut interrupted = 0;
+    for delay in [300, 900, 1500, 2100, 2700, 3300] {
+        let dir = tempfile::tempdir().unwrap();
+        let output = dir.path().join("brain.vtk");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+            .args(["iso", MNI, "--level", "80", "-o"])
+            .arg(&output)
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(delay));
+        Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        let files: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|entry| entry.unwrap().file_name())
+            .collect();
+        match status.code() {
+            Some(0) => {
+                assert_eq!(files, vec![std::ffi::OsString::from("brain.vtk")]);
+                let text = std::fs::read_to_string(&output).unwrap();
+                assert!(text.trim_end().ends_with(|c: char| c.is_ascii_digit()));
+            }
+            Some(143) => {
+                interrupted += 1;
+                assert!(files.is_empty(), "after {delay} ms: {files:?}");
+            }
+            other => panic!("after {delay} ms: status {other:?}"),
+        }
+    }
+    assert!(interrupted > 0, "no run was interrupted");
 }
