@@ -180,3 +180,14 @@ def test_bad_images_and_options_raise_clear_errors(call, error, words):
     data, _ = radial(8, lambda r: 3.0 - r)
     with pytest.raises(error, match=words):
         call(data)
+
+
+def test_counts_beyond_64_bits_name_their_argument():
+    import crestline
+
+    image = np.zeros((6, 6, 6), dtype=np.float32)
+    image[2:4, 2:4, 2:4] = 1.0
+    with pytest.raises(ValueError, match="seeds"):
+        crestline.crest_lines(image, 0.5, seeds=2**70)
+    with pytest.raises(ValueError, match="rng_seed"):
+        crestline.crest_lines(image, 0.5, seeds=3, rng_seed=2**64)

@@ -89,12 +89,15 @@ def estimator_name(estimator: Any) -> str:
     return str(estimator)
 
 
-def count(value: Any, name: str, low: int, high: Optional[int] = None) -> int:
-    """An integer in [low, high]."""
+# The largest count the library takes (an unsigned 64-bit integer).
+MAX_COUNT = 2**64 - 1
+
+
+def count(value: Any, name: str, low: int, high: int = MAX_COUNT) -> int:
+    """An integer in [low, high] (at most :data:`MAX_COUNT`)."""
     ok = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-    if not ok or value < low or (high is not None and value > high):
-        bound = f"from {low} to {high}" if high is not None else f"≥ {low}"
-        raise ValueError(f"{name}: expected an integer {bound}, got {value!r}")
+    if not ok or value < low or value > min(high, MAX_COUNT):
+        raise ValueError(f"{name}: expected an integer from {low} to {min(high, MAX_COUNT)}, got {value!r}")
     return int(value)
 
 

@@ -206,7 +206,7 @@ def crest_lines(
         min_length=None if min_length is None else number(min_length, "min_length"),
         min_strength=None if min_strength is None else number(min_strength, "min_strength"),
         seeds=None if seeds is None else count(seeds, "seeds", 1),
-        rng_seed=None if rng_seed is None else count(rng_seed, "rng_seed", 0, 2**64 - 1),
+        rng_seed=None if rng_seed is None else count(rng_seed, "rng_seed", 0),
     )
     level = number(level, "level", low=-np.inf)
     dicts = _crestline.crest_lines(samples, affine, level, given, callback(progress, "progress"))
