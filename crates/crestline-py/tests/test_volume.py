@@ -191,3 +191,20 @@ def test_counts_beyond_64_bits_name_their_argument():
         crestline.crest_lines(image, 0.5, seeds=2**70)
     with pytest.raises(ValueError, match="rng_seed"):
         crestline.crest_lines(image, 0.5, seeds=3, rng_seed=2**64)
+
+
+def test_a_volume_is_checked_when_made():
+    import crestline
+
+    data = np.zeros((3, 3, 3), dtype=np.float32)
+    for affine, words in [(np.eye(3), "4 × 4"), (np.full((4, 4), np.nan), "finite"),
+                          (np.diag([1.0, 1.0, 1.0, 2.0]), "last row"), (np.diag([1.0, 0.0, 1.0, 1.0]), "singular")]:
+        with pytest.raises(ValueError, match=words):
+            crestline.Volume(data, affine)
+    with pytest.raises(ValueError, match="3-D"):
+        crestline.Volume(np.zeros((3, 3)), np.eye(4))
+    with pytest.raises(ValueError, match="3-D array of numbers"):
+        crestline.Volume(np.zeros((2, 2, 2), dtype=complex), np.eye(4))
+    with pytest.raises(ValueError, match="space"):
+        crestline.Volume(data, np.eye(4), "XYZ")
+    assert crestline.Volume(data, np.eye(4), "ras").space == "RAS"

@@ -20,7 +20,7 @@ import numpy.typing as npt
 from . import _crestline
 from ._checks import Faces, Vertices, callback, count, estimator_name, mesh_arrays, number, points
 from ._jobs import NAMES, documented, options
-from ._lines import Lines
+from ._lines import Lines, _frame
 from ._mesh import Progress
 
 
@@ -41,6 +41,23 @@ class Volume:
     data: npt.NDArray[np.float32]
     affine: npt.NDArray[np.float64]
     space: Optional[Space] = None
+
+    def __post_init__(self) -> None:
+        """Refuse, when made, what would fail at first use: a data array that is
+        not 3-D numbers, an affine that is not a finite 4 × 4 matrix with last row
+        [0, 0, 0, 1] and an invertible 3 × 3 part, an unknown frame."""
+        data = np.asarray(self.data)
+        if data.ndim != 3 or data.dtype.kind not in "biuf":
+            raise ValueError(f"data: expected a 3-D array of numbers, got {data.dtype} of shape {data.shape}")
+        affine = np.asarray(self.affine)
+        if affine.shape != (4, 4) or affine.dtype.kind not in "biuf" or not np.isfinite(affine).all():
+            raise ValueError(f"affine: expected a finite 4 × 4 matrix, got shape {affine.shape}")
+        if abs(np.linalg.det(affine[:3, :3])) < 1e-12:
+            raise ValueError("affine: its 3 × 3 part is singular")
+        if not np.array_equal(affine[3], [0.0, 0.0, 0.0, 1.0]):
+            raise ValueError(f"affine: its last row must be [0, 0, 0, 1], got {affine[3].tolist()}")
+        if self.space is not None:
+            object.__setattr__(self, "space", _frame(self.space))
 
     @property
     def spacing(self) -> npt.NDArray[np.float64]:
