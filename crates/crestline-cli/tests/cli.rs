@@ -1583,3 +1583,22 @@ fn sigterm_at_any_moment_leaves_a_whole_output_or_nothing() {
     }
     assert!(interrupted > 0, "no run was interrupted");
 }
+
+#[test]
+fn an_image_placed_beyond_the_representable_world_is_refused_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("far.nrrd");
+    let mut bytes =
+        b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 4\nspacings: 1e308 1 1\nencoding: raw\n\n"
+            .to_vec();
+    bytes.extend([7u8; 64]);
+    std::fs::write(&path, bytes).unwrap();
+    let path = path.to_str().unwrap();
+    for command in [
+        vec!["info", path],
+        vec!["iso", path, "--level", "3", "-o", "never.ply"],
+    ] {
+        let refused = crestline(&command);
+        assert_one_line_error(&refused, path, "spacing");
+    }
+}

@@ -98,6 +98,7 @@ impl Volume {
             return Err(invalid(format!("the origin {origin:?} is not finite")));
         }
         let world_to_grid = grid_inverse(&direction, spacing)?;
+        check_world_box(dims, spacing, origin, &direction)?;
         Ok(Volume {
             dims,
             spacing,
@@ -288,6 +289,50 @@ impl Volume {
     }
 }
 
+/// The largest world coordinate a grid may reach. Beyond it the positions of
+/// neighbouring voxels are no longer resolved in f64 at any usual spacing, and
+/// surfaces and lines derived from them would have non-finite or collapsed
+/// coordinates (1e12 mm is a million kilometres).
+pub const MAX_WORLD_COORDINATE: f64 = 1e12;
+
+/// Refuse a placement whose grid reaches beyond [`MAX_WORLD_COORDINATE`] (a far
+/// origin, a spacing of 1e308): said now, naming the spacing and origin, rather
+/// than as a failure of the extraction later.
+fn check_world_box(
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    direction: &Matrix3<f64>,
+) -> Result<()> {
+    let step = direction * Matrix3::from_diagonal(&Vector::from(spacing));
+    let far = (0..8)
+        .map(|corner| {
+            let index = Vector::from_fn(|axis, _| {
+                if corner >> axis & 1 == 1 {
+                    (dims[axis] - 1) as f64
+                } else {
+                    0.0
+                }
+            });
+            Point::from(origin) + step * index
+        })
+        .flat_map(|p| [p.x, p.y, p.z])
+        .fold(0.0f64, |far, c| {
+            if c.is_finite() {
+                far.max(c.abs())
+            } else {
+                f64::INFINITY
+            }
+        });
+    if far <= MAX_WORLD_COORDINATE {
+        return Ok(());
+    }
+    Err(invalid(format!(
+        "the voxel spacing {spacing:?} and origin {origin:?} place the grid at world \
+         coordinates of {far:e}, beyond ±{MAX_WORLD_COORDINATE:e}"
+    )))
+}
+
 /// The spacing, origin and direction of a voxel-to-world `affine`
 /// ([`Volume::from_affine`]).
 pub fn split_affine(affine: &Matrix4<f64>) -> ([f64; 3], [f64; 3], Matrix3<f64>) {
@@ -349,6 +394,27 @@ fn invalid(message: String) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_grid_placed_beyond_the_representable_world_is_refused() {
+        let new = |spacing: [f64; 3], origin: [f64; 3]| {
+            Volume::new(
+                [3, 3, 3],
+                spacing,
+                origin,
+                Matrix3::identity(),
+                vec![0.0; 27],
+            )
+        };
+        assert!(new([1.0; 3], [-98.0, -134.0, -72.0]).is_ok());
+        for (spacing, origin) in [([1e308, 1.0, 1.0], [0.0; 3]), ([1.0; 3], [0.0, 2e12, 0.0])] {
+            let error = new(spacing, origin).unwrap_err().to_string();
+            assert!(
+                error.contains("spacing") && error.contains("origin"),
+                "{error}"
+            );
+        }
+    }
 
     #[test]
     fn the_affine_places_voxels_as_index_to_world_and_gives_the_volume_back() {
