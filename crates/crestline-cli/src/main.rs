@@ -150,15 +150,14 @@ fn main() -> ExitCode {
         Command::Morse(args) => morse::run(&args),
         Command::Register(args) => register::run(&args),
     };
-    match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(_) if signals::received().is_some() => {
+    match (outcome, signals::received()) {
+        (Ok(()), _) => ExitCode::SUCCESS,
+        (Err(_), Some(signal)) => {
             // Stopped before its outputs were renamed into place: none was written.
-            let signal = signals::received().unwrap_or_default();
             eprintln!("interrupted by signal {signal}: no output was written");
             ExitCode::from(128 + signal as u8)
         }
-        Err(err) => {
+        (Err(err), None) => {
             eprintln!("error: {}", as_flags(&err.to_string()));
             ExitCode::from(1)
         }

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::io::{choose_format, is_volume_path, volume_files, FileFormat};
+use crestline::io::{choose_format, volume_files, FileFormat};
 use crestline::{Error, Result};
 use tempfile::TempPath;
 
@@ -24,10 +24,7 @@ pub fn check_paths(inputs: &[Role<'_>], outputs: &[Role<'_>]) -> Result<()> {
     let files: Vec<(String, PathBuf)> = inputs
         .iter()
         .flat_map(|&(role, path)| {
-            let data_files = is_volume_path(path)
-                .then(|| volume_files(path).into_iter().skip(1))
-                .into_iter()
-                .flatten();
+            let data_files = volume_files(path).into_iter().skip(1);
             std::iter::once((role.to_string(), path.to_path_buf()))
                 .chain(data_files.map(move |data| (format!("the data file of {role}"), data)))
         })

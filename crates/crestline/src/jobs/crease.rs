@@ -85,8 +85,5 @@ pub fn crease(
     if soup.triangles.is_empty() {
         observer.warning("no crease surface is as strong as asked; try a lower `strength`");
     }
-    Ok(TriangleSoup {
-        space: volume.space(),
-        ..soup
-    })
+    Ok(soup)
 }

@@ -104,12 +104,7 @@ fn check_filters(min_length: f64, min_strength: f64) -> Result<()> {
 /// A level outside the samples' range crosses no isosurface, so there can be no
 /// line: an error saying the range rather than an empty result.
 fn check_level(volume: &Volume, level: f64) -> Result<()> {
-    let (low, high) = volume
-        .samples()
-        .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
+    let (low, high) = volume.value_range();
     if (f64::from(low)..=f64::from(high)).contains(&level) {
         return Ok(());
     }

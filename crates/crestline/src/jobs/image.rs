@@ -147,7 +147,7 @@ impl Surface {
 /// below it as the largest sample is above, so that a cap closing the surface at
 /// the border of the grid lies within half a voxel of the border.
 fn outside(volume: &Volume, level: f64) -> f32 {
-    let max = volume.samples().iter().copied().fold(f32::MIN, f32::max);
+    let (_, max) = volume.value_range();
     let below = 2.0 * level - f64::from(max);
     below.min(level - level.abs().max(1.0) * 1e-3) as f32
 }

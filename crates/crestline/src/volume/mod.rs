@@ -116,6 +116,15 @@ impl Volume {
         Volume { space, ..self }
     }
 
+    /// The smallest and largest sample (`(∞, −∞)` when every sample is NaN).
+    pub fn value_range(&self) -> (f32, f32) {
+        self.samples
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            })
+    }
+
     /// The anatomical frame of the world coordinates, if known: from the reader
     /// (NIfTI: RAS; NRRD: its `space`; MetaImage: LPS) or [`Volume::with_space`].
     /// Every surface, line and landmark derived from the volume carries it.

@@ -93,10 +93,13 @@ pub fn oriented_marching_cubes(field: &CreaseField, options: &CrossingOptions) -
     }
     let strong = |t: &[u32; 3]| t.iter().all(|&v| strength[v as usize] >= options.strength);
     let triangles = triangles.into_iter().filter(strong).collect();
-    compact(Mesh {
-        degenerate: vec![0.0; positions.len()],
-        positions,
-        strength,
-        triangles,
-    })
+    compact(
+        Mesh {
+            degenerate: vec![0.0; positions.len()],
+            positions,
+            strength,
+            triangles,
+        },
+        field.space(),
+    )
 }

@@ -11,7 +11,7 @@ use super::{DEFAULT_EPSILON_FRACTION, DEFAULT_STRENGTH_FRACTION, DEFAULT_THETA};
 use crate::volume::grid::Grid;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::{Derivatives, Partial, Volume};
-use crate::{Error, Point, Result, Vector};
+use crate::{Error, Point, Result, Space, Vector};
 
 /// Gradient and Hessian at one point, and the Hessian's eigenframe.
 #[derive(Clone, Copy, Debug)]
@@ -64,6 +64,8 @@ pub struct CreaseField {
     world_to_grid: Matrix3<f64>,
     /// The smallest and largest Hessian eigenvalue over the grid.
     eigenvalue_range: (f64, f64),
+    /// The anatomical frame of the world coordinates ([`Volume::space`]).
+    space: Option<Space>,
 }
 
 impl CreaseField {
@@ -119,7 +121,13 @@ impl CreaseField {
             grid_to_world: r * Matrix3::from_diagonal(&Vector::from(volume.spacing())),
             world_to_grid: *volume.world_to_grid(),
             eigenvalue_range,
+            space: volume.space(),
         })
+    }
+
+    /// The anatomical frame of the world coordinates, the image's.
+    pub fn space(&self) -> Option<Space> {
+        self.space
     }
 
     /// The number of grid points along x, y and z.

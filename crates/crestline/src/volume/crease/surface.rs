@@ -19,7 +19,7 @@ use super::strong::StrongCells;
 use super::trim::trimmed;
 use crate::mesh::{ScalarProperty, TriangleSoup};
 use crate::progress::{try_stage, Observer, Silent};
-use crate::{Point, Result, Vector};
+use crate::{Point, Result, Space, Vector};
 
 /// The name of the per-vertex ridge strength −λ3 in the surface's soup.
 pub const STRENGTH: &str = "strength";
@@ -135,7 +135,7 @@ fn triangulated(
         options.strength,
     );
     let triangles = large_components(mesh.triangles, mesh.positions.len(), min_component);
-    compact(Mesh { triangles, ..mesh })
+    compact(Mesh { triangles, ..mesh }, field.space())
 }
 
 /// The triangles of the connected pieces (sharing vertices) of at least `min`
@@ -215,8 +215,8 @@ fn triangulate(points: &Points, polygons: impl Iterator<Item = Vec<usize>>) -> M
 
 /// The surface without the vertices no triangle uses (points whose polygon did not
 /// close, pieces dropped for their size), with the vertex scalars [`STRENGTH`] and
-/// [`DEGENERATE`].
-pub(super) fn compact(mesh: Mesh) -> TriangleSoup {
+/// [`DEGENERATE`], in the frame `space`.
+pub(super) fn compact(mesh: Mesh, space: Option<Space>) -> TriangleSoup {
     let Mesh {
         positions,
         strength,
@@ -241,6 +241,6 @@ pub(super) fn compact(mesh: Mesh) -> TriangleSoup {
         positions: kept.iter().map(|&i| positions[i]).collect(),
         vertex_scalars: vec![scalar(STRENGTH, &strength), scalar(DEGENERATE, &degenerate)],
         triangles,
-        space: None,
+        space,
     }
 }

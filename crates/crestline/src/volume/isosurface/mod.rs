@@ -217,12 +217,7 @@ pub(in crate::volume) fn check_input(volume: &Volume, level: f64) -> Result<()> 
 
 /// The error for a level that no grid edge crosses.
 fn no_surface(volume: &Volume, level: f64) -> Error {
-    let (low, high) = volume
-        .samples()
-        .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
+    let (low, high) = volume.value_range();
     Error::Argument(format!(
         "no isosurface at level {level}: no grid edge crosses it (the samples range over \
          [{low}, {high}])"
