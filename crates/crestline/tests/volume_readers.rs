@@ -302,6 +302,34 @@ fn nifti_scaling_and_the_first_volume_of_a_4d_image() {
 }
 
 #[test]
+fn nifti_scaling_beyond_float_range_is_refused_naming_the_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let (data, _) = encode(SampleType::U8, true);
+    let mut header = Nifti::new(1, true, 2);
+    header.scl = [1e38, 0.0];
+    let path = write(dir.path(), "overflow.nii", &header.bytes(&data));
+    let message = read_error(&path, "scl_slope 1e38 and scl_inter 0 scale the sample");
+    assert!(message.contains("beyond the range of 32-bit floats"), "{message}");
+    // A large slope that keeps every sample finite is fine.
+    header.scl = [1e30, 0.0];
+    let path = write(dir.path(), "large.nii", &header.bytes(&data));
+    let volume = read_volume(&path).unwrap();
+    assert!(volume.samples().iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn a_gzip_stream_shorter_than_its_header_claims_fails_after_what_it_holds() {
+    // 64 MiB of zeros compress to about 64 KiB; the header claims 1024³ samples.
+    let dir = tempfile::tempdir().unwrap();
+    let mut header = Nifti::new(1, true, 2);
+    header.dim = [3, 1024, 1024, 1024, 1, 1, 1, 1];
+    let bytes = header.bytes(&vec![0u8; 64 << 20]);
+    let path = write(dir.path(), "bomb.nii.gz", &gzip(&bytes));
+    assert!(std::fs::metadata(&path).unwrap().len() < 1 << 20);
+    read_error(&path, "data ends after 67108864 of 1073741824 bytes");
+}
+
+#[test]
 fn nifti_malformed_files_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let (data, _) = encode(SampleType::I16, true);

@@ -7,8 +7,10 @@
 //! `f32` (32-bit integers and doubles may lose precision).
 //!
 //! Headers are checked before their data is read: the voxel count must be at most
-//! [`crate::volume::MAX_VOXELS`], and memory for the samples grows only with the
-//! bytes actually present, so a corrupt header cannot trigger a huge allocation.
+//! [`crate::volume::MAX_VOXELS`]; the sample buffer is reserved fallibly (a header
+//! asking for more than can be allocated is an error saying how much, never an
+//! abort) and filled a chunk at a time as the bytes arrive, so a short or
+//! decompressed stream that ends early fails after reading only what it holds.
 //! Errors are [`Error::File`] naming the file and what is wrong: the line and field
 //! of a text header, the field of a binary one, or how many bytes a truncated file
 //! holds ("the data ends after N of M bytes").
@@ -200,7 +202,19 @@ fn read_file(path: &Path) -> Result<Vec<u8>> {
                 .to_string(),
         });
     }
-    std::fs::read(path).map_err(|e| open_error(path, e))
+    let mut bytes = Vec::new();
+    let size = usize::try_from(metadata.len()).unwrap_or(usize::MAX);
+    bytes.try_reserve_exact(size).map_err(|_| Error::File {
+        path: path.to_path_buf(),
+        message: format!(
+            "its {} bytes are more than can be allocated",
+            metadata.len()
+        ),
+    })?;
+    std::fs::File::open(path)
+        .and_then(|mut file| file.read_to_end(&mut bytes))
+        .map_err(|e| open_error(path, e))?;
+    Ok(bytes)
 }
 
 /// The error for a file that cannot be opened or read: "no such file" when it is
@@ -280,17 +294,65 @@ impl DataLayout {
     /// Skip `skip` bytes of `reader`, then decode the samples from it.
     fn read_stream(&self, mut reader: impl Read, skip: u64) -> Result<Vec<f32>> {
         skip_bytes(&mut reader, skip)?;
-        let bytes = read_exactly(&mut reader, self.data_bytes()?, "data")?;
-        Ok(decode_samples(&bytes, self.sample_type, self.little_endian))
+        let count = voxel_count(self.dims)?;
+        read_samples(&mut reader, count, self.sample_type, self.little_endian)
     }
 }
 
-/// Read `n` bytes of `reader`; the error says how many the `what` (e.g. "data",
-/// "header") held if it ends early. Memory grows with the bytes read, not `n`.
-fn read_exactly(reader: &mut impl Read, n: u64, what: &str) -> Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    read_until_length(reader, &mut bytes, n, what)?;
-    Ok(bytes)
+/// Samples decoded per read: a bounded buffer between the (decompressed) bytes
+/// and the samples.
+const CHUNK_SAMPLES: usize = 1 << 16;
+
+/// Read and decode `count` samples of `sample_type` from `reader`, a chunk at a
+/// time. The sample buffer is reserved fallibly, so a header claiming more than
+/// memory (or an address-space limit) allows is an error saying how much it needs,
+/// not an abort; a stream that ends early is an error saying how much it held.
+fn read_samples(
+    reader: &mut impl Read,
+    count: usize,
+    sample_type: SampleType,
+    little_endian: bool,
+) -> Result<Vec<f32>> {
+    let mut samples = Vec::new();
+    samples
+        .try_reserve_exact(count)
+        .map_err(|_| out_of_memory(count))?;
+    let size = sample_type.size();
+    let total = count as u64 * size as u64;
+    let mut chunk = vec![0u8; CHUNK_SAMPLES * size];
+    while samples.len() < count {
+        let wanted = (count - samples.len()).min(CHUNK_SAMPLES) * size;
+        let got = fill(reader, &mut chunk[..wanted])?;
+        if got < wanted {
+            let read = samples.len() as u64 * size as u64 + got as u64;
+            return Err(truncated("data", read, total));
+        }
+        decode_samples(&chunk[..wanted], sample_type, little_endian, &mut samples);
+    }
+    Ok(samples)
+}
+
+/// Read into `buffer` until it is full or `reader` ends; the number of bytes read.
+fn fill(reader: &mut impl Read, buffer: &mut [u8]) -> Result<usize> {
+    let mut filled = 0;
+    while filled < buffer.len() {
+        match reader.read(&mut buffer[filled..]) {
+            Ok(0) => break,
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(Error::Parse(format!("the data cannot be read: {e}"))),
+        }
+    }
+    Ok(filled)
+}
+
+/// The error for samples that do not fit in the memory this process may allocate.
+fn out_of_memory(count: usize) -> Error {
+    let bytes = count as f64 * std::mem::size_of::<f32>() as f64;
+    Error::Parse(format!(
+        "its {count} samples need {:.1} GiB of memory as 32-bit floats, more than can be allocated",
+        bytes / (1u64 << 30) as f64
+    ))
 }
 
 /// Append bytes of `reader` to `bytes` until it holds `total` bytes; the error
@@ -341,25 +403,31 @@ fn little_endian_array<const N: usize>(bytes: &[u8], little_endian: bool) -> [u8
     array
 }
 
-/// Decode samples of `sample_type` stored with the given byte order into `f32`
-/// (a trailing partial sample is ignored).
-fn decode_samples(bytes: &[u8], sample_type: SampleType, little_endian: bool) -> Vec<f32> {
-    fn decode<const N: usize>(bytes: &[u8], little: bool, f: fn([u8; N]) -> f32) -> Vec<f32> {
-        bytes
-            .chunks_exact(N)
-            .map(|chunk| f(little_endian_array(chunk, little)))
-            .collect()
+/// Decode samples of `sample_type` stored with the given byte order into `f32`,
+/// appended to `out` (a trailing partial sample is ignored).
+fn decode_samples(bytes: &[u8], sample_type: SampleType, little_endian: bool, out: &mut Vec<f32>) {
+    fn decode<const N: usize>(
+        bytes: &[u8],
+        little: bool,
+        out: &mut Vec<f32>,
+        f: fn([u8; N]) -> f32,
+    ) {
+        out.extend(
+            bytes
+                .chunks_exact(N)
+                .map(|chunk| f(little_endian_array(chunk, little))),
+        );
     }
     let little = little_endian;
     match sample_type {
-        SampleType::U8 => bytes.iter().map(|&b| f32::from(b)).collect(),
-        SampleType::I8 => bytes.iter().map(|&b| f32::from(b as i8)).collect(),
-        SampleType::I16 => decode(bytes, little, |a| f32::from(i16::from_le_bytes(a))),
-        SampleType::U16 => decode(bytes, little, |a| f32::from(u16::from_le_bytes(a))),
-        SampleType::I32 => decode(bytes, little, |a| i32::from_le_bytes(a) as f32),
-        SampleType::U32 => decode(bytes, little, |a| u32::from_le_bytes(a) as f32),
-        SampleType::F32 => decode(bytes, little, f32::from_le_bytes),
-        SampleType::F64 => decode(bytes, little, |a| f64::from_le_bytes(a) as f32),
+        SampleType::U8 => out.extend(bytes.iter().map(|&b| f32::from(b))),
+        SampleType::I8 => out.extend(bytes.iter().map(|&b| f32::from(b as i8))),
+        SampleType::I16 => decode(bytes, little, out, |a| f32::from(i16::from_le_bytes(a))),
+        SampleType::U16 => decode(bytes, little, out, |a| f32::from(u16::from_le_bytes(a))),
+        SampleType::I32 => decode(bytes, little, out, |a| i32::from_le_bytes(a) as f32),
+        SampleType::U32 => decode(bytes, little, out, |a| u32::from_le_bytes(a) as f32),
+        SampleType::F32 => decode(bytes, little, out, f32::from_le_bytes),
+        SampleType::F64 => decode(bytes, little, out, |a| f64::from_le_bytes(a) as f32),
     }
 }
 
@@ -367,28 +435,42 @@ fn decode_samples(bytes: &[u8], sample_type: SampleType, little_endian: bool) ->
 mod tests {
     use super::*;
 
+    fn decoded(bytes: &[u8], sample_type: SampleType, little_endian: bool) -> Vec<f32> {
+        let mut out = Vec::new();
+        decode_samples(bytes, sample_type, little_endian, &mut out);
+        out
+    }
+
     #[test]
     fn samples_decode_in_both_byte_orders() {
         let bytes = [0x01, 0x02, 0xff, 0xfe];
-        assert_eq!(
-            decode_samples(&bytes, SampleType::I16, true),
-            [513.0, -257.0]
-        );
-        assert_eq!(
-            decode_samples(&bytes, SampleType::U16, false),
-            [258.0, 65534.0]
-        );
-        assert_eq!(
-            decode_samples(&bytes, SampleType::I8, true),
-            [1.0, 2.0, -1.0, -2.0]
-        );
+        assert_eq!(decoded(&bytes, SampleType::I16, true), [513.0, -257.0]);
+        assert_eq!(decoded(&bytes, SampleType::U16, false), [258.0, 65534.0]);
+        assert_eq!(decoded(&bytes, SampleType::I8, true), [1.0, 2.0, -1.0, -2.0]);
         let half = 0.5f64.to_be_bytes();
-        assert_eq!(decode_samples(&half, SampleType::F64, false), [0.5]);
+        assert_eq!(decoded(&half, SampleType::F64, false), [0.5]);
     }
 
     #[test]
     fn a_short_stream_says_how_much_it_held() {
-        let err = read_exactly(&mut &[1u8, 2, 3][..], 8, "data").unwrap_err();
+        let err = read_samples(&mut &[1u8, 2, 3][..], 4, SampleType::I16, true).unwrap_err();
         assert!(err.to_string().contains("ends after 3 of 8 bytes"), "{err}");
+    }
+
+    #[test]
+    fn samples_across_chunks_decode_in_order() {
+        let count = CHUNK_SAMPLES * 2 + 3;
+        let bytes: Vec<u8> = (0..count).flat_map(|i| (i as u16).to_be_bytes()).collect();
+        let samples = read_samples(&mut &bytes[..], count, SampleType::U16, false).unwrap();
+        assert_eq!(samples.len(), count);
+        assert!(samples.iter().enumerate().all(|(i, &v)| v == f32::from(i as u16)));
+    }
+
+    #[test]
+    fn samples_beyond_memory_are_an_error_saying_how_much() {
+        // More than any address space holds: the reservation fails cleanly.
+        let err = read_samples(&mut &[0u8; 4][..], usize::MAX / 2, SampleType::U8, true)
+            .unwrap_err();
+        assert!(err.to_string().contains("GiB of memory"), "{err}");
     }
 }

@@ -204,7 +204,7 @@ impl Header {
             skip: Skip::Bytes(offset),
         };
         let mut samples = layout.read_stream(reader, offset)?;
-        self.scale(&mut samples);
+        self.scale(&mut samples)?;
         let (spacing, origin, direction) = self.geometry();
         Volume::new(layout.dims, spacing, origin, direction, samples)
     }
@@ -262,14 +262,27 @@ impl Header {
     }
 
     /// Apply `scl_slope` and `scl_inter`, unless the slope is zero or not finite
-    /// (the NIfTI way of saying "no scaling").
-    fn scale(&self, samples: &mut [f32]) {
+    /// (the NIfTI way of saying "no scaling"). Scaling that takes a finite sample
+    /// beyond the range of 32-bit floats is an error naming both fields.
+    fn scale(&self, samples: &mut [f32]) -> Result<()> {
         let (slope, inter) = (self.scl_slope, self.scl_inter);
-        if slope != 0.0 && slope.is_finite() && inter.is_finite() && (slope, inter) != (1.0, 0.0) {
-            for sample in samples {
-                *sample = (f64::from(*sample) * slope + inter) as f32;
-            }
+        if !(slope != 0.0 && slope.is_finite() && inter.is_finite() && (slope, inter) != (1.0, 0.0))
+        {
+            return Ok(());
         }
+        for sample in samples {
+            let scaled = (f64::from(*sample) * slope + inter) as f32;
+            if sample.is_finite() && !scaled.is_finite() {
+                return Err(Error::Parse(format!(
+                    "scl_slope {} and scl_inter {} scale the sample {sample} to {}, beyond the range of 32-bit floats",
+                    readable(slope),
+                    readable(inter),
+                    readable(f64::from(*sample) * slope + inter)
+                )));
+            }
+            *sample = scaled;
+        }
+        Ok(())
     }
 
     /// Spacing, origin and direction in RAS+ world coordinates: from the sform if
@@ -293,6 +306,17 @@ impl Header {
             let spacing = [self.pixdim[1], self.pixdim[2], self.pixdim[3]];
             (spacing, [0.0; 3], Matrix3::identity())
         }
+    }
+}
+
+/// `x` to 7 significant digits, in scientific notation when it is very large or
+/// small (a 32-bit header field read as `f64` prints as `1e38`, not 39 digits).
+fn readable(x: f64) -> String {
+    let rounded: f64 = format!("{x:.6e}").parse().unwrap_or(x);
+    if rounded == 0.0 || (1e-3..1e7).contains(&rounded.abs()) {
+        rounded.to_string()
+    } else {
+        format!("{rounded:e}")
     }
 }
 
