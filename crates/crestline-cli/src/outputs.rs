@@ -108,7 +108,11 @@ fn check_writable(role: &str, path: &Path) -> Result<()> {
     let dir = directory_of(path);
     temporary_in(dir, "").map(drop).map_err(|e| Error::File {
         path: path.to_path_buf(),
-        message: format!("cannot write {role} in directory '{}': {e}", dir.display()),
+        message: format!(
+            "cannot write {role} in directory '{}': {}",
+            dir.display(),
+            crestline::error::io_message(&e)
+        ),
     })
 }
 

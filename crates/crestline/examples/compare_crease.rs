@@ -84,7 +84,7 @@ fn compare(
     if let Some(e) = epsilon {
         options.epsilon = e;
     }
-    let ours = crease_surface(&field, &options, 0);
+    let ours = crease_surface(&field, &options, 0)?;
     let marching = oriented_marching_cubes(&field, &options);
     for (method, soup) in [("crease surface", &ours), ("marching cubes", &marching)] {
         let t = topology(soup);

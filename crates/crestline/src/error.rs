@@ -87,12 +87,23 @@ impl Error {
         ))
     }
 
-    /// An I/O failure on `path`.
+    /// An I/O failure on `path` ([`io_message`]).
     pub fn io(path: &Path, err: std::io::Error) -> Error {
         Error::File {
             path: path.to_path_buf(),
-            message: err.to_string(),
+            message: io_message(&err),
         }
+    }
+}
+
+/// The message of an I/O error, without the name of the temporary file it arose
+/// on ("... at path \"/out/.crestline-XXXX\"", as `tempfile` says): the user asked
+/// for the final file, which the caller names.
+pub fn io_message(err: &std::io::Error) -> String {
+    let message = err.to_string();
+    match message.find(" at path \"") {
+        Some(at) => message[..at].to_string(),
+        None => message,
     }
 }
 
@@ -116,6 +127,17 @@ pub fn escape_control(text: &str) -> Cow<'_, str> {
 
 /// Shorthand for results of this crate.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// `x` to 7 significant digits for a message, in scientific notation when it is
+/// very large or small (`1e38`, not 39 digits; `8.379870e-16`, not 0.000…).
+pub(crate) fn readable(x: f64) -> String {
+    let rounded: f64 = format!("{x:.6e}").parse().unwrap_or(x);
+    if rounded == 0.0 || (1e-3..1e7).contains(&rounded.abs()) {
+        rounded.to_string()
+    } else {
+        format!("{rounded:e}")
+    }
+}
 
 #[cfg(test)]
 mod tests {

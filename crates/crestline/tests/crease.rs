@@ -125,7 +125,7 @@ fn spherical_shell_ridge_surface_is_the_sphere() {
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
-    let soup = &crease_surface(&field, &field.default_options(), 0);
+    let soup = &crease_surface(&field, &field.default_options(), 0).unwrap();
     let distances: Vec<f64> = soup
         .positions
         .iter()
@@ -279,7 +279,7 @@ fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
         epsilon: 0.002,
         ..field.default_options()
     };
-    let soup = crease_surface(&field, &options, 0);
+    let soup = crease_surface(&field, &options, 0).unwrap();
     let figures = topology(&soup);
     let degenerate = &soup
         .vertex_scalars
@@ -346,7 +346,7 @@ fn sheets_field() -> CreaseField {
 fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
     use crestline::volume::crease::crease_surface;
     let (n, field) = (SHEETS, sheets_field());
-    let soup = crease_surface(&field, &field.default_options(), 0);
+    let soup = crease_surface(&field, &field.default_options(), 0).unwrap();
     let figures = topology(&soup);
     eprintln!(
         "crossing sheets: {} vertices, {} triangles: {} boundary edges in {} components, {} non-manifold edges, {} vertices with more than two boundary edges",
@@ -376,7 +376,7 @@ fn the_surface_is_trimmed_along_the_strength_level() {
     // Strong enough that the sheets' fading ends (along y) are cut off.
     let mut options = field.default_options();
     options.strength *= 4.0;
-    let soup = crease_surface(&field, &options, 0);
+    let soup = crease_surface(&field, &options, 0).unwrap();
     let strength = &soup
         .vertex_scalars
         .iter()
@@ -545,4 +545,41 @@ fn the_marching_cubes_baseline_of_a_planar_ridge_has_no_cracks() {
     assert_eq!(inner_open, 0);
     assert_eq!(figures.boundary_components, 1);
     assert_eq!(figures.crowded_vertices, 0);
+}
+
+/// Warnings told to an observer.
+#[derive(Default)]
+struct Warnings(Vec<String>);
+
+impl crestline::progress::Observer for Warnings {
+    fn warning(&mut self, message: &str) {
+        self.0.push(message.to_string());
+    }
+}
+
+#[test]
+fn a_minimum_piece_size_that_empties_the_surface_is_named() {
+    use crestline::volume::crease::{crease_surface, crease_surface_observed};
+    let field = sheets_field();
+    let options = field.default_options();
+    let all = crease_surface(&field, &options, 0).unwrap().triangles.len();
+    assert!(all > 100, "{all}");
+    // Above every triangle there is: no value of the surface could pass.
+    let err = crease_surface(&field, &options, usize::MAX).unwrap_err();
+    let message = err.to_string();
+    assert!(message.contains("`min_component`"), "{message}");
+    assert!(
+        message.contains(&format!("the {all} triangles")),
+        "{message}"
+    );
+    // Above the largest piece but not above all: an empty surface and a warning
+    // naming the option and the largest piece, not `strength`.
+    let mut warnings = Warnings::default();
+    let soup = crease_surface_observed(&field, &options, all, &mut warnings);
+    // The sheets' surface has small pieces besides the large one.
+    assert!(soup.unwrap().triangles.is_empty());
+    assert_eq!(warnings.0.len(), 1, "{:?}", warnings.0);
+    let warning = &warnings.0[0];
+    assert!(warning.contains("try a lower `min_component`"), "{warning}");
+    assert!(!warning.contains("`strength`"), "{warning}");
 }

@@ -309,7 +309,10 @@ fn nifti_scaling_beyond_float_range_is_refused_naming_the_fields() {
     header.scl = [1e38, 0.0];
     let path = write(dir.path(), "overflow.nii", &header.bytes(&data));
     let message = read_error(&path, "scl_slope 1e38 and scl_inter 0 scale the sample");
-    assert!(message.contains("beyond the range of 32-bit floats"), "{message}");
+    assert!(
+        message.contains("beyond the range of 32-bit floats"),
+        "{message}"
+    );
     // A large slope that keeps every sample finite is fine.
     header.scl = [1e30, 0.0];
     let path = write(dir.path(), "large.nii", &header.bytes(&data));

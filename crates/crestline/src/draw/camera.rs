@@ -262,7 +262,7 @@ fn check_canvas(width: u32, height: u32) -> Result<()> {
     for (name, side) in [("width", width), ("height", height)] {
         if side == 0 || side > MAX_CANVAS_SIDE {
             return Err(Error::Argument(format!(
-                "canvas {name} must be between 1 and {MAX_CANVAS_SIDE} pixels, got {side}"
+                "the canvas {name} (`size`) must be between 1 and {MAX_CANVAS_SIDE} pixels, got {side}"
             )));
         }
     }
@@ -274,7 +274,7 @@ fn check_fov(fov: f64) -> Result<f64> {
         Ok(fov)
     } else {
         Err(Error::Argument(format!(
-            "the field of view must be strictly between 0 and 180 degrees, got {fov}"
+            "the field of view (`perspective`) must be strictly between 0 and 180 degrees, got {fov}"
         )))
     }
 }
@@ -292,10 +292,19 @@ fn bounding_sphere(points: &[Point]) -> Result<(Point, f64)> {
         .iter()
         .map(|p| (p - center).norm())
         .fold(0.0, f64::max);
-    if radius > 0.0 && radius.is_finite() {
+    if radius > 0.0 && radius.is_finite() && center.iter().all(|c| c.is_finite()) {
         Ok((center, radius))
-    } else {
+    } else if radius == 0.0 {
         Err(Error::Mesh("the mesh has no extent".into()))
+    } else {
+        let reach = points
+            .iter()
+            .flat_map(|p| p.iter())
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        Err(Error::Mesh(format!(
+            "the mesh is too large to draw: its coordinates reach {reach:e}, so distances \
+             between its points are not finite numbers; scale it down"
+        )))
     }
 }
 
@@ -303,7 +312,7 @@ fn bounding_sphere(points: &[Point]) -> Result<(Point, f64)> {
 fn orbit(azimuth: f64, elevation: f64) -> Result<(Vector, Vector)> {
     if !(azimuth.is_finite() && elevation.is_finite()) {
         return Err(Error::Argument(format!(
-            "view angles must be finite, got azimuth {azimuth}, elevation {elevation}"
+            "the view angles (`view`) must be finite, got azimuth {azimuth}, elevation {elevation}"
         )));
     }
     let (az, el) = (azimuth.to_radians(), elevation.to_radians());
@@ -321,17 +330,26 @@ fn look_at(eye: &Point, target: &Point, up: &Vector) -> Result<(Vector, Vector)>
         .chain(up.iter())
         .all(|v| v.is_finite());
     let direction = eye - target;
-    if !finite || direction.norm() == 0.0 {
+    let distance = direction.norm();
+    if !finite || distance == 0.0 || !distance.is_finite() {
         return Err(Error::Argument(format!(
-            "the camera needs finite coordinates and an eye apart from the target, got eye {:?}, target {:?}",
+            "`camera` needs finite coordinates and an eye apart from the target, at a distance a \
+             double can hold; got eye {:?}, target {:?}",
             eye.coords.as_slice(),
             target.coords.as_slice()
         )));
     }
-    let direction = direction.normalize();
-    if up.cross(&direction).norm() <= 1e-9 * up.norm() {
+    let direction = direction / distance;
+    let up_length = up.norm();
+    if !(up_length > 0.0 && up_length.is_finite()) {
         return Err(Error::Argument(format!(
-            "the camera's up vector {:?} must not be parallel to the viewing direction",
+            "the up vector of `camera` {:?} needs a length that is positive and finite",
+            up.as_slice()
+        )));
+    }
+    if up.cross(&direction).norm() <= 1e-9 * up_length {
+        return Err(Error::Argument(format!(
+            "the up vector of `camera` {:?} must not be parallel to the viewing direction",
             up.as_slice()
         )));
     }

@@ -57,7 +57,7 @@ impl CreaseOptions {
 /// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
 /// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction`,
 /// `eigenframes` and those of [`crease_surface_observed`]; the counts `vertices`
-/// and `triangles`, and a warning when the surface is empty. Non-finite samples
+/// and `triangles`, and a warning naming the option that emptied the surface. Non-finite samples
 /// are replaced first ([`prepared_image`]).
 pub fn crease(
     volume: &Volume,
@@ -82,8 +82,5 @@ pub fn crease(
     let soup = crease_surface_observed(&field, &crossing, options.min_component, observer)?;
     observer.count("vertices", soup.positions.len());
     observer.count("triangles", soup.triangles.len());
-    if soup.triangles.is_empty() {
-        observer.warning("no crease surface is as strong as asked; try a lower `strength`");
-    }
     Ok(soup)
 }

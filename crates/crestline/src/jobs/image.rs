@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Length;
 use crate::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
+use crate::error::readable;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
 use crate::volume::{isosurface as marching_cubes, Volume};
@@ -152,6 +153,43 @@ fn outside(volume: &Volume, level: f64) -> f32 {
     below.min(level - level.abs().max(1.0) * 1e-3) as f32
 }
 
+/// An error when `level` is above every sample of the image the surface is taken
+/// from, before the image is padded (whose padding would widen the range the
+/// error quotes). When that image is `volume` smoothed by `sigma`, the error says
+/// so and quotes both ranges: smoothing lowers the maxima, so a level the samples
+/// reach may be out of the smoothed image's reach.
+fn check_level(
+    volume: &Volume,
+    surface: &Volume,
+    smoothed: bool,
+    level: f64,
+    sigma: f64,
+) -> Result<()> {
+    let (low, high) = surface.value_range();
+    if level <= f64::from(high) {
+        return Ok(());
+    }
+    let range = format!("[{}, {}]", readable(low.into()), readable(high.into()));
+    let message = if smoothed {
+        let (raw_low, raw_high) = volume.value_range();
+        format!(
+            "no isosurface at level {}: the image smoothed by `sigma` {} ranges over {range} \
+             (its samples over [{}, {}]); choose a level below {}, or `sigma` 0 for no smoothing",
+            readable(level),
+            readable(sigma),
+            readable(raw_low.into()),
+            readable(raw_high.into()),
+            readable(high.into()),
+        )
+    } else {
+        format!(
+            "no isosurface at level {}: it is above every sample (the samples range over {range})",
+            readable(level)
+        )
+    };
+    Err(Error::Argument(message))
+}
+
 /// The isosurface `f = level` of `volume` (inside is `f ≥ level`) smoothed as
 /// `options` say, as a closed oriented mesh with the curvature `options` choose:
 /// the stages `smoothing`, `isosurface` and `mesh`, and the counts `vertices` and
@@ -170,6 +208,8 @@ pub fn isosurface(
     })?;
     let surface = try_stage(observer, "isosurface", || {
         let smoothed = curvature.surface_volume(&volume)?;
+        let smoothing = matches!(smoothed, Cow::Owned(_));
+        check_level(&volume, &smoothed, smoothing, level, sigma)?;
         if options.close {
             marching_cubes(&smoothed.padded(outside(&smoothed, level))?, level)
         } else {

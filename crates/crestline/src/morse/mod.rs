@@ -249,11 +249,22 @@ fn check_values(mesh: &Mesh, values: &[f64]) -> Result<()> {
             mesh.vertex_count()
         )));
     }
-    match values.iter().position(|x| !x.is_finite()) {
-        Some(v) => Err(Error::Argument(format!(
-            "the value at vertex {v} is {}, not a finite number",
+    if let Some(v) = values.iter().position(|x| !x.is_finite()) {
+        return Err(Error::Mesh(format!(
+            "the indicator's value at vertex {v} is {}, not a finite number",
             values[v]
-        ))),
-        None => Ok(()),
+        )));
     }
+    let (low, high) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    if !(high - low).is_finite() {
+        return Err(Error::Mesh(format!(
+            "the indicator's values range over [{low:e}, {high:e}], too wide for their \
+             differences to be finite numbers; rescale them"
+        )));
+    }
+    Ok(())
 }

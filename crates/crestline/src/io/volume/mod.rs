@@ -446,7 +446,10 @@ mod tests {
         let bytes = [0x01, 0x02, 0xff, 0xfe];
         assert_eq!(decoded(&bytes, SampleType::I16, true), [513.0, -257.0]);
         assert_eq!(decoded(&bytes, SampleType::U16, false), [258.0, 65534.0]);
-        assert_eq!(decoded(&bytes, SampleType::I8, true), [1.0, 2.0, -1.0, -2.0]);
+        assert_eq!(
+            decoded(&bytes, SampleType::I8, true),
+            [1.0, 2.0, -1.0, -2.0]
+        );
         let half = 0.5f64.to_be_bytes();
         assert_eq!(decoded(&half, SampleType::F64, false), [0.5]);
     }
@@ -463,14 +466,17 @@ mod tests {
         let bytes: Vec<u8> = (0..count).flat_map(|i| (i as u16).to_be_bytes()).collect();
         let samples = read_samples(&mut &bytes[..], count, SampleType::U16, false).unwrap();
         assert_eq!(samples.len(), count);
-        assert!(samples.iter().enumerate().all(|(i, &v)| v == f32::from(i as u16)));
+        assert!(samples
+            .iter()
+            .enumerate()
+            .all(|(i, &v)| v == f32::from(i as u16)));
     }
 
     #[test]
     fn samples_beyond_memory_are_an_error_saying_how_much() {
         // More than any address space holds: the reservation fails cleanly.
-        let err = read_samples(&mut &[0u8; 4][..], usize::MAX / 2, SampleType::U8, true)
-            .unwrap_err();
+        let err =
+            read_samples(&mut &[0u8; 4][..], usize::MAX / 2, SampleType::U8, true).unwrap_err();
         assert!(err.to_string().contains("GiB of memory"), "{err}");
     }
 }

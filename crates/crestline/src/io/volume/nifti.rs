@@ -13,6 +13,7 @@ use flate2::read::MultiGzDecoder;
 use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use super::{little_endian_array, read_until_length, DataLayout, SampleType, Skip};
+use crate::error::readable;
 use crate::volume::{split_affine, Volume};
 use crate::{Error, Result, Space};
 
@@ -306,17 +307,6 @@ impl Header {
             let spacing = [self.pixdim[1], self.pixdim[2], self.pixdim[3]];
             (spacing, [0.0; 3], Matrix3::identity())
         }
-    }
-}
-
-/// `x` to 7 significant digits, in scientific notation when it is very large or
-/// small (a 32-bit header field read as `f64` prints as `1e38`, not 39 digits).
-fn readable(x: f64) -> String {
-    let rounded: f64 = format!("{x:.6e}").parse().unwrap_or(x);
-    if rounded == 0.0 || (1e-3..1e7).contains(&rounded.abs()) {
-        rounded.to_string()
-    } else {
-        format!("{rounded:e}")
     }
 }
 

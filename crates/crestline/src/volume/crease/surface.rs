@@ -48,14 +48,14 @@ pub const STAGES: [&str; 4] = [
 /// consistently orientable, with the ridge strength −λ3 of each vertex as the
 /// vertex scalar [`STRENGTH`] and the mark of degenerate points as [`DEGENERATE`],
 /// where −λ3 is at least `options.strength` (trimmed along that level). Connected
-/// pieces of fewer than `min_component` triangles are dropped.
+/// pieces of fewer than `min_component` triangles are dropped; a `min_component`
+/// above every triangle found is an error.
 pub fn crease_surface(
     field: &CreaseField,
     options: &CrossingOptions,
     min_component: usize,
-) -> TriangleSoup {
+) -> Result<TriangleSoup> {
     crease_surface_observed(field, options, min_component, &mut Silent)
-        .expect("a silent observer never cancels")
 }
 
 /// [`crease_surface`], telling `observer` of each of the [`STAGES`] and asking it
@@ -78,7 +78,7 @@ pub fn crease_surface_observed(
     let points = try_stage(observer, normals_stage, || {
         Ok(Points::new(field, options.epsilon, &crossings, &degenerate))
     })?;
-    try_stage(observer, triangulation_stage, || {
+    let (soup, sizes) = try_stage(observer, triangulation_stage, || {
         let pieces = Pieces {
             strong: &strong,
             crossings: &crossings,
@@ -86,7 +86,40 @@ pub fn crease_surface_observed(
             points: &points,
         };
         Ok(triangulated(field, options, &pieces, min_component))
-    })
+    })?;
+    check_kept(&sizes, min_component, observer)?;
+    Ok(soup)
+}
+
+/// An error when `min_component` exceeds every triangle found (no value of the
+/// surface could pass it); a warning naming the option that emptied the surface
+/// otherwise.
+fn check_kept(sizes: &PieceSizes, min_component: usize, observer: &mut dyn Observer) -> Result<()> {
+    if sizes.total > 0 && min_component > sizes.total {
+        return Err(crate::Error::Argument(format!(
+            "`min_component` {min_component} is more than the {} triangles of the whole crease surface: no piece could be kept",
+            sizes.total
+        )));
+    }
+    if sizes.total == 0 {
+        observer.warning("no crease surface is as strong as asked; try a lower `strength`");
+    } else if sizes.kept == 0 {
+        observer.warning(&format!(
+            "every piece of the crease surface has fewer than `min_component` ({min_component}) triangles, the largest {}; try a lower `min_component`",
+            sizes.largest
+        ));
+    }
+    Ok(())
+}
+
+/// Triangle counts of the surface before and after small pieces are dropped.
+struct PieceSizes {
+    /// Triangles found.
+    total: usize,
+    /// Triangles of the largest connected piece.
+    largest: usize,
+    /// Triangles kept.
+    kept: usize,
 }
 
 /// What the first three stages of [`crease_surface_observed`] found.
@@ -104,7 +137,7 @@ fn triangulated(
     options: &CrossingOptions,
     pieces: &Pieces<'_>,
     min_component: usize,
-) -> TriangleSoup {
+) -> (TriangleSoup, PieceSizes) {
     let Pieces {
         strong,
         crossings,
@@ -134,16 +167,24 @@ fn triangulated(
         triangulate(points, polygons.into_iter().flatten()),
         options.strength,
     );
-    let triangles = large_components(mesh.triangles, mesh.positions.len(), min_component);
-    compact(Mesh { triangles, ..mesh }, field.space())
+    let total = mesh.triangles.len();
+    let (triangles, largest) =
+        large_components(mesh.triangles, mesh.positions.len(), min_component);
+    let sizes = PieceSizes {
+        total,
+        largest,
+        kept: triangles.len(),
+    };
+    (compact(Mesh { triangles, ..mesh }, field.space()), sizes)
 }
 
 /// The triangles of the connected pieces (sharing vertices) of at least `min`
-/// triangles.
-fn large_components(triangles: Vec<[u32; 3]>, vertices: usize, min: usize) -> Vec<[u32; 3]> {
-    if min <= 1 {
-        return triangles;
-    }
+/// triangles, and the size of the largest piece.
+fn large_components(
+    triangles: Vec<[u32; 3]>,
+    vertices: usize,
+    min: usize,
+) -> (Vec<[u32; 3]>, usize) {
     let mut pieces = petgraph::unionfind::UnionFind::<u32>::new(vertices);
     for [a, b, c] in &triangles {
         pieces.union(*a, *b);
@@ -153,10 +194,12 @@ fn large_components(triangles: Vec<[u32; 3]>, vertices: usize, min: usize) -> Ve
     for t in &triangles {
         size[pieces.find(t[0]) as usize] += 1;
     }
-    triangles
+    let largest = size.iter().copied().max().unwrap_or(0);
+    let kept = triangles
         .into_iter()
         .filter(|t| size[pieces.find(t[0]) as usize] >= min)
-        .collect()
+        .collect();
+    (kept, largest)
 }
 
 /// Vertices (with their scalars) and triangles before compaction.

@@ -44,6 +44,7 @@ mod slab;
 
 use rayon::prelude::*;
 
+use crate::error::readable;
 use crate::mesh::{Mesh, TriangleSoup};
 use crate::volume::grid::edge_of_key;
 use crate::volume::Volume;
@@ -219,7 +220,10 @@ pub(in crate::volume) fn check_input(volume: &Volume, level: f64) -> Result<()> 
 fn no_surface(volume: &Volume, level: f64) -> Error {
     let (low, high) = volume.value_range();
     Error::Argument(format!(
-        "no isosurface at level {level}: no grid edge crosses it (the samples range over \
-         [{low}, {high}])"
+        "no isosurface at level {}: no grid edge crosses it (the samples range over \
+         [{}, {}])",
+        readable(level),
+        readable(low.into()),
+        readable(high.into())
     ))
 }
