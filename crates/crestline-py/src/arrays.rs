@@ -112,7 +112,7 @@ pub fn report_json(report: &RepairReport) -> String {
 #[pyfunction]
 pub fn write_mesh(
     py: Python<'_>,
-    path: &str,
+    path: std::path::PathBuf,
     vertices: numpy::PyReadonlyArray2<'_, f64>,
     faces: numpy::PyReadonlyArray2<'_, i64>,
     values: Vec<(String, Vec<f64>)>,
@@ -124,6 +124,6 @@ pub fn write_mesh(
         .into_iter()
         .map(|(name, values)| crestline::mesh::ScalarProperty { name, values })
         .collect();
-    py.detach(|| crestline::io::write_soup(std::path::Path::new(path), &soup))
+    py.detach(|| crestline::io::write_soup(&path, &soup))
         .map_err(raised)
 }

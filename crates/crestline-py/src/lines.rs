@@ -1,7 +1,7 @@
 //! Feature lines as dicts of numpy arrays (the package makes `Line` objects of
 //! them), and lines given back by the package as the library's polylines.
 
-use std::path::Path;
+use std::path::PathBuf;
 
 use crestline::lines::{FeatureLines, LineKind, Polyline};
 use crestline::mesh::Mesh;
@@ -102,12 +102,12 @@ pub fn feature_lines(lines: Vec<LineParts<'_>>) -> PyResult<FeatureLines> {
 #[pyo3(signature = (path, lines, space=None))]
 pub fn write_lines(
     py: Python<'_>,
-    path: &str,
+    path: PathBuf,
     lines: Vec<LineParts<'_>>,
     space: Option<&str>,
 ) -> PyResult<()> {
     let mut lines = feature_lines(lines)?;
     lines.space = crate::volume::frame(space)?;
-    py.detach(|| crestline::lines::write_lines(Path::new(path), &lines))
+    py.detach(|| crestline::lines::write_lines(&path, &lines))
         .map_err(raised)
 }

@@ -1,6 +1,6 @@
 //! The mesh half: reading meshes, curvature, ridges and Morse-Smale lines.
 
-use std::path::Path;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use crestline::curvature::{CurvatureField, Estimator, GivenCurvature};
@@ -36,8 +36,8 @@ type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, St
 
 /// Read a mesh file (OBJ, PLY, OFF, STL) and repair it.
 #[pyfunction]
-fn read_mesh<'py>(py: Python<'py>, path: &str) -> PyResult<MeshArrays<'py>> {
-    let path = Path::new(path);
+fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<MeshArrays<'py>> {
+    let path = path.as_path();
     let (mesh, report) = py
         .detach(|| crestline::io::read_mesh(path).and_then(Mesh::from_soup))
         .map_err(raised)?;

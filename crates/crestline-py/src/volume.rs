@@ -5,7 +5,7 @@
 //! `(nz, ny, nx)` (x fastest, as [`Volume`] stores them; the package transposes
 //! to and from nibabel's `[i, j, k]` indexing) and a 4 × 4 voxel-to-world affine.
 
-use std::path::Path;
+use std::path::PathBuf;
 
 use crestline::jobs;
 use crestline::mesh::TriangleSoup;
@@ -47,8 +47,8 @@ type ImageArrays<'py> = (
 
 /// Read a 3D image (NIfTI, NRRD, MetaImage).
 #[pyfunction]
-fn read_volume<'py>(py: Python<'py>, path: &str) -> PyResult<ImageArrays<'py>> {
-    let path = Path::new(path);
+fn read_volume<'py>(py: Python<'py>, path: PathBuf) -> PyResult<ImageArrays<'py>> {
+    let path = path.as_path();
     let volume = py
         .detach(|| crestline::io::read_volume(path))
         .map_err(raised)?;
@@ -202,7 +202,7 @@ fn lines_landmarks(lines: Vec<LineParts<'_>>, unit: f64, options: &str) -> PyRes
 #[pyfunction]
 #[pyo3(signature = (path, landmarks, declared, given))]
 fn write_landmarks(
-    path: &str,
+    path: PathBuf,
     landmarks: &str,
     declared: Option<&str>,
     given: Option<&str>,
@@ -213,14 +213,14 @@ fn write_landmarks(
     let space = crestline::space::resolve(frame(declared)?, frame(given)?)
         .map_err(raised)?
         .unwrap_or(crestline::Space::Lps);
-    crestline::landmarks::write_landmarks(Path::new(path), &found, space).map_err(raised)
+    crestline::landmarks::write_landmarks(&path, &found, space).map_err(raised)
 }
 
 /// Write the moving → fixed motion `matrix` (4 × 4), in the frame `space`, as
 /// the tool's `register` writes its result (`.json` in RAS, `.tfm` for ITK and
 /// 3D Slicer), atomically.
 #[pyfunction]
-fn write_transform(path: &str, matrix: PyReadonlyArray2<'_, f64>, space: &str) -> PyResult<()> {
+fn write_transform(path: PathBuf, matrix: PyReadonlyArray2<'_, f64>, space: &str) -> PyResult<()> {
     let matrix = matrix.as_array();
     if matrix.dim() != (4, 4) {
         let message = format!("matrix: expected 4 × 4, got {:?}", matrix.dim());
@@ -232,7 +232,7 @@ fn write_transform(path: &str, matrix: PyReadonlyArray2<'_, f64>, space: &str) -
         Some(crestline::Space::Lps) => motion.flip_xy(),
         _ => motion,
     };
-    crestline::register::write_rigid_transform(Path::new(path), &in_ras).map_err(raised)
+    crestline::register::write_rigid_transform(&path, &in_ras).map_err(raised)
 }
 
 /// The frame `name` names (`RAS` or `LPS`, any case), if any.

@@ -138,7 +138,7 @@ def test_objects_with_vertices_and_faces_are_accepted():
         (lambda v, f: (v, f.astype(float)), TypeError, "faces: expected integer"),
         (lambda v, f: (v, np.where(f == 0, len(v), f)), ValueError, "refers to a vertex outside"),
         (lambda v, f: (v, -f), ValueError, "refers to a vertex outside"),
-        (lambda v, f: ("not numbers", f), TypeError, "vertices: not an array"),
+        (lambda v, f: ("not numbers", f), TypeError, "vertices: expected real numbers"),
         (lambda v, f: (np.vstack([v, v[:1]]), np.where(f == 0, len(v), f)), ValueError, "renumber its vertices"),
     ],
 )

@@ -2,6 +2,7 @@
 naming it, before the library sees it."""
 
 import math
+import os
 from typing import Any, Callable, Optional, Tuple, TypeVar
 
 import numpy as np
@@ -13,6 +14,30 @@ Vertices = npt.NDArray[np.float64]
 Faces = npt.NDArray[np.int64]
 
 T = TypeVar("T")
+
+
+def file_path(path: Any, name: str = "path") -> str:
+    """A path given as ``str``, ``bytes`` or :class:`os.PathLike`, as ``str`` (bytes
+    that are not UTF-8 kept as the file system encodes them)."""
+    try:
+        return os.fsdecode(path)
+    except TypeError:
+        raise TypeError(f"{name}: expected a path (str, bytes or os.PathLike), got {type(path).__name__}") from None
+
+
+def numeric(array: Any, name: str) -> Any:
+    """``array`` as a numpy array of real numbers (booleans, integers or floats):
+    complex numbers, strings and other objects raise ``TypeError`` naming it
+    (numpy would drop an imaginary part or parse a string silently)."""
+    a = np.asarray(array)
+    if a.dtype.kind == "O":
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError) as e:
+            raise TypeError(f"{name}: not an array of numbers ({e})") from None
+    if a.dtype.kind not in "biuf":
+        raise TypeError(f"{name}: expected real numbers, got an array of dtype {a.dtype}")
+    return a
 
 
 def mesh_object(mesh: Any) -> Optional[Tuple[Any, Any]]:
@@ -46,20 +71,20 @@ def mesh_arrays(vertices: Any, faces: Any) -> Tuple[Vertices, Faces]:
     f = np.asarray(faces)
     if f.dtype.kind not in "iu":
         raise TypeError(f"faces: expected integer vertex indices, got dtype {f.dtype}")
-    f = np.ascontiguousarray(f, dtype=np.int64)
     if f.ndim != 2 or f.shape[1] != 3:
         raise ValueError(f"faces: expected shape (m, 3), got {f.shape}")
+    # Checked in the given type, before the cast: uint64 2**64 - 1 would become -1.
     if f.size and (f.min() < 0 or f.max() >= len(v)):
         row = int(np.argmax(((f < 0) | (f >= len(v))).any(axis=1)))
         raise ValueError(f"faces: row {row} ({f[row].tolist()}) refers to a vertex outside 0..{len(v) - 1}")
-    return v, f
+    return v, np.ascontiguousarray(f, dtype=np.int64)
 
 
 def points(array: Any, name: str) -> Vertices:
     """An (n, 3) array of finite numbers as contiguous float64."""
     try:
-        p = np.ascontiguousarray(array, dtype=np.float64)
-    except (TypeError, ValueError) as e:
+        p = np.ascontiguousarray(numeric(array, name), dtype=np.float64)
+    except ValueError as e:
         raise TypeError(f"{name}: not an array of numbers ({e})") from None
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"{name}: expected shape (n, 3), got {p.shape}")
@@ -72,8 +97,8 @@ def points(array: Any, name: str) -> Vertices:
 def per_vertex(array: Any, name: str, count: int, columns: Optional[int] = None) -> npt.NDArray[np.float64]:
     """One finite float64 (or one row of ``columns``) per vertex."""
     try:
-        a = np.ascontiguousarray(array, dtype=np.float64)
-    except (TypeError, ValueError) as e:
+        a = np.ascontiguousarray(numeric(array, name), dtype=np.float64)
+    except ValueError as e:
         raise TypeError(f"{name}: not an array of numbers ({e})") from None
     shape = (count,) if columns is None else (count, columns)
     if a.shape != shape:

@@ -10,6 +10,8 @@ from typing import Any, Dict, Iterable, Iterator, List, Optional, Sequence, Tupl
 import numpy as np
 import numpy.typing as npt
 
+from ._checks import file_path
+
 
 @dataclass(frozen=True)
 class Line:
@@ -109,7 +111,7 @@ class Lines(Sequence[Line]):
         a temporary name and renamed, so it is never left half written."""
         from . import _crestline
 
-        _crestline.write_lines(str(path), self._parts(), self.space)
+        _crestline.write_lines(file_path(path), self._parts(), self.space)
 
     def _parts(self) -> List[Tuple[str, bool, float, npt.NDArray[np.float64], List[Tuple[str, List[float]]]]]:
         """The lines as the extension module takes them."""

@@ -17,6 +17,7 @@ from ._checks import (
     callback,
     count,
     estimator_name,
+    file_path,
     mesh_arrays,
     number,
     pair,
@@ -51,7 +52,7 @@ def read_mesh(path: Union[str, "PathLike[str]"]) -> Tuple[Vertices, Faces, Dict[
     array and a dict counting each repair made. Raises :class:`crestline.FileError`
     naming the file if it cannot be read.
     """
-    vertices, faces, repairs = _crestline.read_mesh(str(path))
+    vertices, faces, repairs = _crestline.read_mesh(file_path(path))
     return vertices, faces, json.loads(repairs)
 
 
@@ -70,7 +71,7 @@ def write_mesh(
     temporary name and renamed."""
     v, f = mesh_arrays(vertices, faces)
     named = [(str(name), per_vertex(array, f"values[{name!r}]", len(v)).tolist()) for name, array in (values or {}).items()]
-    _crestline.write_mesh(str(path), v, f, named, space)
+    _crestline.write_mesh(file_path(path), v, f, named, space)
 
 
 def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curvature:

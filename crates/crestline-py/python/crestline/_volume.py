@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _crestline
-from ._checks import Faces, Vertices, callback, count, estimator_name, mesh_arrays, number, points
+from ._checks import Faces, Vertices, callback, count, estimator_name, file_path, mesh_arrays, number, numeric, points
 from ._jobs import NAMES, documented, options
 from ._lines import Lines, _frame
 from ._mesh import Progress
@@ -85,7 +85,7 @@ def read_volume(path: Union[str, "PathLike[str]"]) -> Volume:
     """Read a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or MetaImage
     (.mha, .mhd). Raises :class:`crestline.FileError` naming the file if it cannot
     be read."""
-    samples, affine, space = _crestline.read_volume(str(path))
+    samples, affine, space = _crestline.read_volume(file_path(path))
     frame: Optional[Space] = "RAS" if space == "RAS" else "LPS" if space == "LPS" else None
     return Volume(samples.transpose(2, 1, 0), affine, frame)
 
@@ -117,8 +117,8 @@ def _image(volume: Image, spacing: Optional[Sequence[float]], origin: Optional[S
         affine[:3, :3] = np.diag(steps)
         affine[:3, 3] = start
     try:
-        samples = np.asarray(data, dtype=np.float32)
-    except (TypeError, ValueError) as e:
+        samples = np.asarray(numeric(data, "volume"), dtype=np.float32)
+    except ValueError as e:
         raise TypeError(f"volume: not an array of numbers ({e})") from None
     if samples.ndim != 3 or min(samples.shape) < 2:
         raise ValueError(f"volume: expected a 3-D image at least 2 voxels wide, got shape {samples.shape}")
@@ -301,7 +301,7 @@ def write_landmarks(
                   for line in found["lines"]],
     }
     _crestline.write_landmarks(
-        str(path), json.dumps(document), found.get("space"), None if space is None else str(space)
+        file_path(path), json.dumps(document), found.get("space"), None if space is None else str(space)
     )
 
 
@@ -450,4 +450,4 @@ def write_transform(
     temporary name and renamed."""
     matrix = transform["matrix"] if isinstance(transform, dict) else transform
     array = np.ascontiguousarray(np.asarray(matrix, dtype=np.float64))
-    _crestline.write_transform(str(path), array, str(space))
+    _crestline.write_transform(file_path(path), array, str(space))
