@@ -8,6 +8,7 @@ use crestline::io::{soup_format, write_soup, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
 use crestline::Result;
 
+use super::failure::explain;
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::check_paths;
@@ -79,7 +80,8 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     };
     let field = with_curvature
         .then(|| curvature(&surface, &curvature_options, &mut report))
-        .transpose()?;
+        .transpose()
+        .map_err(|e| explain(e, &args.volume))?;
     let (mesh, field) = args.frame.surface(mesh, field)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
