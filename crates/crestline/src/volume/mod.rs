@@ -384,13 +384,17 @@ fn grid_inverse(direction: &Matrix3<f64>, spacing: [f64; 3]) -> Result<Matrix3<f
     if !direction.iter().all(|d| d.is_finite()) {
         return Err(invalid("the direction matrix is not finite".to_string()));
     }
-    let scaled = direction * Matrix3::from_diagonal(&Vector::from(spacing));
-    let singular = direction.determinant().abs() < 1e-9;
-    match scaled.try_inverse() {
-        Some(inverse) if !singular => Ok(inverse),
-        _ => Err(invalid(format!(
+    if direction.determinant().abs() < 1e-9 {
+        return Err(invalid(format!(
             "the direction matrix is singular: {:?}",
             direction.as_slice()
+        )));
+    }
+    let scaled = direction * Matrix3::from_diagonal(&Vector::from(spacing));
+    match scaled.try_inverse() {
+        Some(inverse) if inverse.iter().all(|x| x.is_finite()) => Ok(inverse),
+        _ => Err(invalid(format!(
+            "the voxel spacing {spacing:?} is too small to invert (world to grid coordinates overflow)"
         ))),
     }
 }
@@ -423,6 +427,13 @@ mod tests {
                 "{error}"
             );
         }
+        // A spacing so small that grid coordinates overflow is blamed, not the
+        // (identity) direction matrix.
+        let error = new([1e-310, 1.0, 1.0], [0.0; 3]).unwrap_err().to_string();
+        assert!(
+            error.contains("spacing") && !error.contains("singular"),
+            "{error}"
+        );
     }
 
     #[test]
