@@ -325,19 +325,13 @@ fn drop_bad_faces(
         k
     };
     // Faces with the same corners share their lowest corner: compare within buckets.
-    let lowest: Vec<u32> = tris.iter().map(|t| t[0].min(t[1]).min(t[2])).collect();
+    let lowest: Vec<u32> = tris.par_iter().map(|t| t[0].min(t[1]).min(t[2])).collect();
     let mut keep = vec![true; tris.len()];
-    let mut group = Vec::new();
-    for bucket in Buckets::new(vertex_count, &lowest).iter() {
-        group.clear();
-        group.extend(bucket.iter().map(|&f| (sorted_key(f), f)));
-        group.sort_unstable();
-        for same_corners in group.chunk_by(|x, y| x.0 == y.0) {
-            if same_corners.len() > 1 {
-                let faces = same_corners.iter().map(|&(_, f)| f);
-                settle_same_corners(&tris, faces, &mut keep, report);
-            }
-        }
+    for same_corners in Buckets::new(vertex_count, &lowest)
+        .shared(sorted_key)
+        .iter()
+    {
+        settle_same_corners(&tris, same_corners.iter().copied(), &mut keep, report);
     }
     tris.iter()
         .zip(&keep)
@@ -411,6 +405,7 @@ fn pair_edges(tris: &[[u32; 3]], vertex_count: usize, report: &mut RepairReport)
     // Corners on the same edge share the edge's lower vertex: bucket by it, then
     // group each (small) bucket by the upper vertex.
     let lower: Vec<u32> = (0..corner_count)
+        .into_par_iter()
         .map(|c| {
             let (a, b) = corner_edge(tris, c);
             a.min(b)
@@ -421,22 +416,15 @@ fn pair_edges(tris: &[[u32; 3]], vertex_count: usize, report: &mut RepairReport)
         a.max(b)
     };
     let mut partner = vec![NONE; corner_count];
-    let mut group = Vec::new();
-    for bucket in Buckets::new(vertex_count, &lower).iter() {
-        group.clear();
-        group.extend(bucket.iter().map(|&c| (upper(c), c)));
-        group.sort_unstable();
-        for edge in group.chunk_by(|x, y| x.0 == y.0) {
-            match edge {
-                [_] => {}
-                [(_, c), (_, d)] => {
-                    partner[*c as usize] = *d;
-                    partner[*d as usize] = *c;
-                }
-                _ => {
-                    report.non_manifold_edges += 1;
-                    pair_non_manifold(tris, edge, &mut partner);
-                }
+    for edge in Buckets::new(vertex_count, &lower).shared(upper).iter() {
+        match *edge {
+            [c, d] => {
+                partner[c as usize] = d;
+                partner[d as usize] = c;
+            }
+            _ => {
+                report.non_manifold_edges += 1;
+                pair_non_manifold(tris, edge, &mut partner);
             }
         }
     }
@@ -445,8 +433,8 @@ fn pair_edges(tris: &[[u32; 3]], vertex_count: usize, report: &mut RepairReport)
 
 /// Pair the faces around one edge with three or more faces: each face that runs
 /// along the edge forwards with one that runs backwards, in input order.
-fn pair_non_manifold(tris: &[[u32; 3]], group: &[(u32, u32)], partner: &mut [u32]) {
-    let (forward, backward): (Vec<u32>, Vec<u32>) = group.iter().map(|&(_, c)| c).partition(|&c| {
+fn pair_non_manifold(tris: &[[u32; 3]], corners: &[u32], partner: &mut [u32]) {
+    let (forward, backward): (Vec<u32>, Vec<u32>) = corners.iter().copied().partition(|&c| {
         let (a, b) = corner_edge(tris, c as usize);
         a < b
     });
