@@ -31,7 +31,10 @@ fn describe(stage: &str) -> (&str, Option<&'static str>) {
             "surface pre-smoothing",
             Some("a smaller --presmooth, or --presmooth 0"),
         ),
-        "curvature" => ("curvature estimation", Some("the other --estimator")),
+        "curvature" => (
+            "curvature estimation",
+            Some("the other --estimator (of an image's surface: --curvature mesh)"),
+        ),
         "smoothing" | "smoothing analysis" => (
             "extremality smoothing",
             Some("--presmooth 0 or a smaller --smooth-time (--smooth-steps 0 skips it)"),

@@ -258,3 +258,31 @@ fn a_gzip_bomb_is_refused_cleanly_under_an_address_space_limit() {
     assert_one_line_error(&refused, bomb, "ends after");
     assert_eq!(files_in(dir.path()), ["bomb.nii.gz"]);
 }
+
+#[test]
+fn an_image_curvature_that_fails_names_the_image_and_the_way_around() {
+    // Voxels 10¹¹ times longer along x than along y and z: the image's own
+    // curvature of the surface is not finite; the mesh's is.
+    let dir = tempfile::tempdir().unwrap();
+    let data: Vec<u8> = (0..120)
+        .map(|v| ((v % 6) * 37 + (v / 6 % 5) * 11 + (v / 30) * 53) as u8)
+        .collect();
+    std::fs::write(dir.path().join("aniso.raw"), data).unwrap();
+    let header = dir.path().join("aniso.mhd");
+    std::fs::write(
+        &header,
+        "ObjectType = Image\nNDims = 3\nDimSize = 6 5 4\nElementSpacing = 1e11 1 1\n\
+         ElementType = MET_UCHAR\nElementDataFile = aniso.raw\n",
+    )
+    .unwrap();
+    let header = header.to_str().unwrap();
+    let out = dir.path().join("o.ply");
+    let out = out.to_str().unwrap();
+    let args = ["iso", header, "--level", "51", "--sigma", "0", "-o", out];
+    let refused = crestline(&args);
+    assert_one_line_error(&refused, header, "--curvature mesh");
+    let mut args = args.to_vec();
+    args.extend(["--curvature", "mesh"]);
+    let kept = crestline(&args);
+    assert!(kept.status.success(), "{}", stderr(&kept));
+}
