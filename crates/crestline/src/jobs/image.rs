@@ -146,28 +146,28 @@ impl Surface {
 
 /// A sample value outside the surface `f = level` (below the level), as far
 /// below it as the largest sample is above, so that a cap closing the surface at
-/// the border of the grid lies within half a voxel of the border.
-fn outside(volume: &Volume, level: f64) -> f32 {
-    let (_, max) = volume.value_range();
+/// the border of the grid lies within half a voxel of the border (`max`: the
+/// largest sample).
+fn outside(max: f32, level: f64) -> f32 {
     let below = 2.0 * level - f64::from(max);
     below.min(level - level.abs().max(1.0) * 1e-3) as f32
 }
 
-/// An error when `level` is above every sample of the image the surface is taken
-/// from, before the image is padded (whose padding would widen the range the
-/// error quotes). When that image is `volume` smoothed by `sigma`, the error says
-/// so and quotes both ranges: smoothing lowers the maxima, so a level the samples
-/// reach may be out of the smoothed image's reach.
+/// The largest sample of `surface`, the image the surface is taken from; an error
+/// when `level` is above it, checked before the image is padded (whose padding
+/// would widen the range the error quotes). When that image is `volume` smoothed by
+/// `sigma`, the error says so and quotes both ranges: smoothing lowers the maxima,
+/// so a level the samples reach may be out of the smoothed image's reach.
 fn check_level(
     volume: &Volume,
     surface: &Volume,
     smoothed: bool,
     level: f64,
     sigma: f64,
-) -> Result<()> {
+) -> Result<f32> {
     let (low, high) = surface.value_range();
     if level <= f64::from(high) {
-        return Ok(());
+        return Ok(high);
     }
     let range = format!("[{}, {}]", readable(low.into()), readable(high.into()));
     let message = if smoothed {
@@ -209,9 +209,9 @@ pub fn isosurface(
     let surface = try_stage(observer, "isosurface", || {
         let smoothed = curvature.surface_volume(&volume)?;
         let smoothing = matches!(smoothed, Cow::Owned(_));
-        check_level(&volume, &smoothed, smoothing, level, sigma)?;
+        let max = check_level(&volume, &smoothed, smoothing, level, sigma)?;
         if options.close {
-            marching_cubes(&smoothed.padded(outside(&smoothed, level))?, level)
+            marching_cubes(&smoothed.padded(outside(max, level))?, level)
         } else {
             marching_cubes(&smoothed, level)
         }

@@ -121,10 +121,11 @@ impl Fields<'_> {
                 "a header of a .hdr/.img pair; only single-file .nii images are read".to_string(),
             ));
         }
+        // Shown as text: the error's display writes the control bytes as `\xNN`.
         Err(Error::Parse(format!(
             "bad magic \"{}\" in the header (expected \"{}\")",
-            escape_bytes(magic),
-            escape_bytes(expected)
+            String::from_utf8_lossy(magic),
+            String::from_utf8_lossy(expected)
         )))
     }
 
@@ -308,17 +309,6 @@ impl Header {
             (spacing, [0.0; 3], Matrix3::identity())
         }
     }
-}
-
-/// `bytes` as text, every byte that is not printable ASCII written `\xNN`.
-fn escape_bytes(bytes: &[u8]) -> String {
-    bytes
-        .iter()
-        .map(|&b| match b {
-            b' '..=b'~' => char::from(b).to_string(),
-            _ => format!("\\x{b:02x}"),
-        })
-        .collect()
 }
 
 /// The rotation of the unit quaternion `(a, b, c, d)`, `a` computed from the
