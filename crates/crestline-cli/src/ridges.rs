@@ -46,8 +46,8 @@ pub struct TracerArgs {
     /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
     #[arg(long, default_value_t = RidgesOptions::default().presmooth, value_name = "N")]
     pub presmooth: usize,
-    /// Solver of the implicit smoothing systems: auto (a conjugate gradient on large,
-    /// well-conditioned meshes, else sparse Cholesky), direct or iterative.
+    /// Solver of the implicit smoothing systems: auto (a multigrid-preconditioned
+    /// conjugate gradient from 2M vertices on, else sparse Cholesky), direct or iterative.
     #[arg(long, default_value_t = RidgesOptions::default().solver,
           value_parser = super::named::<Solver>(Solver::NAMES))]
     pub solver: Solver,

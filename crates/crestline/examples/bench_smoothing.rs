@@ -1,6 +1,6 @@
 //! Times the implicit extremality smoothing (Hildebrandt et al. 2005, §5.1) of a
 //! mesh's ridge and valley fields with each [`Solver`]: the sparse Cholesky
-//! factorization and the Jacobi-preconditioned conjugate gradient method.
+//! factorization and the multigrid-preconditioned conjugate gradient method.
 //!
 //! ```text
 //! cargo run --release --example bench_smoothing -- MESH [REPETITIONS]

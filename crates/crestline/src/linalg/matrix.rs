@@ -208,37 +208,6 @@ impl SymmetricMatrix {
             .collect()
     }
 
-    /// max_i a_ii / (a_ii − Σ_{j≠i} |a_ij|): how far the matrix is from losing
-    /// strict diagonal dominance; infinite if it is not strictly diagonally
-    /// dominant with a positive diagonal. For M + t K (§5.1) the excess
-    /// a_ii − Σ |a_ij| is the lumped mass m_i, so the ratio is the largest
-    /// (m_i + t K_ii) / m_i. With E the diagonal of excesses and D the diagonal,
-    /// E ≤ A ≤ 2 D, so the ratio r bounds the condition number of the
-    /// Jacobi-preconditioned matrix D⁻¹A by 2 r.
-    pub fn dominance_ratio(&self) -> f64 {
-        (0..self.n)
-            .map(|i| {
-                let (diagonal, off) =
-                    self.column(i).fold(
-                        (0.0, 0.0),
-                        |(d, o), (j, v)| {
-                            if j == i {
-                                (v, o)
-                            } else {
-                                (d, o + v.abs())
-                            }
-                        },
-                    );
-                let excess = diagonal - off;
-                if excess > 0.0 && diagonal.is_finite() {
-                    diagonal / excess
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .fold(0.0, f64::max)
-    }
-
     /// `y = A x`, in parallel over rows. Both triangles are stored, so column `i`
     /// of the symmetric matrix is its row `i`.
     ///

@@ -11,28 +11,31 @@
 //! Matrices are [`SymmetricMatrix`] values (compressed columns) factored by a supernodal sparse
 //! Cholesky factorization `P A Pᵀ = L Lᵀ` (faer, approximate minimum degree ordering).
 //!
-//! Both matrices are M plus a small multiple of a Laplacian, diagonally dominant
-//! and well conditioned, so on large meshes the Jacobi-preconditioned conjugate
-//! gradient method, warm-started from the previous step,
-//! needs few iterations and beats the factorization; [`SpdSolver`] chooses between
-//! the two ([`Solver`]) and falls back to the factorization when the iteration
-//! does not converge.
+//! The factorization's fill grows faster than the mesh (about 40 entries per
+//! vertex on the Stanford dragon, 60 on the dragon refined ×4), so on large
+//! meshes the conjugate gradient method preconditioned by smoothed-aggregation
+//! multigrid ([`Multigrid`]), warm-started from the previous step, takes its
+//! place: its memory is linear in the mesh. [`SpdSolver`] chooses between the two
+//! ([`Solver`]) and falls back to the factorization when the iteration does not
+//! converge.
 
 mod cg;
 mod cholesky;
 mod matrix;
+mod multigrid;
 
 #[cfg(test)]
 mod tests;
 
 #[cfg(test)]
 use cg::conjugate_gradient;
+use cg::Cg;
 pub use cg::CgSettings;
-use cg::{jacobi, Cg};
 pub use cholesky::{CholeskyAnalysis, CholeskyFactor};
 #[cfg(test)]
 use matrix::SymmetricBuilder;
 pub use matrix::SymmetricMatrix;
+pub use multigrid::Multigrid;
 
 use crate::Result;
 
@@ -42,38 +45,33 @@ use crate::Result;
 const CHUNK: usize = 8192;
 
 /// Systems with fewer unknowns than this are solved with the sparse Cholesky
-/// factorization under [`Solver::Auto`]. Measured on the extremality smoothing
-/// (both fields, 3 steps; `examples/bench_smoothing.rs`, 2 cores), the conjugate
-/// gradient method wins on well-shaped meshes from about 30k vertices on
-/// (jittered torus: 0.07 s against 0.09 s at 30k, 0.19 against 0.28 at 50k,
-/// 1.6 against 2.3 at 400k), while on the 28k-vertex Stanford bunny, whose
-/// factorization is cheaper, the two are even within the noise (0.08 to 0.17 s
-/// against 0.09 to 0.12 s over several runs); 50k leaves a margin.
-pub const ITERATIVE_MIN_SIZE: usize = 50_000;
-
-/// The largest [`SymmetricMatrix::dominance_ratio`] for which [`Solver::Auto`]
-/// takes the conjugate gradient method. The ratio bounds the condition number
-/// of the Jacobi-preconditioned matrix by twice itself, so at 100 the iteration
-/// needs at most ½ √200 ln(2 / 10⁻¹⁰) ≈ 170 iterations (in practice about 70 on a
-/// jittered torus, whose ratio is about 66). Scanned meshes with slivers have
-/// ratios of 10³ to 10⁸ (Stanford dragon at full resolution: 7 · 10⁷) and
-/// converge slowly (about 100 iterations at 23k vertices, 190 at 100k, over
-/// 1000 at 437k), where the factorization is two to five times faster.
-pub const MAX_DOMINANCE_RATIO: f64 = 100.0;
+/// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
+/// conjugate gradient method. On two cores the factorization is the faster on
+/// every mesh measured (both fields, 3 steps; `examples/bench_smoothing.rs`):
+/// smoothing stage 0.6 s against 6.2 s on the Stanford dragon (435k vertices),
+/// 6.2 s against 31 s on the dragon ×4 (1.7M), plus its symbolic analysis (0.5
+/// and 2.6 s), because a V-cycle moves about as many bytes as a solve with the
+/// factor and the iteration takes 30–50 of them. But the factor's fill grows
+/// faster than the mesh: the dragon ×16 (7M vertices) needed 17.7 GB for ridges
+/// with the factorization, and the dragon ×64 would not fit in 24 GiB, while the
+/// multigrid hierarchy takes about twice the matrix. From 2M unknowns on, memory
+/// decides.
+pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 
 /// How the sparse symmetric positive definite systems of the implicit smoothing
 /// steps (§5.1) are solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Solver {
-    /// [`Solver::Iterative`] from 50,000 unknowns on when the matrix is diagonally
-    /// dominant enough for fast convergence (a dominance ratio of at most 100; both
-    /// measured, see `linalg/mod.rs`), [`Solver::Direct`] otherwise.
+    /// [`Solver::Direct`] below 2,000,000 unknowns, [`Solver::Iterative`] from
+    /// there on, where the factorization's memory grows too large (measured, see
+    /// [`ITERATIVE_MIN_SIZE`]).
     #[default]
     Auto,
     /// Sparse Cholesky factorization (faer, approximate minimum degree ordering).
     Direct,
-    /// Jacobi-preconditioned conjugate gradient,
-    /// warm-started, falling back to [`Solver::Direct`] if it does not converge.
+    /// The conjugate gradient method preconditioned by a smoothed-aggregation
+    /// multigrid V-cycle ([`Multigrid`]), warm-started, falling back to
+    /// [`Solver::Direct`] if it does not converge.
     Iterative,
 }
 
@@ -87,12 +85,7 @@ impl Solver {
     /// [`Solver::Direct`] or [`Solver::Iterative`] for `matrix`.
     pub fn resolve(self, matrix: &SymmetricMatrix) -> Solver {
         match self {
-            Solver::Auto
-                if matrix.size() >= ITERATIVE_MIN_SIZE
-                    && matrix.dominance_ratio() <= MAX_DOMINANCE_RATIO =>
-            {
-                Solver::Iterative
-            }
+            Solver::Auto if matrix.size() >= ITERATIVE_MIN_SIZE => Solver::Iterative,
             Solver::Auto => Solver::Direct,
             chosen => chosen,
         }
@@ -113,7 +106,7 @@ pub struct SpdSolver {
     method: Solver,
     settings: CgSettings,
     matrix: Option<SymmetricMatrix>,
-    inverse_diagonal: Vec<f64>,
+    multigrid: Option<Multigrid>,
     factor: Option<CholeskyFactor>,
     /// An analysis made before the first factorization ([`analyze`](Self::analyze)).
     analysis: Option<CholeskyAnalysis>,
@@ -130,7 +123,7 @@ impl SpdSolver {
             method: Solver::Direct,
             settings,
             matrix: None,
-            inverse_diagonal: Vec::new(),
+            multigrid: None,
             factor: None,
             analysis: None,
             factor_current: false,
@@ -159,7 +152,7 @@ impl SpdSolver {
         self.method = self.solver.resolve(&matrix);
         self.factor_current = false;
         if self.method == Solver::Iterative {
-            self.inverse_diagonal = jacobi(&matrix)?;
+            self.multigrid = Some(Multigrid::new(&matrix)?);
         }
         self.matrix = Some(matrix);
         if self.method == Solver::Direct {
@@ -179,7 +172,8 @@ impl SpdSolver {
     pub fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<()> {
         let matrix = self.matrix.as_ref().expect("no matrix to solve with");
         if self.method == Solver::Iterative {
-            let report = Cg::new(matrix, &self.inverse_diagonal, b).run(x, self.settings);
+            let multigrid = self.multigrid.as_ref().expect("made with the matrix");
+            let report = Cg::new(matrix, multigrid, b).run(x, self.settings);
             if report.converged {
                 return Ok(());
             }
