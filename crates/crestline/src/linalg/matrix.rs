@@ -1,5 +1,7 @@
 //! Assembly and storage of sparse symmetric matrices.
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::CHUNK;
@@ -88,8 +90,7 @@ impl SymmetricBuilder {
             entries[next[j]] = (i, value);
             next[j] += 1;
         }
-        let mut matrix = SymmetricMatrix {
-            n: self.n,
+        let mut matrix = Csc {
             col_ptr: Vec::with_capacity(self.n + 1),
             row_idx: Vec::with_capacity(entries.len()),
             values: Vec::with_capacity(entries.len()),
@@ -114,30 +115,46 @@ impl SymmetricBuilder {
             }
             matrix.col_ptr.push(matrix.row_idx.len());
         }
-        matrix
+        SymmetricMatrix {
+            n: self.n,
+            col_ptr: matrix.col_ptr.into(),
+            row_idx: matrix.row_idx.into(),
+            values: matrix.values,
+        }
     }
+}
+
+/// Compressed columns being assembled.
+#[cfg(test)]
+struct Csc {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
 }
 
 /// A square sparse matrix in compressed sparse column form (both triangles stored),
 /// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`](super::CholeskyFactor) reads it.
+/// Matrices with one pattern (the two extremality fields' systems) share it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SymmetricMatrix {
     n: usize,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    col_ptr: Arc<[usize]>,
+    row_idx: Arc<[usize]>,
     values: Vec<f64>,
 }
 
 impl SymmetricMatrix {
     /// A matrix from its compressed columns: `col_ptr` (n + 1 offsets), the row of
     /// every entry and its value. Errors if the arrays do not describe an `n × n`
-    /// matrix with sorted, distinct rows in every column.
+    /// matrix with sorted, distinct rows in every column. Shared offsets and rows
+    /// (`Arc`) are kept shared.
     pub fn from_csc(
         n: usize,
-        col_ptr: Vec<usize>,
-        row_idx: Vec<usize>,
+        col_ptr: impl Into<Arc<[usize]>>,
+        row_idx: impl Into<Arc<[usize]>>,
         values: Vec<f64>,
     ) -> Result<SymmetricMatrix> {
+        let (col_ptr, row_idx) = (col_ptr.into(), row_idx.into());
         let bad = |what: String| Err(Error::Argument(what));
         if col_ptr.len() != n + 1 {
             return bad(format!(

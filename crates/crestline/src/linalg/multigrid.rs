@@ -43,7 +43,8 @@ const MIN_REDUCTION: f64 = 0.8;
 #[derive(Clone, Debug, Default)]
 struct Rows {
     ptr: Vec<usize>,
-    cols: Vec<usize>,
+    /// Column indices, 32 bits wide: meshes index vertices with 32 bits.
+    cols: Vec<u32>,
     values: Vec<f64>,
 }
 
@@ -52,7 +53,7 @@ impl Rows {
         let range = self.ptr[i]..self.ptr[i + 1];
         self.cols[range.clone()]
             .iter()
-            .copied()
+            .map(|&c| c as usize)
             .zip(self.values[range].iter().copied())
     }
 
@@ -64,7 +65,7 @@ impl Rows {
     fn transpose(&self, columns: usize) -> Rows {
         let mut ptr = vec![0; columns + 1];
         for &c in &self.cols {
-            ptr[c + 1] += 1;
+            ptr[c as usize + 1] += 1;
         }
         for c in 0..columns {
             ptr[c + 1] += ptr[c];
@@ -74,7 +75,7 @@ impl Rows {
         let mut values = vec![0.0; self.cols.len()];
         for i in 0..self.len() {
             for (c, v) in self.row(i) {
-                cols[next[c]] = i;
+                cols[next[c]] = i as u32;
                 values[next[c]] = v;
                 next[c] += 1;
             }
@@ -88,8 +89,6 @@ impl Rows {
 struct Level {
     /// P, fine rows × coarse columns.
     prolongator: Rows,
-    /// Pᵀ, for the restriction.
-    restrictor: Rows,
     /// Pᵀ A P.
     coarse: SymmetricMatrix,
     coarse_diagonal: Vec<f64>,
@@ -176,7 +175,7 @@ impl Multigrid {
         for (r, b) in residual.iter_mut().zip(b) {
             *r = b - *r;
         }
-        let coarse_b = multiply(&level.restrictor, &residual);
+        let coarse_b = multiply_transposed(&level.prolongator, &residual, level.coarse.size());
         drop(residual);
         let mut coarse_x = vec![0.0; coarse_b.len()];
         self.cycle(
@@ -216,6 +215,38 @@ fn multiply(rows: &Rows, x: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Pieces of [`multiply_transposed`], summed in a fixed order whatever the
+/// number of threads.
+const TRANSPOSED_PIECES: usize = 8;
+
+/// y = Rᵀ x for R with `columns` columns, without storing Rᵀ: fixed pieces of
+/// R's rows each scatter into their own vector, summed in order.
+fn multiply_transposed(rows: &Rows, x: &[f64], columns: usize) -> Vec<f64> {
+    let piece = rows.len().div_ceil(TRANSPOSED_PIECES).max(1);
+    let parts: Vec<Vec<f64>> = (0..rows.len())
+        .step_by(piece)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|start| {
+            let mut y = vec![0.0; columns];
+            for i in start..(start + piece).min(rows.len()) {
+                for (c, v) in rows.row(i) {
+                    y[c] += v * x[i];
+                }
+            }
+            y
+        })
+        .collect();
+    let mut parts = parts.into_iter();
+    let mut y = parts.next().unwrap_or_else(|| vec![0.0; columns]);
+    for part in parts {
+        for (y, p) in y.iter_mut().zip(part) {
+            *y += p;
+        }
+    }
+    y
+}
+
 /// One Gauss–Seidel sweep on A x = b, forward or `backward`.
 fn gauss_seidel(a: &SymmetricMatrix, diagonal: &[f64], b: &[f64], x: &mut [f64], backward: bool) {
     let (col_ptr, row_idx, values) = a.csc();
@@ -246,12 +277,10 @@ fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<Level> {
     // they were (dragon and dragon ×4) and made their matrices five times denser.
     let smoothing = if depth == 0 { 1.0 } else { 0.0 };
     let prolongator = prolongator(a, diagonal, &aggregate, &sign, smoothing);
-    let restrictor = prolongator.transpose(count);
-    let coarse = galerkin(a, &prolongator, &restrictor, count);
+    let coarse = galerkin(a, &prolongator, &prolongator.transpose(count), count);
     let coarse_diagonal = coarse.diagonal();
     Some(Level {
         prolongator,
-        restrictor,
         coarse,
         coarse_diagonal,
     })
@@ -360,7 +389,7 @@ fn prolongator(
     p.ptr.push(0);
     for row in rows {
         for (c, v) in row {
-            p.cols.push(c);
+            p.cols.push(c as u32);
             p.values.push(v);
         }
         p.ptr.push(p.cols.len());

@@ -232,7 +232,12 @@ fn auto_takes_the_iteration_only_for_large_systems() {
     assert_eq!(Solver::Iterative.resolve(&matrix), Solver::Iterative);
     assert_eq!(Solver::Direct.resolve(&matrix), Solver::Direct);
     let n = ITERATIVE_MIN_SIZE;
-    let large = SymmetricMatrix::from_csc(n, (0..=n).collect(), (0..n).collect(), vec![1.0; n]);
+    let large = SymmetricMatrix::from_csc(
+        n,
+        (0..=n).collect::<Vec<_>>(),
+        (0..n).collect::<Vec<_>>(),
+        vec![1.0; n],
+    );
     assert_eq!(Solver::Auto.resolve(&large.unwrap()), Solver::Iterative);
 }
 

@@ -2,6 +2,8 @@
 //! (Hildebrandt, Polthier, Wardetzky 2005, §5.1) and of the surface itself (step 1
 //! of their Table 1, implicit fairing after Desbrun et al. 1999).
 
+use std::sync::Arc;
+
 use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
@@ -39,8 +41,8 @@ fn bounded_masses(mesh: &Mesh, time: f64) -> Vec<f64> {
 /// writes its values.
 #[derive(Clone, Debug)]
 struct SystemPattern {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    col_ptr: Arc<[usize]>,
+    row_idx: Arc<[usize]>,
     /// The slot of entry (v, v).
     diagonal: Vec<usize>,
     /// The vertices (p, q) of every edge.
@@ -76,34 +78,35 @@ impl SystemPattern {
             entries[fill[q]] = (p, e);
             fill[q] += 1;
         }
-        let mut pattern = SystemPattern {
-            row_idx: Vec::with_capacity(entries.len()),
-            diagonal: vec![0; n],
-            edges: vec![[0; 2]; ends.len()],
-            col_ptr,
-            ends,
-        };
+        let mut row_idx = Vec::with_capacity(entries.len());
+        let mut diagonal = vec![0; n];
+        let mut edges = vec![[0; 2]; ends.len()];
         // Edges between the same two vertices (left by repairs of non-manifold
         // scans) share their entry, where their weights add up.
-        let mut col_ptr = vec![0; n + 1];
+        let mut merged_ptr = vec![0; n + 1];
         for v in 0..n {
-            let column = &mut entries[pattern.col_ptr[v]..pattern.col_ptr[v + 1]];
+            let column = &mut entries[col_ptr[v]..col_ptr[v + 1]];
             column.sort_unstable();
             for (k, &(row, e)) in column.iter().enumerate() {
                 if k == 0 || column[k - 1].0 != row {
-                    pattern.row_idx.push(row);
+                    row_idx.push(row);
                 }
-                let slot = pattern.row_idx.len() - 1;
+                let slot = row_idx.len() - 1;
                 match e {
-                    usize::MAX => pattern.diagonal[v] = slot,
+                    usize::MAX => diagonal[v] = slot,
                     // Column v is q's for the entry (p, q) with p = row.
-                    e => pattern.edges[e][usize::from(pattern.ends[e][1] == v)] = slot,
+                    e => edges[e][usize::from(ends[e][1] == v)] = slot,
                 }
             }
-            col_ptr[v + 1] = pattern.row_idx.len();
+            merged_ptr[v + 1] = row_idx.len();
         }
-        pattern.col_ptr = col_ptr;
-        pattern
+        SystemPattern {
+            col_ptr: merged_ptr.into(),
+            row_idx: row_idx.into(),
+            diagonal,
+            ends,
+            edges,
+        }
     }
 
     /// The matrix with `mass` on the diagonal plus, for every edge (p, q) with
