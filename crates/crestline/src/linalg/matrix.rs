@@ -204,6 +204,7 @@ impl SymmetricMatrix {
     }
 
     /// Every stored entry as `(row, column, value)`, column by column.
+    #[cfg(test)]
     pub fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
         (0..self.n).flat_map(move |j| self.column(j).map(move |(i, v)| (i, j, v)))
     }

@@ -82,10 +82,10 @@ crate::named::named!(Solver, "solver", {
 });
 
 impl Solver {
-    /// [`Solver::Direct`] or [`Solver::Iterative`] for `matrix`.
-    pub fn resolve(self, matrix: &SymmetricMatrix) -> Solver {
+    /// [`Solver::Direct`] or [`Solver::Iterative`] for systems of `unknowns`.
+    pub fn resolve(self, unknowns: usize) -> Solver {
         match self {
-            Solver::Auto if matrix.size() >= ITERATIVE_MIN_SIZE => Solver::Iterative,
+            Solver::Auto if unknowns >= ITERATIVE_MIN_SIZE => Solver::Iterative,
             Solver::Auto => Solver::Direct,
             chosen => chosen,
         }
@@ -130,6 +130,11 @@ impl SpdSolver {
         }
     }
 
+    /// The method asked for.
+    pub fn solver(&self) -> Solver {
+        self.solver
+    }
+
     /// Prepares for matrices with the pattern of `matrix` (and values like its
     /// own, which [`Solver::Auto`] looks at): when they will be factored, the
     /// ordering and symbolic analysis are made now, once for every copy of this
@@ -137,7 +142,7 @@ impl SpdSolver {
     ///
     /// An [`Error::Argument`](crate::Error::Argument) if the matrix has a non-finite entry.
     pub fn analyze(&mut self, matrix: &SymmetricMatrix) -> Result<()> {
-        if self.solver.resolve(matrix) != Solver::Iterative && self.analysis.is_none() {
+        if self.solver.resolve(matrix.size()) != Solver::Iterative && self.analysis.is_none() {
             self.analysis = Some(CholeskyAnalysis::new(matrix)?);
         }
         Ok(())
@@ -149,7 +154,7 @@ impl SpdSolver {
     /// An [`Error::Argument`](crate::Error::Argument) if it is not positive definite as far as the method
     /// can tell (a non-positive pivot or diagonal entry, a non-finite entry).
     pub fn set_matrix(&mut self, matrix: SymmetricMatrix) -> Result<()> {
-        self.method = self.solver.resolve(&matrix);
+        self.method = self.solver.resolve(matrix.size());
         self.factor_current = false;
         if self.method == Solver::Iterative {
             self.multigrid = Some(Multigrid::new(&matrix)?);

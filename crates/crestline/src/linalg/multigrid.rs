@@ -91,14 +91,16 @@ struct Level {
     prolongator: Rows,
     /// Pᵀ A P.
     coarse: SymmetricMatrix,
-    coarse_diagonal: Vec<f64>,
+    /// Its reciprocal divisors of the smoother ([`sweep_inverse`]).
+    coarse_inverse: Vec<f64>,
 }
 
 /// The multigrid hierarchy of a matrix (which is not kept: [`apply`](Self::apply)
 /// is handed it again).
 #[derive(Clone, Debug)]
 pub struct Multigrid {
-    fine_diagonal: Vec<f64>,
+    /// The fine level's reciprocal divisors of the smoother ([`sweep_inverse`]).
+    fine_inverse: Vec<f64>,
     levels: Vec<Level>,
     /// The factorization of the coarsest matrix, if there is a level below the
     /// fine one.
@@ -109,7 +111,8 @@ impl Multigrid {
     /// The hierarchy of `matrix` (symmetric positive definite, with a positive
     /// diagonal).
     pub fn new(matrix: &SymmetricMatrix) -> Result<Multigrid> {
-        let fine_diagonal = positive_diagonal(matrix)?;
+        positive_diagonal(matrix)?;
+        let fine_inverse = sweep_inverse(matrix);
         let mut levels: Vec<Level> = Vec::new();
         loop {
             let current = match levels.last() {
@@ -133,7 +136,7 @@ impl Multigrid {
             None => None,
         };
         Ok(Multigrid {
-            fine_diagonal,
+            fine_inverse,
             levels,
             coarsest,
         })
@@ -149,10 +152,10 @@ impl Multigrid {
     /// backward one after the coarse correction, so the preconditioner is
     /// symmetric positive definite (as the conjugate gradient method needs).
     pub fn apply(&self, matrix: &SymmetricMatrix, r: &[f64], z: &mut [f64]) {
-        self.cycle(0, matrix, &self.fine_diagonal, r, z);
+        self.cycle(0, matrix, &self.fine_inverse, r, z);
     }
 
-    fn cycle(&self, l: usize, a: &SymmetricMatrix, diagonal: &[f64], b: &[f64], x: &mut [f64]) {
+    fn cycle(&self, l: usize, a: &SymmetricMatrix, inverse: &[f64], b: &[f64], x: &mut [f64]) {
         x.fill(0.0);
         let Some(level) = self.levels.get(l) else {
             // Below the last level lies the coarsest, factored; without levels the
@@ -163,13 +166,13 @@ impl Multigrid {
                     factor.solve_in_place(x);
                 }
                 _ => {
-                    gauss_seidel(a, diagonal, b, x, false);
-                    gauss_seidel(a, diagonal, b, x, true);
+                    gauss_seidel(a, inverse, b, x, false);
+                    gauss_seidel(a, inverse, b, x, true);
                 }
             }
             return;
         };
-        gauss_seidel(a, diagonal, b, x, false);
+        gauss_seidel(a, inverse, b, x, false);
         let mut residual = vec![0.0; b.len()];
         a.mul_vec(x, &mut residual);
         for (r, b) in residual.iter_mut().zip(b) {
@@ -181,7 +184,7 @@ impl Multigrid {
         self.cycle(
             l + 1,
             &level.coarse,
-            &level.coarse_diagonal,
+            &level.coarse_inverse,
             &coarse_b,
             &mut coarse_x,
         );
@@ -189,12 +192,12 @@ impl Multigrid {
         for (x, c) in x.iter_mut().zip(correction) {
             *x += c;
         }
-        gauss_seidel(a, diagonal, b, x, true);
+        gauss_seidel(a, inverse, b, x, true);
     }
 }
 
 /// The diagonal of `matrix`, checked positive and finite.
-fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<Vec<f64>> {
+fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<()> {
     let diagonal = matrix.diagonal();
     match diagonal.iter().position(|d| !(d.is_finite() && *d > 0.0)) {
         Some(i) => Err(Error::Argument(format!(
@@ -202,7 +205,7 @@ fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<Vec<f64>> {
              positive diagonal entries",
             diagonal[i]
         ))),
-        None => Ok(diagonal),
+        None => Ok(()),
     }
 }
 
@@ -247,23 +250,72 @@ fn multiply_transposed(rows: &Rows, x: &[f64], columns: usize) -> Vec<f64> {
     y
 }
 
-/// One Gauss–Seidel sweep on A x = b, forward or `backward`.
-fn gauss_seidel(a: &SymmetricMatrix, diagonal: &[f64], b: &[f64], x: &mut [f64], backward: bool) {
+/// The pieces of rows that a Gauss–Seidel sweep relaxes in parallel: a fixed
+/// number, so the result does not depend on the number of threads.
+const SWEEP_PIECES: usize = 8;
+
+/// Rows per piece of a sweep over `n` rows.
+fn sweep_piece(n: usize) -> usize {
+    n.div_ceil(SWEEP_PIECES).max(1)
+}
+
+/// The reciprocal divisors of the hybrid sweep ([`gauss_seidel`]; multiplying
+/// keeps a division off the sweep's chain of dependent rows): 1 / d_i, d_i = a_ii
+/// plus Σ |a_ij| over
+/// the columns j in other pieces than row i's, which makes the sweep convergent
+/// whatever the coupling between pieces (the ℓ1 smoother of Baker, Falgout,
+/// Kolev and Yang, *Multigrid smoothers for ultraparallel computing*, SISC 33,
+/// 2011, §5).
+fn sweep_inverse(a: &SymmetricMatrix) -> Vec<f64> {
+    let piece = sweep_piece(a.size());
+    (0..a.size())
+        .into_par_iter()
+        .map(|i| {
+            let d: f64 = a
+                .column(i)
+                .map(|(j, v)| match j {
+                    j if j == i => v,
+                    j if j / piece != i / piece => v.abs(),
+                    _ => 0.0,
+                })
+                .sum();
+            1.0 / d
+        })
+        .collect()
+}
+
+/// One hybrid Gauss–Seidel sweep on A x = b, forward or `backward`: Gauss–Seidel
+/// within each of [`SWEEP_PIECES`] pieces of rows, relaxed in parallel, and
+/// Jacobi between them (the other pieces' values from before the sweep), with
+/// the `inverse` divisors of [`sweep_inverse`]. The backward sweep is the forward one's
+/// adjoint, so a V-cycle with one of each stays symmetric.
+fn gauss_seidel(a: &SymmetricMatrix, inverse: &[f64], b: &[f64], x: &mut [f64], backward: bool) {
     let (col_ptr, row_idx, values) = a.csc();
-    let mut relax = |i: usize| {
-        // Column i is row i: the matrix is symmetric. The sum includes a_ii x_i.
-        let mut sum = 0.0;
-        for k in col_ptr[i]..col_ptr[i + 1] {
-            sum += values[k] * x[row_idx[k]];
+    let before = x.to_vec();
+    let piece = sweep_piece(b.len());
+    x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
+        let start = k * piece;
+        let end = start + own.len();
+        let mut relax = |i: usize| {
+            // Column i is row i: the matrix is symmetric. The sum includes a_ii x_i.
+            let mut sum = 0.0;
+            for s in col_ptr[i]..col_ptr[i + 1] {
+                let j = row_idx[s];
+                let x_j = if (start..end).contains(&j) {
+                    own[j - start]
+                } else {
+                    before[j]
+                };
+                sum += values[s] * x_j;
+            }
+            own[i - start] += (b[i] - sum) * inverse[i];
+        };
+        if backward {
+            (start..end).rev().for_each(&mut relax);
+        } else {
+            (start..end).for_each(&mut relax);
         }
-        x[i] += (b[i] - sum) / diagonal[i];
-    };
-    let n = b.len();
-    if backward {
-        (0..n).rev().for_each(&mut relax);
-    } else {
-        (0..n).for_each(&mut relax);
-    }
+    });
 }
 
 /// The next level of `a`, or `None` if nothing is strongly coupled.
@@ -278,11 +330,11 @@ fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<Level> {
     let smoothing = if depth == 0 { 1.0 } else { 0.0 };
     let prolongator = prolongator(a, diagonal, &aggregate, &sign, smoothing);
     let coarse = galerkin(a, &prolongator, &prolongator.transpose(count), count);
-    let coarse_diagonal = coarse.diagonal();
+    let coarse_inverse = sweep_inverse(&coarse);
     Some(Level {
         prolongator,
         coarse,
-        coarse_diagonal,
+        coarse_inverse,
     })
 }
 
@@ -357,18 +409,17 @@ fn prolongator(
         .reduce(|| 0.0, f64::max);
     let omega = smoothing * 4.0 / (3.0 * rho);
     let omega = if omega.is_finite() { omega } else { 0.0 };
-    let rows: Vec<Vec<(usize, f64)>> = (0..a.size())
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|i| {
-            let mut row: Vec<(usize, f64)> = Vec::new();
+    let (ptr, cols, values) = compressed_rows(
+        a.size(),
+        || (),
+        |(), i, row| {
             if aggregate[i] != NONE {
-                row.push((aggregate[i], sign[i]));
+                row.push((aggregate[i] as u32, sign[i]));
             }
             let scale = omega / diagonal[i];
             for (j, v) in a.column(i).filter(|_| omega != 0.0) {
                 if aggregate[j] != NONE {
-                    row.push((aggregate[j], -scale * v * sign[j]));
+                    row.push((aggregate[j] as u32, -scale * v * sign[j]));
                 }
             }
             row.sort_unstable_by_key(|&(c, _)| c);
@@ -379,67 +430,80 @@ fn prolongator(
                 }
                 same
             });
-            row
-        })
+        },
+    );
+    Rows { ptr, cols, values }
+}
+
+/// Rows that `fill` writes into an empty buffer one at a time (`fill(scratch,
+/// row, buffer)`, with per-thread scratch made by `scratch`), computed in parallel
+/// over pieces of rows and stored compressed: offsets, columns and values. Holds
+/// no more than the result twice while it works, rather than a vector per row.
+fn compressed_rows<C: Copy + Send, S>(
+    n: usize,
+    scratch: impl Fn() -> S + Sync,
+    fill: impl Fn(&mut S, usize, &mut Vec<(C, f64)>) + Sync,
+) -> (Vec<usize>, Vec<C>, Vec<f64>) {
+    const PIECE: usize = 16_384;
+    let pieces: Vec<(Vec<usize>, Vec<C>, Vec<f64>)> = (0..n.div_ceil(PIECE))
+        .into_par_iter()
+        .map_init(
+            || (scratch(), Vec::new()),
+            |(scratch, row), piece| {
+                let rows = piece * PIECE..((piece + 1) * PIECE).min(n);
+                let (mut lengths, mut cols, mut values) =
+                    (Vec::with_capacity(rows.len()), Vec::new(), Vec::new());
+                for i in rows {
+                    row.clear();
+                    fill(scratch, i, row);
+                    lengths.push(row.len());
+                    cols.extend(row.iter().map(|&(c, _)| c));
+                    values.extend(row.iter().map(|&(_, v)| v));
+                }
+                (lengths, cols, values)
+            },
+        )
         .collect();
-    let mut p = Rows {
-        ptr: Vec::with_capacity(rows.len() + 1),
-        ..Rows::default()
-    };
-    p.ptr.push(0);
-    for row in rows {
-        for (c, v) in row {
-            p.cols.push(c as u32);
-            p.values.push(v);
+    let stored = pieces.iter().map(|p| p.1.len()).sum();
+    let mut ptr = Vec::with_capacity(n + 1);
+    let (mut cols, mut values) = (Vec::with_capacity(stored), Vec::with_capacity(stored));
+    ptr.push(0);
+    for (lengths, piece_cols, piece_values) in pieces {
+        for length in lengths {
+            ptr.push(ptr[ptr.len() - 1] + length);
         }
-        p.ptr.push(p.cols.len());
+        cols.extend(piece_cols);
+        values.extend(piece_values);
     }
-    p
+    (ptr, cols, values)
 }
 
 /// The Galerkin coarse matrix Pᵀ A P, row by row (row I sums P_iI · row i of A · P
 /// over the fine unknowns i of column I of P), made exactly symmetric by
 /// averaging it with its transpose.
 fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> SymmetricMatrix {
-    let rows: Vec<Vec<(usize, f64)>> = (0..count)
-        .into_par_iter()
-        .with_min_len(256)
-        .map_init(
-            || (vec![0.0; count], vec![false; count], Vec::new()),
-            |(sum, seen, touched), big_i| {
-                for (i, p_i) in pt.row(big_i) {
-                    for (k, a_ik) in a.column(i) {
-                        for (big_j, p_k) in p.row(k) {
-                            if !seen[big_j] {
-                                seen[big_j] = true;
-                                touched.push(big_j);
-                            }
-                            sum[big_j] += p_i * a_ik * p_k;
+    let scratch = || (vec![0.0; count], vec![false; count], Vec::new());
+    let (col_ptr, row_idx, values) =
+        compressed_rows(count, scratch, |(sum, seen, touched), big_i, row| {
+            for (i, p_i) in pt.row(big_i) {
+                for (k, a_ik) in a.column(i) {
+                    for (big_j, p_k) in p.row(k) {
+                        if !seen[big_j] {
+                            seen[big_j] = true;
+                            touched.push(big_j);
                         }
+                        sum[big_j] += p_i * a_ik * p_k;
                     }
                 }
-                touched.sort_unstable();
-                let row = touched.iter().map(|&j| (j, sum[j])).collect();
-                for &j in touched.iter() {
-                    sum[j] = 0.0;
-                    seen[j] = false;
-                }
-                touched.clear();
-                row
-            },
-        )
-        .collect();
-    let mut col_ptr = Vec::with_capacity(count + 1);
-    let mut row_idx = Vec::new();
-    let mut values = Vec::new();
-    col_ptr.push(0);
-    for row in &rows {
-        for &(j, v) in row {
-            row_idx.push(j);
-            values.push(v);
-        }
-        col_ptr.push(row_idx.len());
-    }
+            }
+            touched.sort_unstable();
+            for &j in touched.iter() {
+                row.push((j, sum[j]));
+                sum[j] = 0.0;
+                seen[j] = false;
+            }
+            touched.clear();
+        });
     symmetrized(count, col_ptr, row_idx, values)
 }
 

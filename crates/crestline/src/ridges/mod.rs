@@ -425,22 +425,29 @@ impl ExtremalityTracer {
         )?))
     }
 
-    /// The implicit smoothing (§5.1) of the extremality `values` of every field,
-    /// the fields in parallel: the systems share one ordering and symbolic
-    /// analysis (`smoother`'s), their factorizations are independent.
+    /// The implicit smoothing (§5.1) of the extremality `values` of every field.
+    /// Factored systems are solved in parallel, one field per thread: they share
+    /// one ordering and symbolic analysis (`smoother`'s), their factorizations
+    /// are independent. Iterated systems (large meshes) are solved one field at a
+    /// time, each in parallel, which halves the solver's memory.
     fn smooth_extremalities(
         &self,
         smoother: &smoothing::ExtremalitySmoother,
         field: &CurvatureField,
         values: &mut [Vec<f64>],
     ) -> Result<()> {
-        self.kinds
-            .fields()
-            .par_iter()
-            .zip(values.par_iter_mut())
-            .try_for_each(|(&which, values)| {
-                smoother.smooth(which.directions(field), values, self.smooth_steps)
-            })
+        let smooth = |(&which, values): (&Principal, &mut Vec<f64>)| {
+            smoother.smooth(which.directions(field), values, self.smooth_steps)
+        };
+        let fields = self.kinds.fields();
+        if smoother.iterates() {
+            fields.iter().zip(values.iter_mut()).try_for_each(smooth)
+        } else {
+            fields
+                .par_iter()
+                .zip(values.par_iter_mut())
+                .try_for_each(smooth)
+        }
     }
 
     /// Tracing and chaining of the smoothed extremality `values` of one field on

@@ -45,22 +45,23 @@ struct SystemPattern {
     row_idx: Arc<[usize]>,
     /// The slot of entry (v, v).
     diagonal: Vec<usize>,
-    /// The vertices (p, q) of every edge.
-    ends: Vec<[usize; 2]>,
-    /// The slots of entries (p, q) and (q, p) of every edge.
-    edges: Vec<[usize; 2]>,
+    /// The vertices (p, q) of every edge (32 bits wide, as the mesh's ids).
+    ends: Vec<[u32; 2]>,
+    /// The slots of entries (p, q) and (q, p) of every edge (32 bits wide: a mesh
+    /// with 2³² stored entries would have over 600 million vertices).
+    edges: Vec<[u32; 2]>,
 }
 
 impl SystemPattern {
     fn new(mesh: &Mesh) -> SystemPattern {
         let n = mesh.vertex_count();
-        let ends: Vec<[usize; 2]> = (0..mesh.edge_count() as u32)
-            .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.idx()))
+        let ends: Vec<[u32; 2]> = (0..mesh.edge_count() as u32)
+            .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.0))
             .collect();
         let mut col_ptr = vec![0; n + 1];
         for &[p, q] in &ends {
-            col_ptr[p + 1] += 1;
-            col_ptr[q + 1] += 1;
+            col_ptr[p as usize + 1] += 1;
+            col_ptr[q as usize + 1] += 1;
         }
         for v in 0..n {
             col_ptr[v + 1] += col_ptr[v] + 1;
@@ -73,6 +74,7 @@ impl SystemPattern {
             fill[v] += 1;
         }
         for (e, &[p, q]) in ends.iter().enumerate() {
+            let (p, q) = (p as usize, q as usize);
             entries[fill[p]] = (q, e);
             fill[p] += 1;
             entries[fill[q]] = (p, e);
@@ -95,7 +97,7 @@ impl SystemPattern {
                 match e {
                     usize::MAX => diagonal[v] = slot,
                     // Column v is q's for the entry (p, q) with p = row.
-                    e => edges[e][usize::from(ends[e][1] == v)] = slot,
+                    e => edges[e][usize::from(ends[e][1] as usize == v)] = slot as u32,
                 }
             }
             merged_ptr[v + 1] = row_idx.len();
@@ -123,11 +125,12 @@ impl SystemPattern {
             values[slot] = m;
         }
         for ((&w, slots), &[p, q]) in weights.iter().zip(&self.edges).zip(&self.ends) {
+            let (p, q) = (p as usize, q as usize);
             values[self.diagonal[p]] += w;
             values[self.diagonal[q]] += w;
             let off = -w * sign(p, q);
-            values[slots[0]] += off;
-            values[slots[1]] += off;
+            values[slots[0] as usize] += off;
+            values[slots[1] as usize] += off;
         }
         SymmetricMatrix::from_csc(
             self.diagonal.len(),
@@ -255,6 +258,12 @@ impl ExtremalitySmoother {
     /// M + t K with the signs `sigma(p, q)`.
     fn system(&self, sigma: impl Fn(usize, usize) -> f64) -> Result<SymmetricMatrix> {
         self.pattern.matrix(&self.mass, &self.weights, sigma)
+    }
+
+    /// Whether its systems are solved by iteration ([`Solver::Iterative`], which
+    /// runs in parallel within each system), not by factorization.
+    pub fn iterates(&self) -> bool {
+        self.solver.solver().resolve(self.mass.len()) == Solver::Iterative
     }
 
     /// Smooth `e`, whose signs follow the directions `d`, by `steps` implicit steps.
