@@ -246,6 +246,27 @@ impl SymmetricMatrix {
         });
     }
 
+    /// `r = b − A x`, in parallel over rows.
+    ///
+    /// # Panics
+    /// If `x`, `b` or `r` does not have length [`size`](Self::size).
+    pub fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
+        assert!(
+            x.len() == self.n && b.len() == self.n && r.len() == self.n,
+            "residual of a {n}×{n} system with vectors of length {}, {} and {}",
+            x.len(),
+            b.len(),
+            r.len(),
+            n = self.n
+        );
+        r.par_chunks_mut(CHUNK).enumerate().for_each(|(c, rows)| {
+            for (k, ri) in rows.iter_mut().enumerate() {
+                let i = c * CHUNK + k;
+                *ri = b[i] - self.row_dot(i, x);
+            }
+        });
+    }
+
     /// Row `i` of the matrix times `x`.
     fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
         let range = self.col_ptr[i]..self.col_ptr[i + 1];

@@ -174,10 +174,7 @@ impl Multigrid {
         };
         gauss_seidel(a, inverse, b, x, false);
         let mut residual = vec![0.0; b.len()];
-        a.mul_vec(x, &mut residual);
-        for (r, b) in residual.iter_mut().zip(b) {
-            *r = b - *r;
-        }
+        a.residual(x, b, &mut residual);
         let coarse_b = multiply_transposed(&level.prolongator, &residual, level.coarse.size());
         drop(residual);
         let mut coarse_x = vec![0.0; coarse_b.len()];
@@ -188,10 +185,7 @@ impl Multigrid {
             &coarse_b,
             &mut coarse_x,
         );
-        let correction = multiply(&level.prolongator, &coarse_x);
-        for (x, c) in x.iter_mut().zip(correction) {
-            *x += c;
-        }
+        add_product(&level.prolongator, &coarse_x, x);
         gauss_seidel(a, inverse, b, x, true);
     }
 }
@@ -209,13 +203,13 @@ fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<()> {
     }
 }
 
-/// y = R x, in parallel over rows.
-fn multiply(rows: &Rows, x: &[f64]) -> Vec<f64> {
-    (0..rows.len())
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|i| rows.row(i).map(|(j, v)| v * x[j]).sum())
-        .collect()
+/// y += R x, in parallel over rows.
+fn add_product(rows: &Rows, x: &[f64], y: &mut [f64]) {
+    y.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
+        for (k, y) in out.iter_mut().enumerate() {
+            *y += rows.row(c * 4096 + k).map(|(j, v)| v * x[j]).sum::<f64>();
+        }
+    });
 }
 
 /// Pieces of [`multiply_transposed`], summed in a fixed order whatever the
@@ -240,13 +234,15 @@ fn multiply_transposed(rows: &Rows, x: &[f64], columns: usize) -> Vec<f64> {
             y
         })
         .collect();
-    let mut parts = parts.into_iter();
-    let mut y = parts.next().unwrap_or_else(|| vec![0.0; columns]);
-    for part in parts {
-        for (y, p) in y.iter_mut().zip(part) {
-            *y += p;
+    let mut y = vec![0.0; columns];
+    y.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
+        let start = c * 4096;
+        for part in &parts {
+            for (y, p) in out.iter_mut().zip(&part[start..]) {
+                *y += p;
+            }
         }
-    }
+    });
     y
 }
 
@@ -291,7 +287,7 @@ fn sweep_inverse(a: &SymmetricMatrix) -> Vec<f64> {
 /// adjoint, so a V-cycle with one of each stays symmetric.
 fn gauss_seidel(a: &SymmetricMatrix, inverse: &[f64], b: &[f64], x: &mut [f64], backward: bool) {
     let (col_ptr, row_idx, values) = a.csc();
-    let before = x.to_vec();
+    let before: Vec<f64> = x.par_iter().copied().collect();
     let piece = sweep_piece(b.len());
     x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
         let start = k * piece;
