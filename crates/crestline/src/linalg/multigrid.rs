@@ -220,15 +220,14 @@ const TRANSPOSED_PIECES: usize = 8;
 /// R's rows each scatter into their own vector, summed in order.
 fn multiply_transposed(rows: &Rows, x: &[f64], columns: usize) -> Vec<f64> {
     let piece = rows.len().div_ceil(TRANSPOSED_PIECES).max(1);
-    let parts: Vec<Vec<f64>> = (0..rows.len())
-        .step_by(piece)
-        .collect::<Vec<_>>()
-        .into_par_iter()
-        .map(|start| {
+    let parts: Vec<Vec<f64>> = x
+        .par_chunks(piece)
+        .enumerate()
+        .map(|(k, x_piece)| {
             let mut y = vec![0.0; columns];
-            for i in start..(start + piece).min(rows.len()) {
-                for (c, v) in rows.row(i) {
-                    y[c] += v * x[i];
+            for (offset, &x_i) in x_piece.iter().enumerate() {
+                for (c, v) in rows.row(k * piece + offset) {
+                    y[c] += v * x_i;
                 }
             }
             y
