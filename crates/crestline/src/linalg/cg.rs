@@ -16,12 +16,10 @@ pub struct CgSettings {
 }
 
 impl CgSettings {
-    /// Default relative residual. The lines traced from the smoothed
-    /// extremalities then lie within 4 · 10⁻¹⁰ of the bounding box diagonal of
-    /// the factorization's on the Stanford dragon (`examples/bench_smoothing.rs`).
-    /// 10⁻⁸ saves a fifth of the iterations but moves the lines of a presmoothed
-    /// bunny by 10⁻⁶ of its diagonal: presmoothing solves for positions, whose
-    /// errors the curvature amplifies.
+    /// Default relative residual: the presmoothed bunny's lines then stay
+    /// within 10⁻⁶ of its diagonal of the factorization's; 10⁻⁸ moves them by
+    /// that much (surface smoothing solves for positions, whose errors the
+    /// curvature amplifies).
     pub const DEFAULT_TOLERANCE: f64 = 1e-10;
     /// Default iteration cap; the smoothing systems converge in under fifty
     /// iterations.
