@@ -64,13 +64,13 @@ pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 pub enum Solver {
     /// [`Solver::Direct`] below 2,000,000 unknowns, [`Solver::Iterative`] from
     /// there on, where the factorization's memory grows too large (measured, see
-    /// [`ITERATIVE_MIN_SIZE`]).
+    /// `ITERATIVE_MIN_SIZE` in `linalg/mod.rs`).
     #[default]
     Auto,
     /// Sparse Cholesky factorization (faer, approximate minimum degree ordering).
     Direct,
     /// The conjugate gradient method preconditioned by a smoothed-aggregation
-    /// multigrid V-cycle ([`Multigrid`]), warm-started, falling back to
+    /// multigrid V-cycle (`linalg/multigrid.rs`), warm-started, falling back to
     /// [`Solver::Direct`] if it does not converge.
     Iterative,
 }
