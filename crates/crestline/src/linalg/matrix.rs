@@ -118,7 +118,7 @@ impl SymmetricBuilder {
         SymmetricMatrix {
             n: self.n,
             col_ptr: matrix.col_ptr.into(),
-            row_idx: matrix.row_idx.into(),
+            row_idx: matrix.row_idx.iter().map(|&i| i as u32).collect(),
             values: matrix.values,
         }
     }
@@ -135,11 +135,14 @@ struct Csc {
 /// A square sparse matrix in compressed sparse column form (both triangles stored),
 /// as [`SymmetricBuilder`] makes it and [`CholeskyFactor`](super::CholeskyFactor) reads it.
 /// Matrices with one pattern (the two extremality fields' systems) share it.
+/// Row indices are 32 bits wide, as the mesh's vertex ids: the iterative solver
+/// streams them every sweep, and a third fewer bytes per entry are a third less
+/// time where memory bandwidth decides.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SymmetricMatrix {
     n: usize,
     col_ptr: Arc<[usize]>,
-    row_idx: Arc<[usize]>,
+    row_idx: Arc<[u32]>,
     values: Vec<f64>,
 }
 
@@ -151,7 +154,7 @@ impl SymmetricMatrix {
     pub fn from_csc(
         n: usize,
         col_ptr: impl Into<Arc<[usize]>>,
-        row_idx: impl Into<Arc<[usize]>>,
+        row_idx: impl Into<Arc<[u32]>>,
         values: Vec<f64>,
     ) -> Result<SymmetricMatrix> {
         let (col_ptr, row_idx) = (col_ptr.into(), row_idx.into());
@@ -168,7 +171,7 @@ impl SymmetricMatrix {
         if row_idx.len() != values.len() || col_ptr[n] != row_idx.len() {
             return bad("column offsets, rows and values disagree in length".into());
         }
-        if let Some(&i) = row_idx.iter().find(|&&i| i >= n) {
+        if let Some(&i) = row_idx.iter().find(|&&i| i as usize >= n) {
             return bad(format!("row {i} in a {n}×{n} matrix"));
         }
         let matrix = SymmetricMatrix {
@@ -199,7 +202,7 @@ impl SymmetricMatrix {
         let range = self.col_ptr[j]..self.col_ptr[j + 1];
         self.row_idx[range.clone()]
             .iter()
-            .copied()
+            .map(|&i| i as usize)
             .zip(self.values[range].iter().copied())
     }
 
@@ -211,7 +214,7 @@ impl SymmetricMatrix {
 
     /// The compressed columns: offsets, rows and values (e.g. to hand the matrix to
     /// another solver).
-    pub fn csc(&self) -> (&[usize], &[usize], &[f64]) {
+    pub fn csc(&self) -> (&[usize], &[u32], &[f64]) {
         (&self.col_ptr, &self.row_idx, &self.values)
     }
 
@@ -273,7 +276,7 @@ impl SymmetricMatrix {
         self.row_idx[range.clone()]
             .iter()
             .zip(&self.values[range])
-            .map(|(&j, v)| v * x[j])
+            .map(|(&j, v)| v * x[j as usize])
             .sum()
     }
 }

@@ -295,7 +295,7 @@ fn gauss_seidel(a: &SymmetricMatrix, inverse: &[f64], b: &[f64], x: &mut [f64], 
             // Column i is row i: the matrix is symmetric. The sum includes a_ii x_i.
             let mut sum = 0.0;
             for s in col_ptr[i]..col_ptr[i + 1] {
-                let j = row_idx[s];
+                let j = row_idx[s] as usize;
                 let x_j = if (start..end).contains(&j) {
                     own[j - start]
                 } else {
@@ -478,8 +478,10 @@ fn compressed_rows<C: Copy + Send, S>(
 /// averaging it with its transpose.
 fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> SymmetricMatrix {
     let scratch = || (vec![0.0; count], vec![false; count], Vec::new());
-    let (col_ptr, row_idx, values) =
-        compressed_rows(count, scratch, |(sum, seen, touched), big_i, row| {
+    let (col_ptr, row_idx, values) = compressed_rows(
+        count,
+        scratch,
+        |(sum, seen, touched): &mut (Vec<f64>, Vec<bool>, Vec<usize>), big_i, row| {
             for (i, p_i) in pt.row(big_i) {
                 for (k, a_ik) in a.column(i) {
                     for (big_j, p_k) in p.row(k) {
@@ -493,12 +495,13 @@ fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> Symmetric
             }
             touched.sort_unstable();
             for &j in touched.iter() {
-                row.push((j, sum[j]));
+                row.push((j as u32, sum[j]));
                 sum[j] = 0.0;
                 seen[j] = false;
             }
             touched.clear();
-        });
+        },
+    );
     symmetrized(count, col_ptr, row_idx, values)
 }
 
@@ -507,7 +510,7 @@ fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> Symmetric
 fn symmetrized(
     n: usize,
     col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
+    row_idx: Vec<u32>,
     mut values: Vec<f64>,
 ) -> SymmetricMatrix {
     // The slot of (j, i) for the slot of (i, j): look the row up in column j.
@@ -516,9 +519,9 @@ fn symmetrized(
         .flat_map_iter(|j| {
             let (col_ptr, row_idx, values) = (&col_ptr, &row_idx, &values);
             (col_ptr[j]..col_ptr[j + 1]).map(move |s| {
-                let i = row_idx[s];
+                let i = row_idx[s] as usize;
                 let column = &row_idx[col_ptr[i]..col_ptr[i + 1]];
-                match column.binary_search(&j) {
+                match column.binary_search(&(j as u32)) {
                     Ok(k) => values[col_ptr[i] + k],
                     Err(_) => values[s],
                 }

@@ -53,7 +53,7 @@ const EXTREMALITY_SETTINGS: CgSettings = CgSettings {
 #[derive(Clone, Debug)]
 struct SystemPattern {
     col_ptr: Arc<[usize]>,
-    row_idx: Arc<[usize]>,
+    row_idx: Arc<[u32]>,
     /// The slot of entry (v, v).
     diagonal: Vec<usize>,
     /// The vertices (p, q) of every edge (32 bits wide, as the mesh's ids).
@@ -102,7 +102,7 @@ impl SystemPattern {
             column.sort_unstable();
             for (k, &(row, e)) in column.iter().enumerate() {
                 if k == 0 || column[k - 1].0 != row {
-                    row_idx.push(row);
+                    row_idx.push(row as u32);
                 }
                 let slot = row_idx.len() - 1;
                 match e {
