@@ -21,8 +21,8 @@ impl CgSettings {
     /// that much (surface smoothing solves for positions, whose errors the
     /// curvature amplifies).
     pub const DEFAULT_TOLERANCE: f64 = 1e-10;
-    /// Default iteration cap; the smoothing systems converge in under fifty
-    /// iterations.
+    /// Default iteration cap; the smoothing systems converge in under a hundred
+    /// iterations (23–59 on the Stanford dragon and its refinements).
     pub const DEFAULT_MAX_ITERATIONS: usize = 1000;
 }
 
@@ -140,22 +140,9 @@ impl<'a> Cg<'a> {
 
     /// Sets r = b − A x and p = P⁻¹ r (P the preconditioner); returns ‖r‖.
     fn restart(&mut self, x: &[f64]) -> f64 {
-        self.matrix.mul_vec(x, &mut self.q);
-        let sums: Vec<f64> = self
-            .r
-            .par_chunks_mut(CHUNK)
-            .zip(self.q.par_chunks(CHUNK).zip(self.b.par_chunks(CHUNK)))
-            .map(|(r, (ax, b))| {
-                let mut rr = 0.0;
-                for k in 0..r.len() {
-                    r[k] = b[k] - ax[k];
-                    rr += r[k] * r[k];
-                }
-                rr
-            })
-            .collect();
+        self.matrix.residual(x, self.b, &mut self.r);
         self.preconditioner.apply(self.matrix, &self.r, &mut self.p);
-        sums.iter().sum::<f64>().sqrt()
+        dot(&self.r, &self.r).sqrt()
     }
 
     /// At most `budget` iterations from the state [`restart`](Self::restart) left,
@@ -196,7 +183,7 @@ impl<'a> Cg<'a> {
         (dot(&self.r, &self.q), sums.iter().sum())
     }
 
-    /// p = z + β p, with z = D⁻¹ r held in q.
+    /// p = z + β p, with z = P⁻¹ r held in q.
     fn update_direction(&mut self, beta: f64) {
         self.p
             .par_chunks_mut(CHUNK)

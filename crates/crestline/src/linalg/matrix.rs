@@ -90,46 +90,34 @@ impl SymmetricBuilder {
             entries[next[j]] = (i, value);
             next[j] += 1;
         }
-        let mut matrix = Csc {
-            col_ptr: Vec::with_capacity(self.n + 1),
-            row_idx: Vec::with_capacity(entries.len()),
-            values: Vec::with_capacity(entries.len()),
-        };
-        matrix.col_ptr.push(0);
+        let mut offsets = Vec::with_capacity(self.n + 1);
+        let mut rows: Vec<u32> = Vec::with_capacity(entries.len());
+        let mut values: Vec<f64> = Vec::with_capacity(entries.len());
+        offsets.push(0);
         for j in 0..self.n {
             let column = &mut entries[col_ptr[j]..col_ptr[j + 1]];
             column.sort_unstable_by_key(|&(i, _)| i);
-            let start = matrix.row_idx.len();
+            let start = rows.len();
             for &(i, value) in column.iter() {
-                match matrix.values.last_mut() {
-                    Some(sum)
-                        if matrix.row_idx.len() > start && matrix.row_idx.last() == Some(&i) =>
-                    {
+                match values.last_mut() {
+                    Some(sum) if rows.len() > start && rows.last() == Some(&(i as u32)) => {
                         *sum += value;
                     }
                     _ => {
-                        matrix.row_idx.push(i);
-                        matrix.values.push(value);
+                        rows.push(i as u32);
+                        values.push(value);
                     }
                 }
             }
-            matrix.col_ptr.push(matrix.row_idx.len());
+            offsets.push(rows.len());
         }
         SymmetricMatrix {
             n: self.n,
-            col_ptr: matrix.col_ptr.into(),
-            row_idx: matrix.row_idx.iter().map(|&i| i as u32).collect(),
-            values: matrix.values,
+            col_ptr: offsets.into(),
+            row_idx: rows.into(),
+            values,
         }
     }
-}
-
-/// Compressed columns being assembled.
-#[cfg(test)]
-struct Csc {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    values: Vec<f64>,
 }
 
 /// A square sparse matrix in compressed sparse column form (both triangles stored),

@@ -25,7 +25,7 @@
 
 use rayon::prelude::*;
 
-use super::{CholeskyFactor, SymmetricMatrix};
+use super::{CholeskyFactor, SymmetricMatrix, CHUNK};
 use crate::{Error, Result};
 
 /// Strength threshold θ: a_ij is a strong coupling when a_ij² ≥ θ² a_ii a_jj
@@ -160,8 +160,8 @@ impl Multigrid {
         let Some(level) = self.levels.get(l) else {
             // Below the last level lies the coarsest, factored; without levels the
             // fine matrix is only smoothed.
-            match (&self.coarsest, l) {
-                (Some(factor), l) if l > 0 => {
+            match &self.coarsest {
+                Some(factor) if l > 0 => {
                     x.copy_from_slice(b);
                     factor.solve_in_place(x);
                 }
@@ -205,9 +205,9 @@ fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<()> {
 
 /// y += R x, in parallel over rows.
 fn add_product(rows: &Rows, x: &[f64], y: &mut [f64]) {
-    y.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
+    y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
         for (k, y) in out.iter_mut().enumerate() {
-            *y += rows.row(c * 4096 + k).map(|(j, v)| v * x[j]).sum::<f64>();
+            *y += rows.row(c * CHUNK + k).map(|(j, v)| v * x[j]).sum::<f64>();
         }
     });
 }
@@ -234,8 +234,8 @@ fn multiply_transposed(rows: &Rows, x: &[f64], columns: usize) -> Vec<f64> {
         })
         .collect();
     let mut y = vec![0.0; columns];
-    y.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
-        let start = c * 4096;
+    y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
+        let start = c * CHUNK;
         for part in &parts {
             for (y, p) in out.iter_mut().zip(&part[start..]) {
                 *y += p;
@@ -322,8 +322,12 @@ fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<Level> {
     }
     // Smoothing the coarser levels' prolongators too left the iteration counts as
     // they were (dragon and dragon ×4) and made their matrices five times denser.
-    let smoothing = if depth == 0 { 1.0 } else { 0.0 };
-    let prolongator = prolongator(a, diagonal, &aggregate, &sign, smoothing);
+    let omega = if depth == 0 {
+        smoothing_weight(a, diagonal)
+    } else {
+        0.0
+    };
+    let prolongator = prolongator(a, diagonal, &aggregate, &sign, omega);
     let coarse = galerkin(a, &prolongator, &prolongator.transpose(count), count);
     let coarse_inverse = sweep_inverse(&coarse);
     Some(Level {
@@ -360,8 +364,8 @@ fn aggregate(a: &SymmetricMatrix, diagonal: &[f64]) -> (Vec<usize>, Vec<f64>, us
         if aggregate[i] != NONE {
             continue;
         }
-        let mut neighbours = strong_neighbours(i).peekable();
-        if neighbours.peek().is_none() || strong_neighbours(i).any(|(j, _)| aggregate[j] != NONE) {
+        let isolated = strong_neighbours(i).next().is_none();
+        if isolated || strong_neighbours(i).any(|(j, _)| aggregate[j] != NONE) {
             continue;
         }
         aggregate[i] = count;
@@ -388,22 +392,30 @@ fn aggregate(a: &SymmetricMatrix, diagonal: &[f64]) -> (Vec<usize>, Vec<f64>, us
     (aggregate, sign, count)
 }
 
+/// The prolongator smoothing's weight ω = 4 / (3 ρ), ρ ≥ ρ(D⁻¹ A) by Gershgorin
+/// (Vaněk et al. §3); 0 (no smoothing) if ρ is not finite.
+fn smoothing_weight(a: &SymmetricMatrix, diagonal: &[f64]) -> f64 {
+    let rho = (0..a.size())
+        .into_par_iter()
+        .map(|i| a.column(i).map(|(_, v)| v.abs()).sum::<f64>() / diagonal[i])
+        .reduce(|| 0.0, f64::max);
+    let omega = 4.0 / (3.0 * rho);
+    if omega.is_finite() {
+        omega
+    } else {
+        0.0
+    }
+}
+
 /// P = (I − ω D⁻¹ A) P₀ with the tentative prolongator P₀ (row i: `sign[i]` in
-/// column `aggregate[i]`) and ω = `smoothing` · 4 / (3 ρ), ρ ≥ ρ(D⁻¹ A) by
-/// Gershgorin (Vaněk et al. §3); P₀ itself for `smoothing` 0.
+/// column `aggregate[i]`); P₀ itself for ω = 0.
 fn prolongator(
     a: &SymmetricMatrix,
     diagonal: &[f64],
     aggregate: &[usize],
     sign: &[f64],
-    smoothing: f64,
+    omega: f64,
 ) -> Rows {
-    let rho = (0..a.size())
-        .into_par_iter()
-        .map(|i| a.column(i).map(|(_, v)| v.abs()).sum::<f64>() / diagonal[i])
-        .reduce(|| 0.0, f64::max);
-    let omega = smoothing * 4.0 / (3.0 * rho);
-    let omega = if omega.is_finite() { omega } else { 0.0 };
     let (ptr, cols, values) = compressed_rows(
         a.size(),
         || (),
@@ -411,9 +423,9 @@ fn prolongator(
             if aggregate[i] != NONE {
                 row.push((aggregate[i] as u32, sign[i]));
             }
-            let scale = omega / diagonal[i];
-            for (j, v) in a.column(i).filter(|_| omega != 0.0) {
-                if aggregate[j] != NONE {
+            if omega != 0.0 {
+                let scale = omega / diagonal[i];
+                for (j, v) in a.column(i).filter(|&(j, _)| aggregate[j] != NONE) {
                     row.push((aggregate[j] as u32, -scale * v * sign[j]));
                 }
             }

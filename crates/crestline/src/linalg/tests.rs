@@ -152,14 +152,19 @@ fn the_builder_sums_repeated_entries_into_sorted_columns() {
     assert!(unsorted.unwrap_err().to_string().contains("unsorted"));
 }
 
-/// M + t K of a sphere with the cotan Laplacian, t = 2 h̄² (the default τ), and
-/// the right-hand side M e for a smooth e.
-fn sphere_system() -> (SymmetricMatrix, Vec<f64>) {
-    let mesh = generate::sphere(1.0, 30_000, Sampling::jittered(3))
+/// M + t K of a jittered sphere (jitter `seed`) with the sign-aware cotan
+/// Laplacian of §5.1, t = 2 h̄² (the default τ), each edge (p, q) scaled by
+/// `stiffness_and_sign(p, q).0` and signed by its `.1`, and the right-hand side
+/// M e for the smooth e = `field(position)`.
+fn smoothing_system(
+    seed: u64,
+    stiffness_and_sign: impl Fn(usize, usize) -> (f64, f64),
+    field: impl Fn(&crate::Point) -> f64,
+) -> (SymmetricMatrix, Vec<f64>) {
+    let mesh = generate::sphere(1.0, 30_000, Sampling::jittered(seed))
         .unwrap()
         .mesh;
     let h = mesh.mean_edge_length();
-    let time = 2.0 * h * h;
     let mass = mesh.vertex_areas();
     let mut system = SymmetricBuilder::new(mesh.vertex_count());
     for (v, &m) in mass.iter().enumerate() {
@@ -167,15 +172,24 @@ fn sphere_system() -> (SymmetricMatrix, Vec<f64>) {
     }
     for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
         let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
-        system.add_edge(p, q, time * w);
+        let (stiffness, sign) = stiffness_and_sign(p, q);
+        let w = 2.0 * h * h * w * stiffness;
+        system.add_diagonal(p, w);
+        system.add_diagonal(q, w);
+        system.add(p, q, -w * sign);
     }
     let rhs = mesh
         .positions()
         .iter()
         .zip(&mass)
-        .map(|(p, m)| m * (3.0 * p.x + p.y * p.z).sin())
+        .map(|(p, m)| m * field(p))
         .collect();
     (system.build(), rhs)
+}
+
+/// M + t K of a sphere with the cotan Laplacian, and M e for a smooth e.
+fn sphere_system() -> (SymmetricMatrix, Vec<f64>) {
+    smoothing_system(3, |_, _| (1.0, 1.0), |p| (3.0 * p.x + p.y * p.z).sin())
 }
 
 #[test]
@@ -245,34 +259,15 @@ fn edge_hash(p: usize, q: usize) -> u64 {
 /// σ = ±1 from `signs`) and one edge in 40 made 10⁴ times stiffer, like a scan's
 /// slivers, with a right-hand side M e for a smooth e.
 fn sliver_system(signs: impl Fn(usize, usize) -> f64) -> (SymmetricMatrix, Vec<f64>) {
-    let mesh = generate::sphere(1.0, 30_000, Sampling::jittered(5))
-        .unwrap()
-        .mesh;
-    let h = mesh.mean_edge_length();
-    let mass = mesh.vertex_areas();
-    let mut system = SymmetricBuilder::new(mesh.vertex_count());
-    for (v, &m) in mass.iter().enumerate() {
-        system.add_diagonal(v, m);
-    }
-    for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
-        let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
+    let stiffness_and_sign = |p, q| {
         let stiffness = if edge_hash(p, q).is_multiple_of(40) {
             1e4
         } else {
             1.0
         };
-        let w = 2.0 * h * h * w * stiffness;
-        system.add_diagonal(p, w);
-        system.add_diagonal(q, w);
-        system.add(p, q, -w * signs(p, q));
-    }
-    let rhs = mesh
-        .positions()
-        .iter()
-        .zip(&mass)
-        .map(|(p, m)| m * (2.0 * p.x - p.y * p.z).cos())
-        .collect();
-    (system.build(), rhs)
+        (stiffness, signs(p, q))
+    };
+    smoothing_system(5, stiffness_and_sign, |p| (2.0 * p.x - p.y * p.z).cos())
 }
 
 fn random_sign(p: usize, q: usize) -> f64 {
