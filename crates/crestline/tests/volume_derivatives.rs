@@ -280,6 +280,37 @@ fn selected_partials_equal_those_of_the_full_set() {
     assert_eq!(second.grid(fxz), full.grid(fxz));
 }
 
+#[test]
+fn a_block_of_slices_holds_exactly_those_slices_of_the_whole() {
+    let cubic = Cubic::random(13, Point::origin(), 5.0);
+    let volume = cubic.volume([14, 12, 10], [1.0, 0.5, 2.0], flipped_permutation());
+    let plane = 14 * 12;
+    let full = Derivatives::new(&volume, 1.1, 3).unwrap();
+    // A block at the border (clamped samples reach it) and one inside.
+    for slices in [0..3, 4..9, 9..10] {
+        let block = Derivatives::on_slices(&volume, 1.1, &Partial::ALL, slices.clone()).unwrap();
+        assert_eq!(block.slices(), slices);
+        for partial in Partial::ALL {
+            let whole = &full.grid(partial).unwrap()[slices.start * plane..slices.end * plane];
+            assert_eq!(
+                block.grid(partial).unwrap(),
+                whole,
+                "{partial:?} on {slices:?}"
+            );
+        }
+        let inside = [3, 7, slices.start];
+        assert_eq!(block.jet(inside), full.jet(inside));
+        assert!(block.jet([3, 7, slices.end]).is_none());
+        if slices.start > 0 {
+            assert!(block.jet([3, 7, slices.start - 1]).is_none());
+        }
+    }
+    for empty_or_past_the_end in [3..3, 8..11] {
+        let block = Derivatives::on_slices(&volume, 1.1, &Partial::ALL, empty_or_past_the_end);
+        assert!(matches!(block, Err(Error::Argument(_))));
+    }
+}
+
 /// `B exp(−|x − c|² / 2S²)` and its derivatives up to order 3.
 fn gaussian_jet(x: &Point, center: &Point, amplitude: f64, width: f64) -> Jet {
     let d = x - center;

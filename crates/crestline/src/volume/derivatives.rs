@@ -20,6 +20,7 @@ use super::separable::{self, AxisKernels, HalfKernel};
 use super::Volume;
 use crate::{Error, Result, Vector};
 use nalgebra::Matrix3;
+use std::ops::Range;
 
 /// One partial derivative along the index axes, `∂^(a+b+c) f / ∂xᵃ ∂yᵇ ∂zᶜ` with
 /// total order `a + b + c ≤ 3`, lengths along the axes in world units.
@@ -97,11 +98,14 @@ impl Partial {
 }
 
 /// Partial derivatives of a Gaussian-smoothed volume, each an `f32` grid of the
-/// volume's size (x fastest), with accessors for world-space gradients, Hessians
+/// volume's size (x fastest), or of a block of its z slices
+/// ([`Derivatives::on_slices`]), with accessors for world-space gradients, Hessians
 /// and third-derivative tensors at grid points.
 #[derive(Clone, Debug)]
 pub struct Derivatives {
     dims: [usize; 3],
+    /// The z slices computed.
+    slices: Range<usize>,
     smoothing: Smoothing,
     direction: Matrix3<f64>,
     /// The grid of each computed partial, at [`Partial::slot`].
@@ -137,7 +141,8 @@ impl Derivatives {
         }
         let partials: Vec<Partial> = Partial::up_to(max_order).collect();
         let kernels = spline_kernels(volume.spacing());
-        Derivatives::filtered(volume, Smoothing::CubicSpline, &kernels, &partials)
+        let slices = 0..volume.dims()[2];
+        Derivatives::filtered(volume, Smoothing::CubicSpline, &kernels, &partials, slices)
     }
 
     /// All partial derivatives of total order at most `max_order` (0 to 3: 1, 4, 10
@@ -164,34 +169,65 @@ impl Derivatives {
     /// is not finite and positive, is under a tenth of a voxel along an axis, or is
     /// more voxels than the samples along an axis (at least 4 voxels are allowed).
     pub fn with_partials(volume: &Volume, sigma: f64, partials: &[Partial]) -> Result<Derivatives> {
+        Derivatives::on_slices(volume, sigma, partials, 0..volume.dims()[2])
+    }
+
+    /// [`Derivatives::with_partials`] on the z slices `slices` only: the same values
+    /// at their grid points (every slice is filtered from the samples alone), in
+    /// memory for those slices. The accessors answer `None` at other slices.
+    ///
+    /// Errors as [`Derivatives::with_partials`], and ([`Error::Argument`]) if
+    /// `slices` is empty or reaches past the last slice.
+    pub fn on_slices(
+        volume: &Volume,
+        sigma: f64,
+        partials: &[Partial],
+        slices: Range<usize>,
+    ) -> Result<Derivatives> {
         if partials.is_empty() {
             return Err(Error::Argument(
                 "no partial derivative was requested".to_string(),
             ));
         }
+        let nz = volume.dims()[2];
+        if slices.is_empty() || slices.end > nz {
+            return Err(Error::Argument(format!(
+                "the slices {slices:?} are not a nonempty range of the volume's {nz} z slices"
+            )));
+        }
         let kernels = world_kernels(volume, sigma)?;
-        Derivatives::filtered(volume, Smoothing::Gaussian(sigma), &kernels, partials)
+        Derivatives::filtered(
+            volume,
+            Smoothing::Gaussian(sigma),
+            &kernels,
+            partials,
+            slices,
+        )
     }
 
-    /// `partials` of `volume` filtered by `kernels` (per axis, per order).
+    /// `partials` of `volume` filtered by `kernels` (per axis, per order) on the z
+    /// slices `slices`.
     fn filtered(
         volume: &Volume,
         smoothing: Smoothing,
         kernels: &[AxisKernels; 3],
         partials: &[Partial],
+        slices: Range<usize>,
     ) -> Result<Derivatives> {
         let direction = orthonormal_direction(volume)?;
         let mut wanted = partials.to_vec();
         wanted.sort_unstable();
         wanted.dedup();
         let orders: Vec<[usize; 3]> = wanted.iter().map(|p| p.orders).collect();
-        let filtered = separable::filter(volume.samples(), volume.grid(), kernels, &orders);
+        let grid = volume.grid();
+        let filtered = separable::filter(volume.samples(), grid, kernels, &orders, slices.clone());
         let mut grids = vec![None; 64];
         for (p, grid) in wanted.iter().zip(filtered) {
             grids[p.slot()] = Some(grid);
         }
         Ok(Derivatives {
             dims: volume.dims(),
+            slices,
             smoothing,
             direction,
             grids,
@@ -209,9 +245,22 @@ impl Derivatives {
     }
 
     /// The grid of `partial` (x fastest, derivatives with respect to world length
-    /// along the index axes), or `None` if it was not computed.
+    /// along the index axes; the computed slices only), or `None` if it was not
+    /// computed.
     pub fn grid(&self, partial: Partial) -> Option<&[f32]> {
         self.grids[partial.slot()].as_deref()
+    }
+
+    /// The grid of `partial` as [`Derivatives::grid`] gives it, taken out of the
+    /// derivatives without a copy.
+    pub fn into_grid(mut self, partial: Partial) -> Option<Vec<f32>> {
+        self.grids[partial.slot()].take()
+    }
+
+    /// The z slices computed: all of them unless made by
+    /// [`Derivatives::on_slices`].
+    pub fn slices(&self) -> Range<usize> {
+        self.slices.clone()
     }
 
     /// The smoothed value at voxel `index`, or `None` outside the grid or if it was
@@ -252,7 +301,13 @@ impl Derivatives {
     /// The values at voxel `index` of the `N` partials of [`Partial::ALL`] from
     /// position `first` on.
     fn components<const N: usize>(&self, first: usize, index: [usize; 3]) -> Option<[f64; N]> {
-        let at = Grid { dims: self.dims }.checked_index(index)?;
+        let [i, j, k] = index;
+        let k = k.checked_sub(self.slices.start)?;
+        let [nx, ny, _] = self.dims;
+        let at = Grid {
+            dims: [nx, ny, self.slices.len()],
+        }
+        .checked_index([i, j, k])?;
         let mut values = [0.0; N];
         for (value, partial) in values.iter_mut().zip(&Partial::ALL[first..]) {
             *value = f64::from(self.grid(*partial)?[at]);

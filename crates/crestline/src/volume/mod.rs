@@ -30,6 +30,7 @@ pub(crate) mod marching_lines;
 mod separable;
 mod statistics;
 pub(crate) mod trilinear;
+pub(crate) mod voxel_set;
 
 pub use bspline::BSpline;
 pub use derivatives::{Derivatives, Partial, Smoothing};

@@ -13,6 +13,8 @@
 //! Symmetric and antisymmetric kernels add or subtract the two rows at `±t` before
 //! weighting them. Borders are clamped to the edge (the nearest sample is repeated).
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use super::grid::Grid;
@@ -29,23 +31,28 @@ pub(crate) struct HalfKernel {
 /// The kernels of orders 0 to 3 along one axis, indexed by order.
 pub(crate) type AxisKernels = Vec<HalfKernel>;
 
-/// Filters `samples` (on `grid`, x fastest) into one volume per entry of `orders`,
-/// `[x, y, z]` orders each, with `kernels[axis][order]`, in parallel over z slices.
+/// Filters the z slices `slices` of `samples` (on `grid`, x fastest) into one
+/// block of those slices per entry of `orders`, `[x, y, z]` orders each, with
+/// `kernels[axis][order]`, in parallel over z slices. Every slice is computed from
+/// the samples alone, so a block holds exactly the slices of the whole filtered
+/// volume.
 pub(crate) fn filter(
     samples: &[f32],
     grid: Grid,
     kernels: &[AxisKernels; 3],
     orders: &[[usize; 3]],
+    slices: Range<usize>,
 ) -> Vec<Vec<f32>> {
     let z_orders = distinct(orders.iter().map(|o| o[2]));
     let z_kernels: Vec<&HalfKernel> = z_orders.iter().map(|&c| &kernels[2][c]).collect();
-    let mut outputs: Vec<Vec<f32>> = orders.iter().map(|_| vec![0.0; samples.len()]).collect();
+    let len = grid.plane_len() * slices.len();
+    let mut outputs: Vec<Vec<f32>> = orders.iter().map(|_| vec![0.0; len]).collect();
     slices_by_k(&mut outputs, grid.plane_len())
         .into_par_iter()
         .enumerate()
-        .for_each_init(Scratch::default, |scratch, (k, mut out_slices)| {
+        .for_each_init(Scratch::default, |scratch, (n, mut out_slices)| {
             let z_passes = scratch.z.take(z_orders.len(), grid.plane_len());
-            z_slice(samples, grid, k, &z_kernels, z_passes);
+            z_slice(samples, grid, slices.start + n, &z_kernels, z_passes);
             for (z_pass, &c) in z_passes.iter().zip(&z_orders) {
                 let x_passes = &mut scratch.x;
                 finish_slice(z_pass, grid, kernels, orders, c, x_passes, &mut out_slices);
@@ -215,7 +222,7 @@ fn distinct(values: impl Iterator<Item = usize>) -> Vec<usize> {
     values
 }
 
-/// For every z slice `k`, the `k`-th slice of each volume.
+/// For every z slice `n` of the blocks, the `n`-th slice of each block.
 fn slices_by_k(volumes: &mut [Vec<f32>], slice_len: usize) -> Vec<Vec<&mut [f32]>> {
     let nz = volumes.first().map_or(0, |v| v.len() / slice_len);
     let mut by_k: Vec<Vec<&mut [f32]>> =

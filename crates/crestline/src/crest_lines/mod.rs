@@ -28,97 +28,27 @@
 //! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
 //!   curvature `K = k_max k_min` at 0, a field with a global sign; iso-Gaussian
 //!   curves ([`iso_gaussian_lines`]) those at another value.
-//! - The curvature is computed only at the corners of the cells the isosurface
-//!   crosses (the others cannot carry a line), on first use; the randomized variant
-//!   ([`Sweep::Seeds`]) computes it only around the lines it follows.
+//! - The smoothed image is kept whole (one value per sample), but the derivatives
+//!   of order 1 to 3 and the curvature only at the corners of the cells the
+//!   isosurface meets (the others cannot carry a line), computed over blocks of z
+//!   slices ([`frames`]): memory grows with the isosurface, not with the image.
 
-use std::sync::OnceLock;
+mod frames;
 
-use crate::differential::IsoCurvature;
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 use crate::progress::{try_stage, Observer, Silent};
-use crate::volume::grid::Grid;
 use crate::volume::marching_lines::{BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
-
-/// Curvature of the isosurface through one grid point, stored compactly.
-#[derive(Clone, Copy, Debug)]
-struct Frame {
-    /// `k_max`, `k_min`.
-    k: [f32; 2],
-    /// `e_max`, `e_min`.
-    e: [f32; 2],
-    /// `t_max`, `t_min`.
-    t: [[f32; 3]; 2],
-}
-
-impl Frame {
-    fn new(c: &IsoCurvature) -> Frame {
-        let p = &c.principal;
-        let direction = |d: &Vector| [d.x as f32, d.y as f32, d.z as f32];
-        Frame {
-            k: [p.k_max as f32, p.k_min as f32],
-            e: [c.e_max as f32, c.e_min as f32],
-            t: [direction(&p.d_max), direction(&p.d_min)],
-        }
-    }
-
-    /// Direction `which` (0: `t_max`, 1: `t_min`).
-    fn direction(&self, which: usize) -> Vector {
-        Vector::from(self.t[which].map(f64::from))
-    }
-}
-
-/// The curvature of the isosurface through each grid point of a volume, computed
-/// on first use (only the corners of the cells a line passes matter), `None` where
-/// undefined.
-struct Curvatures<'d> {
-    derivatives: &'d Derivatives,
-    grid: Grid,
-    frames: Vec<OnceLock<Option<Frame>>>,
-    /// `∂index/∂world`, turning gradients along index axes into world gradients.
-    world_to_grid: nalgebra::Matrix3<f64>,
-}
-
-impl<'d> Curvatures<'d> {
-    fn new(derivatives: &'d Derivatives, volume: &Volume) -> Curvatures<'d> {
-        Curvatures {
-            derivatives,
-            grid: volume.grid(),
-            frames: (0..volume.len()).map(|_| OnceLock::new()).collect(),
-            world_to_grid: *volume.world_to_grid(),
-        }
-    }
-
-    /// The frame at the grid point of linear index `at`.
-    fn frame(&self, at: usize) -> Option<Frame> {
-        *self.frames[at].get_or_init(|| {
-            let index = self.grid.position_of(at);
-            let curvature = self.derivatives.jet(index)?.isosurface_curvature()?;
-            let frame = Frame::new(&curvature);
-            let finite = frame.k.iter().chain(&frame.e).all(|v| v.is_finite());
-            finite.then_some(frame)
-        })
-    }
-
-    /// The frames at the 8 corners of `cell`, or `None` if one is undefined.
-    fn corners(&self, cell: [usize; 3]) -> Option<[Frame; 8]> {
-        let frames = self.grid.corners(cell).map(|at| self.frame(at));
-        frames
-            .iter()
-            .all(Option::is_some)
-            .then(|| frames.map(Option::unwrap))
-    }
-}
+use frames::{Curvatures, Frame};
 
 /// The extremality of one kind of crest line as the second field of the Marching
 /// Lines, oriented per cell: `e_max` for ridges (maxima of `k_max` along `t_max`),
 /// `e_min` for valleys (minima of `k_min` along `t_min`).
 struct Extremality<'a> {
-    curvatures: &'a Curvatures<'a>,
+    curvatures: &'a Curvatures,
     /// [`LineKind::Ridge`] or [`LineKind::Valley`].
     kind: LineKind,
 }
@@ -194,7 +124,7 @@ impl SecondField for Extremality<'_> {
 /// The Gaussian curvature `K = k_max k_min` of the isosurfaces, as the second field
 /// of the Marching Lines.
 struct GaussianCurvature<'a> {
-    curvatures: &'a Curvatures<'a>,
+    curvatures: &'a Curvatures,
 }
 
 impl SecondField for GaussianCurvature<'_> {
@@ -341,15 +271,16 @@ pub fn trace_observed(
             )));
         }
     }
-    let (derivatives, smoothed) = try_stage(observer, "derivatives", || {
-        let derivatives = Derivatives::new(volume, tracing.sigma, 3)?;
-        let smoothed = derivatives
-            .grid(Partial::new([0, 0, 0])?)
+    let (curvatures, smoothed) = try_stage(observer, "derivatives", || {
+        let value = Partial::new([0, 0, 0])?;
+        let smoothed = Derivatives::with_partials(volume, tracing.sigma, &[value])?
+            .into_grid(value)
             .expect("order 0 is computed");
-        let smoothed = volume.with_samples(smoothed.to_vec())?;
-        Ok((derivatives, smoothed))
+        let smoothed = volume.with_samples(smoothed)?;
+        let curvatures =
+            Curvatures::at_isosurface(volume, &smoothed, tracing.sigma, tracing.level)?;
+        Ok((curvatures, smoothed))
     })?;
-    let curvatures = Curvatures::new(&derivatives, volume);
     let (level, sweep) = (tracing.level, tracing.sweep);
     let polylines = |lines: Vec<BiIsoLine>, kind| -> Vec<Polyline> {
         let polyline = |line| polyline(line, kind, &curvatures, volume);
