@@ -259,6 +259,33 @@ fn sphere_field_curvature_is_one_over_the_radius_at_every_vertex() {
 }
 
 #[test]
+fn curvature_kept_at_some_points_equals_the_whole_grids_there_and_is_none_elsewhere() {
+    use crestline::curvature::ImageCurvature;
+    let flips = Matrix3::new(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0);
+    let volume = sampled::field(41, [0.8, 1.0, 1.3], flips, |p| {
+        12.0 - (p.coords.component_mul(&Vector::new(1.0, 1.3, 0.8))).norm()
+    });
+    let (iso, _) = crestline::curvature::image_isosurface(&volume, 0.0, 1.5).unwrap();
+    let mesh = iso.to_mesh().unwrap();
+    let whole = ImageCurvature::new(&volume, 1.5).unwrap();
+    let some = ImageCurvature::at_points(&volume, 1.5, mesh.positions()).unwrap();
+    assert!(some.smoothed().is_none() && whole.smoothed().is_some());
+    assert!(some.surface_volume(&volume).is_err());
+    for p in mesh.positions() {
+        let (a, b) = (whole.derivatives_at(p), some.derivatives_at(p));
+        assert!(a.is_some() && a == b, "at {p:?}: {a:?} vs {b:?}");
+    }
+    // The centre is far from every vertex: no derivatives are kept around it.
+    let centre = volume.index_to_world([20.0; 3]);
+    assert!(whole.derivatives_at(&centre).is_some());
+    assert!(some.derivatives_at(&centre).is_none());
+    // The spline keeps its samples whole.
+    let spline = ImageCurvature::at_points(&volume, 0.0, &[centre]).unwrap();
+    assert!(spline.derivatives_at(&centre).is_some());
+    assert!(ImageCurvature::at_points(&volume, -1.0, &[centre]).is_err());
+}
+
+#[test]
 fn torus_field_curvatures_match_the_closed_form() {
     let (big, small) = (18.0, 7.0);
     let tube_distance = |p: &Point| {

@@ -276,6 +276,33 @@ fn the_clipped_gyroid_padded_outside_the_surface_is_watertight() {
 }
 
 #[test]
+fn padding_in_place_puts_every_sample_one_step_in_and_the_value_around() {
+    let dims = [5, 3, 4];
+    let samples: Vec<f32> = (0..60).map(|n| n as f32).collect();
+    let volume = from_samples(dims, samples);
+    let copied = volume.padded(-1.0).unwrap();
+    let padded = volume.clone().into_padded(-1.0).unwrap();
+    assert_eq!(padded.dims(), [7, 5, 6]);
+    assert_eq!(padded.samples(), copied.samples());
+    assert_eq!(padded.origin(), copied.origin());
+    for k in 0..6 {
+        for j in 0..5 {
+            for i in 0..7 {
+                let inner = (1..=dims[0]).contains(&i)
+                    && (1..=dims[1]).contains(&j)
+                    && (1..=dims[2]).contains(&k);
+                let want = if inner {
+                    volume.value(i - 1, j - 1, k - 1)
+                } else {
+                    Some(-1.0)
+                };
+                assert_eq!(padded.value(i, j, k), want, "sample ({i}, {j}, {k})");
+            }
+        }
+    }
+}
+
+#[test]
 fn clipped_gyroid_is_open_only_at_the_volume_border() {
     let volume = cube(37, gyroid(16.0));
     let (iso, mesh) = surface(&volume, 0.3);

@@ -4,8 +4,8 @@
 //!
 //! A crest line can only pass through a cell the isosurface `f = I` meets, and
 //! [`Extremality`](super::Extremality) reads the curvature at that cell's corners
-//! only. So the derivatives of order 0 to 3 are taken over blocks of
-//! [`SLAB_SLICES`] z slices (blocks the isosurface misses are skipped), the
+//! only. So the derivatives of order 0 to 3 are taken over blocks of a few z slices
+//! ([`Derivatives::at_voxels`]; blocks the isosurface misses are skipped), the
 //! curvature of the isosurface through each such corner is computed from them
 //! (Thirion & Gourdon 1993 §5; [`crate::differential::isosurface_curvature`]) and
 //! the block is dropped. The frames live in one array numbered by a [`VoxelSet`]
@@ -19,9 +19,6 @@ use crate::volume::grid::Grid;
 use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
 use crate::volume::{Derivatives, Partial, Volume};
 use crate::{Result, Vector};
-
-/// The z slices whose derivatives are held at once: 20 values per sample of them.
-const SLAB_SLICES: usize = 8;
 
 /// Curvature of the isosurface through one grid point, stored compactly.
 #[derive(Clone, Copy, Debug)]
@@ -74,33 +71,19 @@ impl Curvatures {
     /// cell that holds one of its points, even one on a face, edge or corner of the
     /// cell.
     ///
-    /// Errors as [`Derivatives::on_slices`].
+    /// Errors as [`Derivatives::at_voxels`].
     pub fn at_isosurface(
         volume: &Volume,
         smoothed: &Volume,
         sigma: f64,
         level: f64,
     ) -> Result<Curvatures> {
-        let grid = volume.grid();
         let corners = isosurface_corners(smoothed, level);
-        let mut frames = Vec::with_capacity(corners.len());
-        let (nz, plane) = (grid.dims[2], grid.plane_len());
-        for first in (0..nz).step_by(SLAB_SLICES) {
-            let slices = first..(first + SLAB_SLICES).min(nz);
-            let members: Vec<usize> = corners
-                .members(slices.start * plane..slices.end * plane)
-                .collect();
-            if members.is_empty() {
-                continue;
-            }
-            let derivatives = Derivatives::on_slices(volume, sigma, &Partial::ALL, slices)?;
-            frames.par_extend(members.par_iter().map(|&at| {
-                let jet = derivatives.jet(grid.position_of(at))?;
-                Frame::new(&jet.isosurface_curvature()?)
-            }));
-        }
+        let frames = Derivatives::at_voxels(volume, sigma, &Partial::ALL, &corners, |d, index| {
+            Frame::new(&d.jet(index)?.isosurface_curvature()?)
+        })?;
         Ok(Curvatures {
-            grid,
+            grid: volume.grid(),
             corners,
             frames,
             world_to_grid: *volume.world_to_grid(),

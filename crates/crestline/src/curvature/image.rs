@@ -8,7 +8,9 @@
 //! W = −P H P / |g|, so a bright convex object has positive curvature
 //! ([`implicit_curvature`] of −f). The image is made differentiable either by a
 //! Gaussian (derivatives at the grid points, [`Derivatives`], interpolated
-//! trilinearly) or by the cubic B-spline through the samples ([`BSpline`]).
+//! trilinearly; at every grid point, or only at the corners of the cells that hold
+//! given points, [`ImageCurvature::at_points`]) or by the cubic B-spline through
+//! the samples ([`BSpline`]).
 
 use std::borrow::Cow;
 
@@ -17,6 +19,7 @@ use nalgebra::Matrix3;
 use super::{implicit_curvature, CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 use crate::mesh::Mesh;
 use crate::volume::trilinear::corners_and_weights;
+use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
 use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 
@@ -38,13 +41,51 @@ pub struct ImageCurvature {
 enum Reconstruction {
     /// Gaussian derivatives at the grid points, trilinear in between.
     Gaussian {
-        derivatives: Derivatives,
+        partials: GridPartials,
         origin: Point,
         world_to_grid: Matrix3<f64>,
         direction: Matrix3<f64>,
     },
     /// The C² cubic B-spline through the samples.
     Spline(BSpline),
+}
+
+/// The first and second partials of the smoothed image (along the index axes, in
+/// the order of [`FIRST_AND_SECOND`]) at grid points.
+#[derive(Clone, Debug)]
+enum GridPartials {
+    /// At every grid point, with the smoothed values.
+    Whole(Derivatives),
+    /// At the members of `voxels` only, numbered by it.
+    Some {
+        dims: [usize; 3],
+        voxels: VoxelSet,
+        values: Vec<[f32; 9]>,
+    },
+}
+
+impl GridPartials {
+    /// The number of samples along each axis of the grid.
+    fn dims(&self) -> [usize; 3] {
+        match self {
+            GridPartials::Whole(derivatives) => derivatives.dims(),
+            GridPartials::Some { dims, .. } => *dims,
+        }
+    }
+
+    /// The nine partials at the sample of linear index `at`, `None` where not held.
+    fn at(&self, at: usize) -> Option<[f32; 9]> {
+        match self {
+            GridPartials::Whole(derivatives) => {
+                let mut values = [0.0; 9];
+                for (value, partial) in values.iter_mut().zip(&Partial::ALL[FIRST_AND_SECOND]) {
+                    *value = derivatives.grid(*partial)?[at];
+                }
+                Some(values)
+            }
+            GridPartials::Some { voxels, values, .. } => Some(values[voxels.number(at)?]),
+        }
+    }
 }
 
 impl ImageCurvature {
@@ -54,10 +95,19 @@ impl ImageCurvature {
     /// Errors ([`Error::Argument`]) for a negative or non-finite σ, and as
     /// [`ImageCurvature::gaussian`].
     pub fn new(volume: &Volume, sigma: f64) -> Result<ImageCurvature> {
+        ImageCurvature::check_sigma(sigma)?;
         if sigma == 0.0 {
             Ok(ImageCurvature::spline(volume))
-        } else if sigma > 0.0 && sigma.is_finite() {
+        } else {
             ImageCurvature::gaussian(volume, sigma)
+        }
+    }
+
+    /// Errors ([`Error::Argument`]) unless `sigma` is finite and ≥ 0 (0: the
+    /// spline, no smoothing).
+    pub(crate) fn check_sigma(sigma: f64) -> Result<()> {
+        if sigma >= 0.0 && sigma.is_finite() {
+            Ok(())
         } else {
             Err(Error::Argument(format!(
                 "the smoothing σ must be finite and ≥ 0 (0: no smoothing), not {sigma}"
@@ -65,14 +115,63 @@ impl ImageCurvature {
         }
     }
 
+    /// [`ImageCurvature::new`] to be evaluated at `points` (world coordinates)
+    /// only: with σ > 0 the derivatives are kept at the corners of the cells that
+    /// hold the points (elsewhere the curvature is `None`, as outside the grid),
+    /// computed a few z slices at a time ([`Derivatives::at_voxels`]), so that
+    /// memory grows with the points rather than with the image. At the points, the
+    /// same values as [`ImageCurvature::new`]'s.
+    ///
+    /// Errors as [`ImageCurvature::new`].
+    pub fn at_points(volume: &Volume, sigma: f64, points: &[Point]) -> Result<ImageCurvature> {
+        ImageCurvature::check_sigma(sigma)?;
+        if sigma == 0.0 {
+            return Ok(ImageCurvature::spline(volume));
+        }
+        let origin = Point::from(volume.origin());
+        let world_to_grid = *volume.world_to_grid();
+        let mut voxels = VoxelSetBuilder::new(volume.len());
+        for point in points {
+            let index = world_to_grid * (point - origin);
+            if let Some((corners, _)) = corners_and_weights(volume.dims(), index.into()) {
+                corners.into_iter().for_each(|at| voxels.insert(at));
+            }
+        }
+        let voxels = voxels.build();
+        let partials = &Partial::ALL[FIRST_AND_SECOND];
+        let values = Derivatives::at_voxels(volume, sigma, partials, &voxels, |d, index| {
+            let values = d.components::<9>(FIRST_AND_SECOND.start, index);
+            values.map_or([f32::NAN; 9], |v| v.map(|x| x as f32))
+        })?;
+        Ok(ImageCurvature {
+            reconstruction: Reconstruction::Gaussian {
+                partials: GridPartials::Some {
+                    dims: volume.dims(),
+                    voxels,
+                    values,
+                },
+                origin,
+                world_to_grid,
+                direction: *volume.direction(),
+            },
+        })
+    }
+
     /// The image whose isosurfaces this curvature belongs to: `volume` smoothed
     /// (for the Gaussian), or `volume` itself (for the spline). `volume` must be the
     /// one this curvature was made from.
+    ///
+    /// Errors ([`Error::Argument`]) for a curvature made for some points
+    /// ([`ImageCurvature::at_points`]), which keeps no smoothed image.
     pub fn surface_volume<'v>(&self, volume: &'v Volume) -> Result<Cow<'v, Volume>> {
-        Ok(match self.smoothed() {
-            Some(smoothed) => Cow::Owned(volume.with_samples(smoothed.to_vec())?),
-            None => Cow::Borrowed(volume),
-        })
+        match (&self.reconstruction, self.smoothed()) {
+            (_, Some(smoothed)) => Ok(Cow::Owned(volume.with_samples(smoothed.to_vec())?)),
+            (Reconstruction::Spline(_), None) => Ok(Cow::Borrowed(volume)),
+            (Reconstruction::Gaussian { .. }, None) => Err(Error::Argument(
+                "this image curvature was made for some points only and keeps no smoothed image"
+                    .to_string(),
+            )),
+        }
     }
 
     /// Curvature of the image smoothed by a Gaussian of standard deviation `sigma`
@@ -84,7 +183,7 @@ impl ImageCurvature {
     pub fn gaussian(volume: &Volume, sigma: f64) -> Result<ImageCurvature> {
         Ok(ImageCurvature {
             reconstruction: Reconstruction::Gaussian {
-                derivatives: Derivatives::new(volume, sigma, 2)?,
+                partials: GridPartials::Whole(Derivatives::new(volume, sigma, 2)?),
                 origin: Point::from(volume.origin()),
                 world_to_grid: *volume.world_to_grid(),
                 direction: *volume.direction(),
@@ -102,11 +201,15 @@ impl ImageCurvature {
 
     /// The Gaussian-smoothed samples, the image whose isosurfaces this curvature
     /// belongs to; `None` for the spline, which interpolates the samples as they
-    /// are.
+    /// are, and for a curvature made for some points only
+    /// ([`ImageCurvature::at_points`]).
     pub fn smoothed(&self) -> Option<&[f32]> {
         match &self.reconstruction {
-            Reconstruction::Gaussian { derivatives, .. } => derivatives.grid(Partial::ALL[0]),
-            Reconstruction::Spline(_) => None,
+            Reconstruction::Gaussian {
+                partials: GridPartials::Whole(derivatives),
+                ..
+            } => derivatives.grid(Partial::ALL[0]),
+            _ => None,
         }
     }
 
@@ -115,14 +218,14 @@ impl ImageCurvature {
     pub fn derivatives_at(&self, point: &Point) -> Option<(Vector, Matrix3<f64>)> {
         match &self.reconstruction {
             Reconstruction::Gaussian {
-                derivatives,
+                partials,
                 origin,
                 world_to_grid,
                 direction,
             } => {
                 let index = world_to_grid * (point - origin);
                 let [gx, gy, gz, xx, xy, xz, yy, yz, zz] =
-                    trilinear(derivatives, [index.x, index.y, index.z])?;
+                    trilinear(partials, [index.x, index.y, index.z])?;
                 // The partials are along the index axes in world lengths; the
                 // direction R is orthonormal (Derivatives checks it): g = R g_axes,
                 // H = R H_axes Rᵀ.
@@ -187,17 +290,19 @@ pub fn image_isosurface(
 }
 
 /// The nine first and second partials at the fractional index `index`,
-/// interpolated trilinearly; `None` outside the grid (beyond a small tolerance).
-fn trilinear(derivatives: &Derivatives, index: [f64; 3]) -> Option<[f64; 9]> {
-    let (corners, weights) = corners_and_weights(derivatives.dims(), index)?;
-    let mut out = [0.0; 9];
-    for (value, partial) in out.iter_mut().zip(&Partial::ALL[FIRST_AND_SECOND]) {
-        let grid = derivatives.grid(*partial)?;
-        *value = corners
+/// interpolated trilinearly; `None` outside the grid (beyond a small tolerance) or
+/// next to a grid point whose partials are not held.
+fn trilinear(partials: &GridPartials, index: [f64; 3]) -> Option<[f64; 9]> {
+    let (corners, weights) = corners_and_weights(partials.dims(), index)?;
+    let mut values = [[0.0; 9]; 8];
+    for (value, &at) in values.iter_mut().zip(&corners) {
+        *value = partials.at(at)?;
+    }
+    Some(std::array::from_fn(|p| {
+        values
             .iter()
             .zip(weights)
-            .map(|(&at, w)| w * f64::from(grid[at]))
-            .sum();
-    }
-    Some(out)
+            .map(|(value, w)| w * f64::from(value[p]))
+            .sum()
+    }))
 }

@@ -10,7 +10,7 @@ use crate::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
 use crate::error::readable;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
-use crate::volume::{isosurface as marching_cubes, Volume};
+use crate::volume::{isosurface as marching_cubes, Derivatives, Partial, Volume};
 use crate::{Error, Result};
 
 /// One voxel: the largest spacing of `volume`, the unit of the image jobs'
@@ -144,6 +144,24 @@ impl Surface {
     }
 }
 
+/// The image the isosurface is taken from: `volume` smoothed by a Gaussian of
+/// standard deviation `sigma` (world units), or `volume` itself for `sigma = 0`
+/// (whose curvature is the cubic B-spline's, [`ImageCurvature::new`]).
+///
+/// Errors as [`ImageCurvature::new`] (a negative or non-finite σ, or one absurd
+/// for the grid).
+fn smoothed_image(volume: &Volume, sigma: f64) -> Result<Cow<'_, Volume>> {
+    if sigma == 0.0 {
+        return Ok(Cow::Borrowed(volume));
+    }
+    ImageCurvature::check_sigma(sigma)?;
+    let value = Partial::ALL[0];
+    let smoothed = Derivatives::with_partials(volume, sigma, &[value])?.into_grid(value);
+    Ok(Cow::Owned(volume.with_samples(
+        smoothed.expect("the values are computed"),
+    )?))
+}
+
 /// A sample value outside the surface `f = level` (below the level), as far
 /// below it as the largest sample is above, so that a cap closing the surface at
 /// the border of the grid lies within half a voxel of the border (`max`: the
@@ -192,8 +210,11 @@ fn check_level(
 
 /// The isosurface `f = level` of `volume` (inside is `f ≥ level`) smoothed as
 /// `options` say, as a closed oriented mesh with the curvature `options` choose:
-/// the stages `smoothing`, `isosurface` and `mesh`, and the counts `vertices` and
-/// `faces`. Non-finite samples are replaced first ([`prepared_image`]).
+/// the stages `smoothing`, `isosurface`, `mesh` and (for the image's curvature)
+/// `derivatives`, and the counts `vertices` and `faces`. Non-finite samples are
+/// replaced first ([`prepared_image`]). The smoothed image is dropped once the
+/// surface is extracted, and the image's derivatives are kept only around the
+/// vertices ([`ImageCurvature::at_points`]).
 pub fn isosurface(
     volume: &Volume,
     level: f64,
@@ -203,15 +224,15 @@ pub fn isosurface(
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
     let voxel = voxel_size(&volume);
     let sigma = options.sigma.resolve(voxel);
-    let curvature = try_stage(observer, "smoothing", || {
-        ImageCurvature::new(&volume, sigma)
-    })?;
+    let smoothed = try_stage(observer, "smoothing", || smoothed_image(&volume, sigma))?;
     let surface = try_stage(observer, "isosurface", || {
-        let smoothed = curvature.surface_volume(&volume)?;
         let smoothing = matches!(smoothed, Cow::Owned(_));
         let max = check_level(&volume, &smoothed, smoothing, level, sigma)?;
         if options.close {
-            marching_cubes(&smoothed.padded(outside(max, level))?, level)
+            marching_cubes(
+                &smoothed.into_owned().into_padded(outside(max, level))?,
+                level,
+            )
         } else {
             marching_cubes(&smoothed, level)
         }
@@ -220,7 +241,9 @@ pub fn isosurface(
     observer.count("vertices", mesh.vertex_count());
     observer.count("faces", mesh.face_count());
     let curvature: Option<Arc<dyn CurvatureEstimator + Send + Sync>> = match options.curvature {
-        CurvatureSource::Image => Some(Arc::new(curvature)),
+        CurvatureSource::Image => Some(Arc::new(try_stage(observer, "derivatives", || {
+            ImageCurvature::at_points(&volume, sigma, mesh.positions())
+        })?)),
         CurvatureSource::Mesh => None,
     };
     Ok(Surface {

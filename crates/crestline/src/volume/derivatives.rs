@@ -17,10 +17,15 @@ use super::grid::Grid;
 use super::jet::{hessian_from_components, Jet, ThirdOrder};
 use super::kernels::{check_sigma, Kernel, MAX_ORDER};
 use super::separable::{self, AxisKernels, HalfKernel};
+use super::voxel_set::VoxelSet;
 use super::Volume;
 use crate::{Error, Result, Vector};
 use nalgebra::Matrix3;
+use rayon::prelude::*;
 use std::ops::Range;
+
+/// The z slices whose derivatives [`Derivatives::at_voxels`] holds at once.
+const BLOCK_SLICES: usize = 8;
 
 /// One partial derivative along the index axes, `∂^(a+b+c) f / ∂xᵃ ∂yᵇ ∂zᶜ` with
 /// total order `a + b + c ≤ 3`, lengths along the axes in world units.
@@ -234,6 +239,40 @@ impl Derivatives {
         })
     }
 
+    /// `value(derivatives, index)` at each member of `voxels` (sample `index`), in
+    /// order, with `derivatives` holding `partials` of `volume` smoothed by `sigma`
+    /// on a block of [`BLOCK_SLICES`] z slices that holds `index`: the derivatives
+    /// at scattered samples in the memory of a few slices. Blocks without a member
+    /// are not computed; the members of a block are evaluated in parallel.
+    ///
+    /// Errors as [`Derivatives::on_slices`].
+    pub(crate) fn at_voxels<T: Send>(
+        volume: &Volume,
+        sigma: f64,
+        partials: &[Partial],
+        voxels: &VoxelSet,
+        value: impl Fn(&Derivatives, [usize; 3]) -> T + Sync,
+    ) -> Result<Vec<T>> {
+        orthonormal_direction(volume)?;
+        world_kernels(volume, sigma)?;
+        let grid = volume.grid();
+        let (nz, plane) = (grid.dims[2], grid.plane_len());
+        let mut values = Vec::with_capacity(voxels.len());
+        for first in (0..nz).step_by(BLOCK_SLICES) {
+            let slices = first..(first + BLOCK_SLICES).min(nz);
+            let members: Vec<usize> = voxels
+                .members(slices.start * plane..slices.end * plane)
+                .collect();
+            if members.is_empty() {
+                continue;
+            }
+            let derivatives = Derivatives::on_slices(volume, sigma, partials, slices)?;
+            let at = |&at: &usize| value(&derivatives, grid.position_of(at));
+            values.par_extend(members.par_iter().map(at));
+        }
+        Ok(values)
+    }
+
     /// The number of samples along x, y and z (those of the volume).
     pub fn dims(&self) -> [usize; 3] {
         self.dims
@@ -299,8 +338,12 @@ impl Derivatives {
     }
 
     /// The values at voxel `index` of the `N` partials of [`Partial::ALL`] from
-    /// position `first` on.
-    fn components<const N: usize>(&self, first: usize, index: [usize; 3]) -> Option<[f64; N]> {
+    /// position `first` on, along the index axes.
+    pub(crate) fn components<const N: usize>(
+        &self,
+        first: usize,
+        index: [usize; 3],
+    ) -> Option<[f64; N]> {
         let [i, j, k] = index;
         let k = k.checked_sub(self.slices.start)?;
         let [nx, ny, _] = self.dims;

@@ -268,17 +268,38 @@ impl Volume {
     /// isosurface of it that reaches the border of the grid is closed there when
     /// `value` is outside the surface.
     pub fn padded(&self, value: f32) -> Result<Volume> {
+        self.clone().into_padded(value)
+    }
+
+    /// [`Volume::padded`], reusing this volume's memory: the samples are grown in
+    /// place (a large allocation is remapped, not copied) and moved to their padded
+    /// places from the last down, so that no second copy of the image is held.
+    pub fn into_padded(self, value: f32) -> Result<Volume> {
         let [nx, ny, nz] = self.dims;
         let dims = [nx + 2, ny + 2, nz + 2];
-        let mut samples = vec![value; voxel_count(dims)?];
-        for k in 0..nz {
-            for j in 0..ny {
+        let origin = self.index_to_world([-1.0; 3]);
+        let padded = Grid { dims };
+        let mut samples = self.samples;
+        samples.resize(voxel_count(dims)?, value);
+        // Every sample moves to a higher index, so going down never overwrites one
+        // still to move.
+        for k in (0..nz).rev() {
+            for j in (0..ny).rev() {
                 let from = nx * (j + ny * k);
-                let to = 1 + dims[0] * (j + 1 + dims[1] * (k + 1));
-                samples[to..to + nx].copy_from_slice(&self.samples[from..from + nx]);
+                samples.copy_within(from..from + nx, padded.index([1, j + 1, k + 1]));
             }
         }
-        let origin = self.index_to_world([-1.0; 3]);
+        for k in 0..dims[2] {
+            for j in 0..dims[1] {
+                let row = &mut samples[padded.index([0, j, k])..][..dims[0]];
+                if (1..=ny).contains(&j) && (1..=nz).contains(&k) {
+                    row[0] = value;
+                    row[nx + 1] = value;
+                } else {
+                    row.fill(value);
+                }
+            }
+        }
         Ok(
             Volume::new(dims, self.spacing, origin.into(), self.direction, samples)?
                 .with_space(self.space),
