@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::draw::{svg_document, write_png, write_svg, Style};
+use crestline::draw::{svg_document, write_png, write_svg, Page, Paper, PaperLength, Style};
 use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{draw, DrawingOptions, LinesChoice};
 use crestline::Result;
@@ -34,9 +34,10 @@ pub struct DrawArgs {
     #[arg(long)]
     pub silhouettes: bool,
     /// Feature lines are left out where they run beside a visible silhouette
-    /// (nearly parallel) closer than this many pixels; 0 keeps them.
-    #[arg(long, value_name = "PX", default_value_t = DrawingOptions::default().silhouette_clearance)]
-    pub silhouette_clearance: f64,
+    /// (nearly parallel) closer than this many pixels (millimetres with --page);
+    /// 0 keeps them. Default: 4 pixels (0.4 mm on a page)
+    #[arg(long, value_name = "PX")]
+    pub silhouette_clearance: Option<f64>,
     /// Borders, creases and suggestive contours.
     #[command(flatten)]
     pub families: FamilyArgs,
@@ -56,13 +57,30 @@ pub struct DrawArgs {
     pub perspective: Option<f64>,
     /// Canvas size in pixels.
     #[arg(long, value_name = "WxH", default_value_t = Size(DrawingOptions::default().size),
-          value_parser = parse_size)]
+          value_parser = parse_size, conflicts_with = "page")]
     pub size: Size,
+    /// Lay the drawing out on a page for a pen plotter or print: a4, a3, a5, a2,
+    /// letter, legal, tabloid or WxH with a unit (200x200mm, 8.5x11in), portrait.
+    /// The SVG gets the paper's size in millimetres, every line the pen's width,
+    /// and --taper and --silhouette-clearance are then in millimetres
+    #[arg(long, value_name = "PAPER")]
+    pub page: Option<Paper>,
+    /// Turn the page to landscape
+    #[arg(long, requires = "page")]
+    pub landscape: bool,
+    /// The blank border on every side of the page (mm, cm or in)
+    #[arg(long, value_name = "LENGTH", requires = "page",
+          default_value_t = PaperLength(Page::DEFAULT_MARGIN_MM), value_parser = parse_length)]
+    pub margin: PaperLength,
+    /// The pen's width: the stroke of every line on the page (mm, cm or in)
+    #[arg(long, value_name = "LENGTH", requires = "page",
+          default_value_t = PaperLength(Page::DEFAULT_PEN_MM), value_parser = parse_length)]
+    pub pen: PaperLength,
     /// JSON file overriding colours and widths per kind of line.
     #[arg(long, value_name = "FILE")]
     pub style: Option<PathBuf>,
-    /// Narrow the ends of every open line over this many pixels (as the style
-    /// key `taper` of every kind).
+    /// Narrow the ends of every open line over this many pixels, millimetres
+    /// with --page (as the style key `taper` of every kind).
     #[arg(long, value_name = "PX")]
     pub taper: Option<f64>,
     /// Thin every line with depth, down to half its width at the farthest point
@@ -110,6 +128,15 @@ impl DrawArgs {
             camera: self.camera,
             perspective: self.perspective,
             size: self.size.0,
+            page: self.page.map(|paper| Page {
+                paper: if self.landscape {
+                    paper.turned()
+                } else {
+                    paper
+                },
+                margin: self.margin,
+                pen: self.pen,
+            }),
             silhouettes: self.silhouettes,
             silhouette_clearance: self.silhouette_clearance,
             borders: self.families.borders,
@@ -167,7 +194,10 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         files.write(&args.output, |p| write_svg(p, &svg))
     })?;
     if let Some(png) = &png {
-        report.stage("png", || files.write(png, |p| write_png(p, &svg)))?;
+        let background = style.background.as_deref();
+        report.stage("png", || {
+            files.write(png, |p| write_png(p, &svg, background))
+        })?;
     }
     if let Some(path) = &args.report.report {
         files.write(path, |p| report.write(p))?;
@@ -193,6 +223,11 @@ fn parse_numbers<const N: usize>(text: &str) -> std::result::Result<[f64; N], St
     values
         .try_into()
         .map_err(|v: Vec<f64>| format!("expected {N} comma-separated numbers, got {}", v.len()))
+}
+
+/// A length on paper ([`PaperLength`]).
+fn parse_length(text: &str) -> std::result::Result<PaperLength, String> {
+    text.parse().map_err(|e: crestline::Error| e.to_string())
 }
 
 fn parse_view(text: &str) -> std::result::Result<[f64; 2], String> {

@@ -20,7 +20,7 @@ const BOTTOM: f64 = 52.0;
 /// cancellations (significance non-decreasing), with a dashed mark at `kept`
 /// saddles, to the PNG `path`.
 pub fn write_hierarchy_png(path: &Path, points: &[(f64, f64)], kept: f64) -> Result<()> {
-    crestline::draw::write_png(path, &hierarchy_svg(points, kept))
+    crestline::draw::write_png(path, &hierarchy_svg(points, kept), None)
 }
 
 /// The chart as an SVG document.

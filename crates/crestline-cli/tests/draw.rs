@@ -6,6 +6,118 @@ use std::process::Command;
 
 use common::crestline;
 
+/// The drawing of `meshes/bunny_small.obj` with silhouettes and `extra` options,
+/// parsed: its text.
+fn bunny_drawing(dir: &std::path::Path, extra: &[&str]) -> String {
+    let svg = dir.join("bunny.svg");
+    let mut args = vec![
+        "draw",
+        "meshes/bunny_small.obj",
+        "-o",
+        svg.to_str().unwrap(),
+        "--silhouettes",
+    ];
+    args.extend_from_slice(extra);
+    let out = crestline(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::read_to_string(&svg).unwrap()
+}
+
+const INKSCAPE: &str = "http://www.inkscape.org/namespaces/inkscape";
+
+#[test]
+fn every_family_is_an_inkscape_layer_in_plotting_order_and_the_background_no_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = bunny_drawing(dir.path(), &[]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let root = doc.root_element();
+    // Only layers and metadata at the top: a shape there would be plotted.
+    let top: Vec<&str> = root
+        .children()
+        .filter(|n| n.is_element())
+        .map(|n| n.tag_name().name())
+        .collect();
+    assert!(
+        top.iter().all(|t| ["title", "namedview", "g"].contains(t)),
+        "{top:?}"
+    );
+    assert!(!text.contains("<rect"));
+    assert_eq!(root.attribute("style"), Some("background-color:#ffffff"));
+    let layers: Vec<(String, String)> = root
+        .children()
+        .filter(|n| n.has_tag_name("g"))
+        .map(|g| {
+            assert_eq!(g.attribute((INKSCAPE, "groupmode")), Some("layer"));
+            let label = g.attribute((INKSCAPE, "label")).unwrap().to_string();
+            (label, g.attribute("id").unwrap().to_string())
+        })
+        .collect();
+    let expected = [
+        ("1 silhouettes", "silhouettes"),
+        ("2 ridges", "ridges"),
+        ("3 valleys", "valleys"),
+    ];
+    let expected: Vec<(String, String)> = expected
+        .iter()
+        .map(|(label, id)| (label.to_string(), id.to_string()))
+        .collect();
+    assert_eq!(layers, expected);
+}
+
+#[test]
+fn a_page_has_the_papers_physical_size_and_every_line_the_pens_width() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = bunny_drawing(
+        dir.path(),
+        &[
+            "--page",
+            "a4",
+            "--landscape",
+            "--margin",
+            "1cm",
+            "--pen",
+            "0.5mm",
+        ],
+    );
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let root = doc.root_element();
+    assert_eq!(root.attribute("width"), Some("297mm"));
+    assert_eq!(root.attribute("height"), Some("210mm"));
+    // Ten drawing pixels per millimetre: the canvas starts at the margin.
+    assert_eq!(root.attribute("viewBox"), Some("-100 -100 2970 2100"));
+    for g in root.children().filter(|n| n.has_tag_name("g")) {
+        assert_eq!(g.attribute("stroke-width"), Some("5"), "0.5 mm in tenths");
+    }
+    // Every point lies inside the margin.
+    let numbers = text
+        .split(['M', 'L', ' ', '"'])
+        .filter_map(|t| t.parse::<f64>().ok());
+    assert!(numbers
+        .into_iter()
+        .all(|v| (-100.0..=2870.0).contains(&v) || v == 2970.0 || v == 2100.0));
+    // A page and a size at once, a paper and a margin that leave nothing.
+    for (args, message) in [
+        (
+            &["--page", "a4", "--size", "100x100"][..],
+            "cannot be used with",
+        ),
+        (&["--page", "b9"], "is not a paper"),
+        (&["--page", "a5", "--margin", "80mm"], "leaves nothing"),
+        (&["--margin", "5mm"], "--page"),
+    ] {
+        let out = crestline(&[&["draw", "meshes/bunny_small.obj", "-o", "x.svg"], args].concat());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && stderr.contains(message),
+            "{args:?}: {stderr}"
+        );
+    }
+}
+
 #[test]
 fn the_draw_command_writes_svg_png_and_report() {
     let dir = tempfile::tempdir().unwrap();

@@ -40,7 +40,9 @@ fn draw<'py>(
         let style = options.style(Style::default())?;
         let drawing = jobs::draw(&surface, (None, given), &options, &mut observer)?;
         let svg = svg_document(&drawing, &style);
-        let image = png.then(|| render_png(&svg)).transpose()?;
+        let image = png
+            .then(|| render_png(&svg, style.background.as_deref()))
+            .transpose()?;
         Ok((svg, image))
     });
     let (svg, image) = observer.outcome(drawn)?;

@@ -173,6 +173,8 @@ def test_morse(bunny, tmp_path, args, kwargs):
     [
         (["--view", "20,15", "--silhouettes"], {"view": (20, 15), "silhouettes": True}),
         (["--lines", "morse", "--suggestive", "--size", "400x300"], {"lines": "morse", "suggestive": True, "size": (400, 300)}),
+        (["--silhouettes", "--page", "a5", "--landscape", "--pen", "0.5mm", "--taper", "2"],
+         {"silhouettes": True, "page": {"paper": "a5", "landscape": True, "pen": "0.5mm"}, "taper": 2.0}),
     ],
 )
 def test_draw(bunny, tmp_path, args, kwargs):

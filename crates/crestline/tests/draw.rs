@@ -321,7 +321,9 @@ fn the_png_preview_shows_the_lines() {
     let drawing = draw(&mesh, &input, &camera, &with_silhouettes()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("sphere.png");
-    write_png(&path, &svg_document(&drawing, &Style::default())).unwrap();
+    let style = Style::default();
+    let background = style.background.as_deref();
+    write_png(&path, &svg_document(&drawing, &style), background).unwrap();
     let pixmap = resvg::tiny_skia::Pixmap::load_png(&path).unwrap();
     assert_eq!((pixmap.width(), pixmap.height()), (200, 200));
     let pixels = pixmap.pixels();
@@ -424,6 +426,7 @@ fn line_weights_follow_the_taper_the_depth_and_the_view() {
             kind: LineKind::Ridge,
             paths: vec![path],
         }],
+        page: None,
     };
     let mut style = Style::default();
     let full = style.kind(LineKind::Ridge).width;

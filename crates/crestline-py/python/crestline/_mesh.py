@@ -270,6 +270,11 @@ def draw(
     ``borders``, ``creases`` (an angle in degrees), ``suggestive``, ``taper``,
     ``width_by_depth``, ``fade_by_view``, ``silhouette_clearance``, and ``ridges``
     and ``morse`` (dicts of the options of :func:`ridges` and :func:`morse`).
+    ``page`` lays the drawing out for a pen plotter or print: a paper (``"a4"``,
+    ``"letter"``, ``"200x200mm"``) or a dict ``{{"paper": "a4", "landscape": True,
+    "margin": "10mm", "pen": "0.3mm"}}``; the SVG then has the paper's size in
+    millimetres, every line the pen's width, and ``taper`` and
+    ``silhouette_clearance`` are in millimetres.
 
     Returns the SVG document, or ``(svg, png_bytes)`` with ``png=True``.
     """

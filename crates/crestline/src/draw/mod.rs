@@ -27,6 +27,7 @@ mod camera;
 mod depth;
 mod duplicates;
 mod edge_lines;
+mod page;
 #[cfg(feature = "png")]
 mod raster;
 mod silhouette;
@@ -49,6 +50,7 @@ pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
 pub use depth::DepthBuffer;
 pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex, PARALLEL_ANGLE};
 pub use edge_lines::{borders, creases};
+pub use page::{Page, Paper, PaperLength, PAPERS, PIXELS_PER_MM};
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
@@ -114,6 +116,8 @@ pub struct Drawing {
     pub height: u32,
     /// One group per kind of line, in drawing order.
     pub groups: Vec<Group>,
+    /// The page the canvas is the printable area of, if any ([`Page`]).
+    pub page: Option<Page>,
 }
 
 impl Drawing {
@@ -362,6 +366,7 @@ pub fn visible_drawing(
         width: camera.width(),
         height: camera.height(),
         groups,
+        page: None,
     })
 }
 

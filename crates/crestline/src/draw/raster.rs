@@ -8,9 +8,12 @@ use resvg::{tiny_skia, usvg};
 use crate::atomic::write_atomically;
 use crate::{Error, Result};
 
-/// Render the SVG text `svg` at its own size into PNG bytes. Errors are
-/// [`Error::Parse`]: invalid SVG, an image too large to allocate.
-pub fn render_png(svg: &str) -> Result<Vec<u8>> {
+/// Render the SVG text `svg` at its own size into PNG bytes, on `background` (a
+/// CSS colour; transparent without one). The drawings' background is the root's
+/// CSS `background-color`, which a plotter ignores and the renderer does too, so it
+/// is given here. Errors are [`Error::Parse`]: invalid SVG or colour, an image too
+/// large to allocate.
+pub fn render_png(svg: &str, background: Option<&str>) -> Result<Vec<u8>> {
     let tree = usvg::Tree::from_str(svg, &usvg::Options::default())
         .map_err(|e| Error::Parse(format!("the drawing is not valid SVG: {e}")))?;
     let size = tree.size().to_int_size();
@@ -21,6 +24,13 @@ pub fn render_png(svg: &str) -> Result<Vec<u8>> {
             size.height()
         ))
     })?;
+    if let Some(color) = background {
+        let color: svgtypes::Color = color
+            .parse()
+            .map_err(|e| Error::Parse(format!("the background '{color}' is not a colour: {e}")))?;
+        let (r, g, b, a) = (color.red, color.green, color.blue, color.alpha);
+        pixmap.fill(tiny_skia::Color::from_rgba8(r, g, b, a));
+    }
     resvg::render(
         &tree,
         tiny_skia::Transform::identity(),
@@ -31,9 +41,9 @@ pub fn render_png(svg: &str) -> Result<Vec<u8>> {
         .map_err(|e| Error::Parse(format!("cannot encode the PNG: {e}")))
 }
 
-/// Render `svg` and write it as a PNG file at `path` (under a temporary name,
-/// renamed on success).
-pub fn write_png(path: &Path, svg: &str) -> Result<()> {
-    let bytes = render_png(svg).map_err(|e| e.in_file(path))?;
+/// Render `svg` on `background` ([`render_png`]) and write it as a PNG file at
+/// `path` (under a temporary name, renamed on success).
+pub fn write_png(path: &Path, svg: &str, background: Option<&str>) -> Result<()> {
+    let bytes = render_png(svg, background).map_err(|e| e.in_file(path))?;
     write_atomically(path, |w| w.write_all(&bytes))
 }

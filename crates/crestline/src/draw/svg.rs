@@ -1,6 +1,18 @@
-//! The drawing as an SVG document: one `<g>` per kind of line (its id the
-//! [`group_name`]), one `<path>` per visible piece, coordinates in canvas pixels
-//! with two decimals, and a `viewBox` of the canvas.
+//! The drawing as an SVG document made for Inkscape and pen plotters as well as
+//! browsers:
+//!
+//! - one `<g>` per kind of line, an Inkscape layer (`inkscape:groupmode="layer"`)
+//!   labelled with its plotting order and [`group_name`] (`1 silhouettes`,
+//!   `2 ridges`), its `id` the name: Inkscape and the AxiDraw extension plot layers
+//!   in the order of that leading number, and vpype numbers its layers by it;
+//! - one `<path>` per visible piece, coordinates in canvas pixels with two
+//!   decimals;
+//! - the background is not a shape, which a plotter would draw as a frame: it is
+//!   the root's CSS `background-color` (browsers) and the page colour of
+//!   Inkscape's `sodipodi:namedview`;
+//! - without a page, the size is the canvas in pixels; on a [`Page`], the physical
+//!   size of the paper (`width="210mm"`) and a `viewBox` that maps the canvas's
+//!   pixels to millimetres ([`PIXELS_PER_MM`]), the canvas offset by the margin.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -9,6 +21,7 @@ use std::path::Path;
 use crate::atomic::write_atomically;
 use crate::Result;
 
+use super::page::{Page, PIXELS_PER_MM};
 use super::style::{group_name, KindStyle, Style};
 use super::{Drawing, Group, ScreenPath};
 
@@ -17,37 +30,75 @@ const WIDTH_FACTORS: (f64, f64) = (0.5, 2.0);
 
 /// The SVG text of `drawing` in `style`.
 pub fn svg_document(drawing: &Drawing, style: &Style) -> String {
-    let (width, height) = (drawing.width, drawing.height);
     let mut svg = String::new();
     svg.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let background = style
+        .background
+        .as_ref()
+        .map(|color| format!(" style=\"background-color:{color}\""))
+        .unwrap_or_default();
     let _ = writeln!(
         svg,
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\">"
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:inkscape=\"{INKSCAPE}\" xmlns:sodipodi=\"{SODIPODI}\" version=\"1.1\" {}{background}>",
+        size_and_view_box(drawing)
     );
     let _ = writeln!(svg, "<title>{}</title>", escape(&drawing.source));
-    if let Some(background) = &style.background {
+    if let Some(color) = &style.background {
         let _ = writeln!(
             svg,
-            "<rect id=\"background\" x=\"0\" y=\"0\" width=\"{width}\" height=\"{height}\" fill=\"{background}\"/>"
+            "<sodipodi:namedview pagecolor=\"{color}\" inkscape:pageopacity=\"1\" inkscape:document-units=\"{}\"/>",
+            if drawing.page.is_some() { "mm" } else { "px" }
         );
     }
     let depths = depth_range(drawing);
-    for group in &drawing.groups {
-        write_group(&mut svg, group, style.kind(group.kind), depths);
+    for (order, group) in drawing.groups.iter().enumerate() {
+        write_group(&mut svg, order + 1, group, style.kind(group.kind), depths);
     }
     svg.push_str("</svg>\n");
     svg
 }
 
-/// One `<g>` with the stroke of its kind and a `<path>` per piece; a piece whose
-/// width or opacity varies along it (by depth, tapered, faded by view) is written
-/// as short paths of constant width and opacity ([`write_varying`]). `depths` is
-/// the drawing's depth range.
-fn write_group(svg: &mut String, group: &Group, stroke: &KindStyle, depths: (f64, f64)) {
+/// The Inkscape namespace, of its layers.
+const INKSCAPE: &str = "http://www.inkscape.org/namespaces/inkscape";
+
+/// The Sodipodi namespace, of Inkscape's document settings.
+const SODIPODI: &str = "http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd";
+
+/// The `width`, `height` and `viewBox` attributes: the canvas in pixels, or the
+/// drawing's page in millimetres with the canvas inside its margin.
+fn size_and_view_box(drawing: &Drawing) -> String {
+    let (width, height) = (drawing.width, drawing.height);
+    match &drawing.page {
+        None => format!("width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\""),
+        Some(page) => {
+            let [w, h] = page.paper.size_mm;
+            let margin = Page::pixels(page.margin.0);
+            format!(
+                "width=\"{w}mm\" height=\"{h}mm\" viewBox=\"{x} {x} {vw} {vh}\"",
+                x = -margin,
+                vw = w * PIXELS_PER_MM,
+                vh = h * PIXELS_PER_MM
+            )
+        }
+    }
+}
+
+/// One `<g>`, the Inkscape layer `order` (from 1, the plotting order), with the
+/// stroke of its kind and a `<path>` per piece; a piece whose width or opacity
+/// varies along it (by depth, tapered, faded by view) is written as short paths of
+/// constant width and opacity ([`write_varying`]). `depths` is the drawing's depth
+/// range.
+fn write_group(
+    svg: &mut String,
+    order: usize,
+    group: &Group,
+    stroke: &KindStyle,
+    depths: (f64, f64),
+) {
+    let name = group_name(group.kind);
     let _ = writeln!(
         svg,
-        "<g id=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linecap=\"round\" stroke-linejoin=\"round\">",
-        group_name(group.kind),
+        "<g id=\"{name}\" inkscape:groupmode=\"layer\" inkscape:label=\"{order} {name}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linecap=\"round\" stroke-linejoin=\"round\">",
         stroke.color,
         stroke.width
     );

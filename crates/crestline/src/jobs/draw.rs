@@ -9,8 +9,8 @@ use super::morse::{morse, MorseOptions};
 use super::ridges::{ridges, RidgesOptions};
 use super::Length;
 use crate::draw::{
-    check_taper, draw_observed, runs_along_outlines, Camera, DrawOptions, Drawing, Projection,
-    Style, SuggestiveOptions, View,
+    check_taper, draw_observed, runs_along_outlines, Camera, DrawOptions, Drawing, Page,
+    Projection, Style, SuggestiveOptions, View,
 };
 use crate::lines::{FeatureLines, LineKind};
 use crate::progress::{try_stage_with, Observer};
@@ -54,13 +54,21 @@ pub struct DrawingOptions {
     /// Perspective projection with this field of view in degrees; orthographic
     /// without it. Default: orthographic.
     pub perspective: Option<f64>,
-    /// Canvas width and height in pixels. Default: 800 × 800.
+    /// Canvas width and height in pixels. Default: 800 × 800. With a `page` the
+    /// canvas is its printable area, and `size` must be left at its default.
     pub size: [u32; 2],
+    /// A physical page for pen plotters and print (paper, margin, pen): the SVG
+    /// declares the paper's size in millimetres, every line is stroked with the
+    /// pen, and `taper` and `silhouette_clearance` are in millimetres ([`Page`]).
+    /// Default: none, a canvas of `size` pixels.
+    pub page: Option<Page>,
     /// Also draw the silhouettes. Default: [`DrawOptions::default`]'s (no).
     pub silhouettes: bool,
     /// Feature lines are left out where they run beside a visible silhouette
-    /// closer than this many pixels; 0 keeps them. Default: [`DrawOptions`]'s.
-    pub silhouette_clearance: f64,
+    /// closer than this many pixels (millimetres on a `page`); 0 keeps them.
+    /// Default: [`DrawOptions`]'s pixels (their tenth in millimetres on a page,
+    /// the same at [`PIXELS_PER_MM`](crate::draw::PIXELS_PER_MM)).
+    pub silhouette_clearance: Option<f64>,
     /// Also draw the borders of an open mesh. Default: no.
     pub borders: bool,
     /// Also draw the creases, edges whose faces meet at a dihedral angle above
@@ -69,8 +77,8 @@ pub struct DrawingOptions {
     /// Also draw the suggestive contours (DeCarlo et al. 2003), from the curvature
     /// of the ridges' estimator. Default: no.
     pub suggestive: bool,
-    /// Narrow the ends of every open line over this many pixels. Default: the
-    /// style's.
+    /// Narrow the ends of every open line over this many pixels (millimetres on a
+    /// `page`). Default: the style's.
     pub taper: Option<f64>,
     /// Thin every line with depth. Default: the style's.
     pub width_by_depth: bool,
@@ -93,8 +101,9 @@ impl Default for DrawingOptions {
             camera: None,
             perspective: None,
             size: [800, 800],
+            page: None,
             silhouettes: drawing.silhouettes,
-            silhouette_clearance: drawing.silhouette_clearance,
+            silhouette_clearance: None,
             borders: drawing.borders,
             creases: drawing.crease_angle,
             suggestive: drawing.suggestive.is_some(),
@@ -110,14 +119,42 @@ impl Default for DrawingOptions {
 impl DrawingOptions {
     /// The settings of the drawing step ([`crate::draw::draw`]).
     pub fn draw_options(&self) -> DrawOptions {
+        let clearance = self.silhouette_clearance.map(|c| self.pixels(c));
         DrawOptions {
             silhouettes: self.silhouettes,
-            silhouette_clearance: self.silhouette_clearance,
+            silhouette_clearance: clearance.unwrap_or(DrawOptions::default().silhouette_clearance),
             borders: self.borders,
             crease_angle: self.creases,
             suggestive: self.suggestive.then(SuggestiveOptions::default),
             ..DrawOptions::default()
         }
+    }
+
+    /// A length of these options in canvas pixels: as given without a page, from
+    /// millimetres on one.
+    fn pixels(&self, length: f64) -> f64 {
+        if self.page.is_some() {
+            Page::pixels(length)
+        } else {
+            length
+        }
+    }
+
+    /// The canvas size: `size`, or the printable area of the page.
+    ///
+    /// Errors ([`Error::Argument`]) for a page that leaves nothing to draw on or a
+    /// pen that does not fit ([`Page::check`]), or a `size` given with a page.
+    pub fn canvas(&self) -> Result<[u32; 2]> {
+        let Some(page) = &self.page else {
+            return Ok(self.size);
+        };
+        page.check()?;
+        if self.size != DrawingOptions::default().size {
+            return Err(Error::Argument(
+                "`size` is the page's printable area on a `page`; leave `size` out".into(),
+            ));
+        }
+        Ok(page.canvas())
     }
 
     /// The camera that frames `surface` as these options say.
@@ -138,18 +175,23 @@ impl DrawingOptions {
                 .map_or(Projection::Orthographic, |fov| Projection::Perspective {
                     fov,
                 });
-        let [width, height] = self.size;
+        let [width, height] = self.canvas()?;
         Camera::framing(surface.mesh.positions(), view, projection, width, height)
     }
 
-    /// `style` with the line weights these options ask for.
+    /// `style` with the line weights these options ask for; on a page every line
+    /// stroked with the pen.
     pub fn style(&self, mut style: Style) -> Result<Style> {
-        if let Some(taper) = self.taper {
+        let taper = self.taper.map(|taper| self.pixels(taper));
+        if let Some(taper) = taper {
             check_taper("`taper`", taper).map_err(Error::Argument)?;
         }
         for kind in LineKind::ALL {
             let stroke = style.kind_mut(kind);
-            stroke.taper = self.taper.unwrap_or(stroke.taper);
+            if let Some(page) = &self.page {
+                stroke.width = Page::pixels(page.pen.0);
+            }
+            stroke.taper = taper.unwrap_or(stroke.taper);
             stroke.width_by_depth |= self.width_by_depth;
             stroke.fade_by_view |= self.fade_by_view && runs_along_outlines(kind);
         }
@@ -184,7 +226,7 @@ pub fn draw(
     };
     let no_lines = lines.is_empty();
     let estimator = surface.estimator(options.ridges.estimator);
-    let drawing = draw_observed(
+    let mut drawing = draw_observed(
         &surface.mesh,
         lines,
         &camera,
@@ -195,6 +237,7 @@ pub fn draw(
     if drawing.path_counts().iter().all(|&(_, count)| count == 0) {
         observer.warning(empty_drawing(options, no_lines));
     }
+    drawing.page = options.page;
     Ok(drawing)
 }
 
