@@ -91,6 +91,11 @@ pub struct DrawArgs {
     /// from the viewer (as the style key `fade_by_view` of those kinds).
     #[arg(long)]
     pub fade_by_view: bool,
+    /// For a pen plotter: every stroke drawn once, strokes joined where their ends
+    /// meet and ordered to keep the pen's travel in the air short; every stroke of
+    /// constant width (no --taper, --width-by-depth or --fade-by-view)
+    #[arg(long, conflicts_with_all = ["taper", "width_by_depth", "fade_by_view"])]
+    pub plot: bool,
     /// Also render a PNG preview next to the SVG (same name, .png).
     #[arg(long)]
     pub png: bool,
@@ -145,6 +150,7 @@ impl DrawArgs {
             taper: self.taper,
             width_by_depth: self.width_by_depth,
             fade_by_view: self.fade_by_view,
+            plot: self.plot,
             ridges: self.tracer.options(),
             morse: self.morse.options(self.tracer.estimator),
         }

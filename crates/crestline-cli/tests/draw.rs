@@ -108,6 +108,7 @@ fn a_page_has_the_papers_physical_size_and_every_line_the_pens_width() {
         (&["--page", "b9"], "is not a paper"),
         (&["--page", "a5", "--margin", "80mm"], "leaves nothing"),
         (&["--margin", "5mm"], "--page"),
+        (&["--plot", "--taper", "3"], "cannot be used with"),
     ] {
         let out = crestline(&[&["draw", "meshes/bunny_small.obj", "-o", "x.svg"], args].concat());
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -1,14 +1,19 @@
 """Drawings as pen-plotter users open them: read by vpype (the plotting pipeline most
 such users run), with its own rules for layers and pages."""
 
+import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 import vpype
+from scipy.spatial import cKDTree
+from vpype_cli import execute
 
 import crestline
 
 ROOT = Path(__file__).resolve().parents[3]
+TOOL = ROOT / "target" / "release" / "crestline"
 
 # vpype measures in CSS pixels: 96 per inch.
 PX_PER_MM = 96 / 25.4
@@ -24,6 +29,63 @@ def read(tmp_path, svg):
     path = tmp_path / "drawing.svg"
     path.write_text(svg)
     return vpype.read_multilayer_svg(str(path), quantization=0.1)
+
+
+def plotted(name, tmp_path):
+    """The file of the --plot drawing of a bundled mesh (silhouettes and ridges) or
+    of the MNI template's crest lines."""
+    path = tmp_path / f"{name}.svg"
+    if name == "mni":
+        if not TOOL.exists():
+            pytest.skip(f"{TOOL} is not built (run cargo build --release)")
+        volume = ROOT / "volumes" / "mni152_t1_1mm.nii.gz"
+        subprocess.run([TOOL, "draw", volume, "--level", "60", "--lines", "crest", "--plot", "-o", path],
+                       check=True, capture_output=True)
+    else:
+        vertices, faces, _ = crestline.read_mesh(ROOT / "meshes" / f"{name}.obj")
+        path.write_text(crestline.draw(vertices, faces, silhouettes=True, plot=True))
+    return path
+
+
+def pen_up(document):
+    return sum(layer.pen_up_length()[0] for layer in document.layers.values())
+
+
+def share_beside_another_stroke(document, distance=0.5, step=0.1):
+    """The share of the drawn length within `distance` of another stroke, from
+    samples every `step` along every stroke."""
+    strokes = [line for layer in document.layers.values() for line in layer]
+    samples, owners = [], []
+    for k, line in enumerate(strokes):
+        points = np.column_stack([line.real, line.imag])
+        for a, b in zip(points[:-1], points[1:]):
+            count = max(1, int(np.ceil(np.hypot(*(b - a)) / step)))
+            samples.append(a + (b - a) * (np.arange(count) / count)[:, None])
+            owners.append(np.full(count, k))
+    points, owners = np.vstack(samples), np.concatenate(owners)
+    near = cKDTree(points).query_ball_point(points, distance)
+    beside = [any(owners[j] != owners[i] for j in neighbours) for i, neighbours in enumerate(near)]
+    return float(np.mean(beside))
+
+
+@pytest.mark.parametrize("name", ["bunny", "cow", "mni"])
+def test_vpype_cannot_shorten_the_pens_travel_and_no_stroke_is_drawn_twice(name, tmp_path):
+    path = plotted(name, tmp_path)
+    ours = vpype.read_multilayer_svg(str(path), quantization=0.1)
+    theirs = execute(f"read '{path}' linemerge linesort")
+    assert len(theirs.layers) == len(ours.layers)
+    assert pen_up(ours) <= pen_up(theirs) + 1e-6
+    assert share_beside_another_stroke(ours) < 0.01
+
+
+def test_plotting_shortens_the_travel_and_drops_nothing_but_duplicates(bunny, tmp_path):
+    plain = read(tmp_path, crestline.draw(*bunny, silhouettes=True))
+    plot = read(tmp_path, crestline.draw(*bunny, silhouettes=True, plot=True))
+    assert pen_up(plot) < 0.4 * pen_up(plain)
+    drawn = [sum(layer.length() for layer in d.layers.values()) for d in (plain, plot)]
+    assert 0.95 * drawn[0] < drawn[1] <= drawn[0]
+    with pytest.raises(crestline.ArgumentError, match="pen draws every stroke alike"):
+        crestline.draw(*bunny, plot=True, taper=5.0)
 
 
 def test_every_family_is_a_named_layer_in_plotting_order(bunny, tmp_path):

@@ -34,8 +34,9 @@ pub const PARALLEL_ANGLE: f64 = 30.0;
 /// side of a sample, so that pixel-scale wiggles do not decide it.
 const DIRECTION_REACH: f64 = 2.0;
 
-/// The segments of the visible silhouettes, bucketed in square cells of the
-/// clearance's size so that a query looks at 3 × 3 cells.
+/// The segments of strokes (the visible silhouettes, or the strokes a plotter
+/// keeps), bucketed in square cells of the clearance's size so that a query looks
+/// at 3 × 3 cells.
 pub struct SilhouetteIndex {
     cell: f64,
     segments: Vec<[[f64; 2]; 2]>,
@@ -52,16 +53,21 @@ impl SilhouetteIndex {
             cells: HashMap::new(),
         };
         for path in paths {
-            let closing = match (path.closed, path.points.first(), path.points.last()) {
-                (true, Some(&first), Some(&last)) => Some([last, first]),
-                _ => None,
-            };
-            let segments = path.points.windows(2).map(|w| [w[0], w[1]]);
-            for segment in segments.chain(closing) {
-                index.insert(segment);
-            }
+            index.insert_path(path);
         }
         index
+    }
+
+    /// Adds the segments of `path` (a closed path's closing segment too).
+    pub(crate) fn insert_path(&mut self, path: &ScreenPath) {
+        let closing = match (path.closed, path.points.first(), path.points.last()) {
+            (true, Some(&first), Some(&last)) => Some([last, first]),
+            _ => None,
+        };
+        let segments = path.points.windows(2).map(|w| [w[0], w[1]]);
+        for segment in segments.chain(closing) {
+            self.insert(segment);
+        }
     }
 
     fn insert(&mut self, segment: [[f64; 2]; 2]) {
@@ -116,13 +122,54 @@ pub fn clear_of_silhouettes(
     index: &SilhouetteIndex,
     clearance: f64,
 ) -> Vec<ScreenPath> {
-    let points = &path.points;
-    let beside: Vec<bool> = (0..points.len())
-        .map(|i| index.runs_beside(points[i], direction_at(points, i), clearance))
-        .collect();
+    let beside = beside(path, index, clearance);
     if !beside.contains(&true) {
         return vec![path.clone()];
     }
+    kept_pieces(path, &beside, 2.0 * clearance)
+}
+
+/// The parts of `path` (densely sampled) left when its runs beside a stroke of
+/// `index` within `clearance` pixels are dropped, those runs at least `shortest`
+/// pixels long only: shorter ones (where strokes meet end to end or cross) stay. A
+/// path with nothing dropped is returned whole.
+pub(crate) fn clear_of(
+    path: &ScreenPath,
+    index: &SilhouetteIndex,
+    clearance: f64,
+    shortest: f64,
+) -> Vec<ScreenPath> {
+    let mut beside = beside(path, index, clearance);
+    let points = &path.points;
+    let mut start = 0;
+    while start < beside.len() {
+        let end = (start..beside.len())
+            .find(|&i| beside[i] != beside[start])
+            .unwrap_or(beside.len());
+        if beside[start] && length(&points[start..end]) < shortest {
+            beside[start..end].fill(false);
+        }
+        start = end;
+    }
+    if !beside.contains(&true) {
+        return vec![path.clone()];
+    }
+    kept_pieces(path, &beside, 0.0)
+}
+
+/// Whether each sample of `path` runs beside a stroke of `index` within
+/// `clearance`.
+fn beside(path: &ScreenPath, index: &SilhouetteIndex, clearance: f64) -> Vec<bool> {
+    let points = &path.points;
+    (0..points.len())
+        .map(|i| index.runs_beside(points[i], direction_at(points, i), clearance))
+        .collect()
+}
+
+/// The runs of `path` between the samples flagged in `dropped`, as open paths,
+/// those at least `shortest` pixels long.
+fn kept_pieces(path: &ScreenPath, dropped: &[bool], shortest: f64) -> Vec<ScreenPath> {
+    let points = &path.points;
     let piece = |range: std::ops::Range<usize>| ScreenPath {
         points: points[range.clone()].to_vec(),
         // Paths made without depths or facings keep none.
@@ -133,9 +180,9 @@ pub fn clear_of_silhouettes(
     };
     let mut pieces = Vec::new();
     let mut start = 0;
-    for (i, &dropped) in beside.iter().chain([&true]).enumerate() {
+    for (i, &dropped) in dropped.iter().chain([&true]).enumerate() {
         if dropped {
-            if i > start + 1 && length(&points[start..i]) >= 2.0 * clearance {
+            if i > start + 1 && length(&points[start..i]) >= shortest {
                 pieces.push(piece(start..i));
             }
             start = i + 1;

@@ -28,6 +28,7 @@ mod depth;
 mod duplicates;
 mod edge_lines;
 mod page;
+mod plot;
 #[cfg(feature = "png")]
 mod raster;
 mod silhouette;
@@ -51,6 +52,7 @@ pub use depth::DepthBuffer;
 pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex, PARALLEL_ANGLE};
 pub use edge_lines::{borders, creases};
 pub use page::{Page, Paper, PaperLength, PAPERS, PIXELS_PER_MM};
+pub use plot::{for_plotter, DUPLICATE_DISTANCE, JOIN_DISTANCE, SHORTEST_DUPLICATE};
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
@@ -194,6 +196,9 @@ pub struct DrawOptions {
     /// they run beside a visible silhouette (within [`PARALLEL_ANGLE`]) closer
     /// than this many pixels: the outline already shows that crest. 0 keeps them.
     pub silhouette_clearance: f64,
+    /// For a pen plotter: every stroke drawn once ([`DUPLICATE_DISTANCE`]; the
+    /// joining and ordering of the strokes is [`for_plotter`]'s, on the drawing).
+    pub plot: bool,
 }
 
 impl Default for DrawOptions {
@@ -210,6 +215,7 @@ impl Default for DrawOptions {
             sample_spacing: 0.5,
             simplify_tolerance: 0.25,
             silhouette_clearance: 4.0,
+            plot: false,
         }
     }
 }
@@ -343,13 +349,17 @@ pub fn visible_drawing(
     if options.silhouette_clearance > 0.0 {
         clear_feature_lines(&mut pieces, options.silhouette_clearance);
     }
+    if options.plot {
+        pieces.sort_by_key(|(kind, _)| plotting_rank(*kind));
+        plot::without_duplicates(&mut pieces);
+    }
     pieces.par_iter_mut().for_each(|(_, paths)| {
         for path in paths {
             path.simplify(options.simplify_tolerance);
         }
     });
     let mut kinds: Vec<LineKind> = lines.count_by_kind().into_keys().collect();
-    kinds.sort_by_key(|&kind| (kind != LineKind::Silhouette, kind));
+    kinds.sort_by_key(|&kind| plotting_rank(kind));
     let groups = kinds
         .into_iter()
         .map(|kind| Group {
@@ -368,6 +378,12 @@ pub fn visible_drawing(
         groups,
         page: None,
     })
+}
+
+/// The place of `kind` in the drawing (and plotting) order: silhouettes first,
+/// underneath the feature lines, then the kinds in their order.
+fn plotting_rank(kind: LineKind) -> (bool, LineKind) {
+    (kind != LineKind::Silhouette, kind)
 }
 
 /// Drops the parts of the feature lines' visible `pieces` that run beside a

@@ -9,8 +9,8 @@ use super::morse::{morse, MorseOptions};
 use super::ridges::{ridges, RidgesOptions};
 use super::Length;
 use crate::draw::{
-    check_taper, draw_observed, runs_along_outlines, Camera, DrawOptions, Drawing, Page,
-    Projection, Style, SuggestiveOptions, View,
+    check_taper, draw_observed, for_plotter, runs_along_outlines, Camera, DrawOptions, Drawing,
+    Page, Projection, Style, SuggestiveOptions, View,
 };
 use crate::lines::{FeatureLines, LineKind};
 use crate::progress::{try_stage_with, Observer};
@@ -85,6 +85,11 @@ pub struct DrawingOptions {
     /// Fade the feature lines where the surface turns away from the viewer.
     /// Default: the style's.
     pub fade_by_view: bool,
+    /// For a pen plotter: every stroke drawn once, strokes joined where their ends
+    /// meet and ordered to keep the pen's travel short ([`for_plotter`]); every
+    /// stroke of constant width (`taper`, `width_by_depth` and `fade_by_view` are
+    /// refused, and the style's ignored). Default: no.
+    pub plot: bool,
     /// How ridges are traced (`lines` ridges; their estimator also serves the
     /// suggestive contours, and their threshold the crest lines).
     pub ridges: RidgesOptions,
@@ -110,6 +115,7 @@ impl Default for DrawingOptions {
             taper: None,
             width_by_depth: false,
             fade_by_view: false,
+            plot: false,
             ridges: RidgesOptions::default(),
             morse: MorseOptions::default(),
         }
@@ -126,6 +132,7 @@ impl DrawingOptions {
             borders: self.borders,
             crease_angle: self.creases,
             suggestive: self.suggestive.then(SuggestiveOptions::default),
+            plot: self.plot,
             ..DrawOptions::default()
         }
     }
@@ -182,6 +189,13 @@ impl DrawingOptions {
     /// `style` with the line weights these options ask for; on a page every line
     /// stroked with the pen.
     pub fn style(&self, mut style: Style) -> Result<Style> {
+        if self.plot && (self.taper.is_some() || self.width_by_depth || self.fade_by_view) {
+            return Err(Error::Argument(
+                "a pen draws every stroke alike: `plot` takes no `taper`, `width_by_depth` or \
+                 `fade_by_view`"
+                    .into(),
+            ));
+        }
         let taper = self.taper.map(|taper| self.pixels(taper));
         if let Some(taper) = taper {
             check_taper("`taper`", taper).map_err(Error::Argument)?;
@@ -194,6 +208,9 @@ impl DrawingOptions {
             stroke.taper = taper.unwrap_or(stroke.taper);
             stroke.width_by_depth |= self.width_by_depth;
             stroke.fade_by_view |= self.fade_by_view && runs_along_outlines(kind);
+            if self.plot {
+                (stroke.taper, stroke.width_by_depth, stroke.fade_by_view) = (0.0, false, false);
+            }
         }
         Ok(style)
     }
@@ -238,6 +255,9 @@ pub fn draw(
         observer.warning(empty_drawing(options, no_lines));
     }
     drawing.page = options.page;
+    if options.plot {
+        for_plotter(&mut drawing);
+    }
     Ok(drawing)
 }
 
