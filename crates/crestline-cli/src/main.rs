@@ -21,6 +21,7 @@ mod ridges;
 mod signals;
 mod surface;
 mod volume_info;
+mod view;
 
 use std::path::PathBuf;
 
@@ -65,6 +66,8 @@ enum Command {
     Morse(morse::MorseCommand),
     /// Find the rigid motion taking one scan's feature lines onto another's (trimmed ICP).
     Register(register::RegisterArgs),
+    /// An interactive 3D view of the surface and its lines, as one self-contained HTML file.
+    View(Box<view::ViewArgs>),
 }
 
 /// Options every computing command accepts.
@@ -149,6 +152,7 @@ fn main() -> ExitCode {
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),
         Command::Register(args) => register::run(&args),
+        Command::View(args) => view::run(&args),
     };
     match (outcome, signals::received()) {
         (Ok(()), _) => ExitCode::SUCCESS,

@@ -83,6 +83,8 @@ pub mod progress;
 pub mod register;
 pub mod ridges;
 pub mod space;
+#[cfg(feature = "view")]
+pub mod view;
 pub mod volume;
 
 pub use error::{Error, Result};

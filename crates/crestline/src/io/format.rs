@@ -43,6 +43,8 @@ pub enum FileFormat {
     Svg,
     /// `.png`: rendered drawings.
     Png,
+    /// `.html`: interactive 3D views.
+    Html,
     /// `.nii`: NIfTI-1 or NIfTI-2 images.
     Nifti,
     /// `.nii.gz`: gzip-compressed NIfTI images.
@@ -59,7 +61,7 @@ pub enum FileFormat {
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 19] = [
+    pub const ALL: [FileFormat; 20] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
@@ -73,6 +75,7 @@ impl FileFormat {
         FileFormat::ItkTransform,
         FileFormat::Svg,
         FileFormat::Png,
+        FileFormat::Html,
         FileFormat::Nifti,
         FileFormat::NiftiGz,
         FileFormat::Nrrd,
@@ -98,6 +101,7 @@ impl FileFormat {
             FileFormat::ItkTransform => "tfm",
             FileFormat::Svg => "svg",
             FileFormat::Png => "png",
+            FileFormat::Html => "html",
             FileFormat::Nifti => "nii",
             FileFormat::NiftiGz => "nii.gz",
             FileFormat::Nrrd => "nrrd",

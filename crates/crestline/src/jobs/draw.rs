@@ -238,7 +238,8 @@ pub fn draw(
     let lines = match given {
         Some(lines) => lines,
         None => try_stage_with(observer, "extraction", |observer| {
-            feature_lines(surface, volume, options, observer)
+            let choice = (options.lines, &options.ridges, &options.morse);
+            feature_lines_of(surface, volume, choice, observer)
         })?,
     };
     let no_lines = lines.is_empty();
@@ -261,16 +262,17 @@ pub fn draw(
     Ok(drawing)
 }
 
-/// The feature lines `options.lines` chooses.
-fn feature_lines(
+/// The feature lines `lines` chooses, traced with `ridges` or `morse` (the
+/// ridges' threshold also filters crest lines).
+pub(super) fn feature_lines_of(
     surface: &Surface,
     volume: Option<&Volume>,
-    options: &DrawingOptions,
+    (lines, ridges_options, morse_options): (LinesChoice, &RidgesOptions, &MorseOptions),
     observer: &mut dyn Observer,
 ) -> Result<FeatureLines> {
-    match options.lines {
-        LinesChoice::Ridges => ridges(surface, &options.ridges, observer),
-        LinesChoice::Morse => Ok(morse(surface, None, &options.morse, observer)?.0),
+    match lines {
+        LinesChoice::Ridges => ridges(surface, ridges_options, observer),
+        LinesChoice::Morse => Ok(morse(surface, None, morse_options, observer)?.0),
         LinesChoice::Crest => {
             let (Some(volume), Some(from)) = (volume, surface.image) else {
                 return Err(Error::Argument(
@@ -280,7 +282,7 @@ fn feature_lines(
             };
             let crest = CrestLinesOptions {
                 sigma: Length::World(from.sigma),
-                min_strength: options.ridges.threshold,
+                min_strength: ridges_options.threshold,
                 ..CrestLinesOptions::default()
             };
             crest_lines(volume, from.level, &crest, observer)

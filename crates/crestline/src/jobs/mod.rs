@@ -27,6 +27,7 @@
 //! | `draw` | [`draw`] | [`DrawingOptions`] |
 //! | `register` | [`register()`] | [`RegistrationOptions`](crate::register::RegistrationOptions) |
 //! | `landmarks` | [`landmarks`] | [`LandmarksOptions`] |
+//! | `view` | [`view`] | [`ViewOptions`] |
 //!
 //! [`defaults`] gives every options struct's defaults as JSON, as the Python
 //! package reads them.
@@ -43,6 +44,7 @@ mod mesh;
 mod morse;
 mod register;
 mod ridges;
+mod view;
 
 pub use crease::{crease, CreaseOptions};
 pub use crest::{crest_lines, CrestLinesOptions};
@@ -59,6 +61,7 @@ pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
 pub use register::{read_point_set, register};
 pub use ridges::{ridges, RidgesOptions};
+pub use view::{view, ViewOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":
 /// {...}, ...}`, keyed by job and then by option, as the options structs
@@ -74,6 +77,7 @@ pub fn defaults() -> serde_json::Value {
         "draw": DrawingOptions::default(),
         "register": crate::register::RegistrationOptions::default(),
         "landmarks": LandmarksOptions::default(),
+        "view": ViewOptions::default(),
     })
 }
 

@@ -1,0 +1,77 @@
+//! `crestline view`: an interactive 3D view of a mesh or of an image's isosurface
+//! with its feature lines, as one self-contained HTML file.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use crestline::draw::Style;
+use crestline::io::{choose_format, write_atomically, FileFormat};
+use crestline::jobs::{view, LinesChoice, ViewOptions};
+use crestline::view::view_html;
+use crestline::Result;
+
+use super::failure::explain;
+use super::load::report_with_progress;
+use super::morse::MorseArgs;
+use super::outputs::{check_paths, OutputSet, Role};
+use super::ridges::{load_for_tracing, options_for, TracerArgs};
+use super::ReportArg;
+
+/// Arguments of `crestline view`.
+#[derive(clap::Args, Debug)]
+pub struct ViewArgs {
+    /// The mesh (.obj, .ply, .off, .stl) or 3D image (with --level).
+    pub mesh: PathBuf,
+    /// Output view (.html): one file that opens in a browser with no network.
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Which feature lines to show: ridges (the options of `crestline ridges`),
+    /// morse (those of `crestline morse`), crest (for a 3D image: its crest lines
+    /// by Marching Lines) or none.
+    #[arg(long, default_value_t = ViewOptions::default().lines,
+          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
+    pub lines: LinesChoice,
+    /// Options of the Morse-Smale lines (with `--lines morse`).
+    #[command(flatten)]
+    pub morse: MorseArgs,
+    #[command(flatten)]
+    pub tracer: TracerArgs,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// Trace the lines, estimate the curvature and write the view.
+pub fn run(args: &ViewArgs) -> Result<()> {
+    choose_format(&args.output, "a view (HTML)", &[FileFormat::Html])?;
+    let outputs: Vec<Role<'_>> = [Some(("-o", args.output.as_path())), args.report.output()]
+        .into_iter()
+        .flatten()
+        .collect();
+    check_paths(&args.tracer.inputs(&args.mesh), &outputs)?;
+    let mut report = report_with_progress("view", &args.mesh);
+    let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let options = ViewOptions {
+        lines: args.lines,
+        ridges: options_for(&loaded.surface.mesh, &args.mesh, &args.tracer)?,
+        morse: args.morse.options(args.tracer.estimator),
+    };
+    let input = (loaded.volume.as_ref(), None);
+    let (lines, curvature) =
+        view(&loaded.surface, input, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;
+    report.count("lines", lines.len());
+    let title = args.mesh.display().to_string();
+    let html = report.stage("html", || {
+        Ok(view_html(&loaded.surface.mesh, &lines, Some(&curvature), &Style::default(), &title))
+    })?;
+    let mut files = OutputSet::default();
+    report.stage("write", || files.write(&args.output, |p| write_html(p, &html)))?;
+    if let Some(path) = &args.report.report {
+        files.write(path, |p| report.write(p))?;
+    }
+    files.commit()
+}
+
+/// Write `html` to `path` (under a temporary name, renamed on success).
+fn write_html(path: &Path, html: &str) -> Result<()> {
+    write_atomically(path, |w| w.write_all(html.as_bytes()))
+}

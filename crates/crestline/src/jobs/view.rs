@@ -1,0 +1,51 @@
+//! What an interactive view of a surface shows (`crestline view`): its lines and
+//! its curvature, for [`crate::view::view_html`] (feature `view`) to write.
+
+use serde::{Deserialize, Serialize};
+
+use super::draw::{feature_lines_of, LinesChoice};
+use super::image::Surface;
+use super::morse::MorseOptions;
+use super::ridges::RidgesOptions;
+use crate::curvature::{estimate_curvature, CurvatureField};
+use crate::lines::FeatureLines;
+use crate::progress::{try_stage, try_stage_with, Observer};
+use crate::volume::Volume;
+use crate::Result;
+
+/// Options of [`view`].
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ViewOptions {
+    /// Which feature lines. Default: ridges.
+    pub lines: LinesChoice,
+    /// How ridges are traced (`lines` ridges; their estimator also gives the
+    /// curvature the surface is coloured by, and their threshold the crest lines).
+    pub ridges: RidgesOptions,
+    /// How Morse-Smale lines are extracted (`lines` morse).
+    pub morse: MorseOptions,
+}
+
+/// The lines (the stage `extraction`, with the stages of their job; or the `given`
+/// lines instead) and the curvature (the stage `curvature`, by the surface's
+/// estimator or the ridges' one) of `surface` that a view shows. `volume` is the
+/// image of an isosurface, which `lines` crest needs.
+pub fn view(
+    surface: &Surface,
+    (volume, given): (Option<&Volume>, Option<FeatureLines>),
+    options: &ViewOptions,
+    observer: &mut dyn Observer,
+) -> Result<(FeatureLines, CurvatureField)> {
+    let lines = match given {
+        Some(lines) => lines,
+        None => try_stage_with(observer, "extraction", |observer| {
+            let choice = (options.lines, &options.ridges, &options.morse);
+            feature_lines_of(surface, volume, choice, observer)
+        })?,
+    };
+    let estimator = surface.estimator(options.ridges.estimator);
+    let curvature = try_stage(observer, "curvature", || {
+        estimate_curvature(&surface.mesh, estimator.as_ref())
+    })?;
+    Ok((lines, curvature))
+}
