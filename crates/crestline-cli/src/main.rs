@@ -20,8 +20,8 @@ mod report;
 mod ridges;
 mod signals;
 mod surface;
-mod volume_info;
 mod view;
+mod volume_info;
 
 use std::path::PathBuf;
 

@@ -61,10 +61,18 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     report.count("lines", lines.len());
     let title = args.mesh.display().to_string();
     let html = report.stage("html", || {
-        Ok(view_html(&loaded.surface.mesh, &lines, Some(&curvature), &Style::default(), &title))
+        Ok(view_html(
+            &loaded.surface.mesh,
+            &lines,
+            Some(&curvature),
+            &Style::default(),
+            &title,
+        ))
     })?;
     let mut files = OutputSet::default();
-    report.stage("write", || files.write(&args.output, |p| write_html(p, &html)))?;
+    report.stage("write", || {
+        files.write(&args.output, |p| write_html(p, &html))
+    })?;
     if let Some(path) = &args.report.report {
         files.write(path, |p| report.write(p))?;
     }

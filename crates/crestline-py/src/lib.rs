@@ -11,6 +11,7 @@ mod jobs;
 mod lines;
 mod mesh;
 mod progress;
+mod view;
 mod volume;
 
 use pyo3::prelude::*;
@@ -20,6 +21,7 @@ use pyo3::prelude::*;
 fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     mesh::register(m)?;
     draw::register(m)?;
+    view::register(m)?;
     volume::register(m)?;
     jobs::register(m)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;

@@ -1,6 +1,6 @@
 //! The core crate's modules form layers along the data flow
 //! (base helpers → mesh → chaining → volume → io → curvature → lines → extractors →
-//! drawing → jobs, which assemble them for the command-line tool and Python),
+//! drawing → views → jobs, which assemble them for the command-line tool and Python),
 //! and no module imports from a layer above its own: volumes produce meshes
 //! (isosurfaces), so `volume` sits above `mesh`. This test reads every `crate::`
 //! path in `src/` and fails on an upward (or sideways, between extractors) edge.
@@ -30,7 +30,8 @@ const LAYERS: &[(&str, u32)] = &[
     ("landmarks", 7),
     ("register", 7),
     ("draw", 8),
-    ("jobs", 9),
+    ("view", 9),
+    ("jobs", 10),
 ];
 
 fn layer(module: &str) -> Option<u32> {

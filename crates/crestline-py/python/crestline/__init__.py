@@ -34,6 +34,7 @@ from ._crestline import __version__
 
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
+from ._view import View, view
 from ._mesh import Curvature, Estimator, Progress, curvature, draw, morse, read_mesh, ridges, write_mesh
 from ._jobs import DEFAULTS as _DEFAULTS
 from ._volume import (
@@ -76,6 +77,7 @@ __all__ = [
     "Progress",
     "Space",
     "StageError",
+    "View",
     "Volume",
     "crease_surface",
     "crest_lines",
@@ -89,6 +91,7 @@ __all__ = [
     "read_volume",
     "register",
     "ridges",
+    "view",
     "write_landmarks",
     "write_mesh",
     "write_transform",

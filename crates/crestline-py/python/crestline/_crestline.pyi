@@ -44,6 +44,14 @@ def draw(
     png: bool,
     progress: Optional[Any] = None,
 ) -> tuple[str, Optional[bytes]]: ...
+def view(
+    vertices: F64,
+    faces: I64,
+    lines: Optional[list[LineParts]],
+    options: str,
+    title: str,
+    progress: Optional[Any] = None,
+) -> str: ...
 def read_volume(path: str) -> tuple[npt.NDArray[np.float32], F64, Optional[str]]: ...
 def isosurface(
     samples: npt.NDArray[np.float32], affine: F64, level: float, options: str, progress: Optional[Any] = None

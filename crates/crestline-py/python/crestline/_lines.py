@@ -5,12 +5,15 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass, field
 from os import PathLike
-from typing import Any, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union, overload
+from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
 
 from ._checks import file_path
+
+if TYPE_CHECKING:
+    from ._view import View
 
 
 @dataclass(frozen=True)
@@ -112,6 +115,13 @@ class Lines(Sequence[Line]):
         from . import _crestline
 
         _crestline.write_lines(file_path(path), self._parts(), self.space)
+
+    def show(self, vertices: Any, faces: Any = None, title: str = "") -> "View":
+        """The interactive 3D view of these lines on the mesh (:func:`crestline.view`):
+        shown in Jupyter when it is a cell's result, written by ``.save(path)``."""
+        from ._view import view
+
+        return view(vertices, faces, lines=self, title=title)
 
     def _parts(self) -> List[Tuple[str, bool, float, npt.NDArray[np.float64], List[Tuple[str, List[float]]]]]:
         """The lines as the extension module takes them."""

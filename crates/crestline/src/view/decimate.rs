@@ -44,7 +44,10 @@ pub fn display_mesh(mesh: &Mesh, max_faces: usize) -> DisplayMesh {
     let positions = mesh.positions();
     if triangles.len() <= max_faces {
         return DisplayMesh {
-            positions: positions.iter().map(|p| [p.x, p.y, p.z].map(|x| x as f32)).collect(),
+            positions: positions
+                .iter()
+                .map(|p| [p.x, p.y, p.z].map(|x| x as f32))
+                .collect(),
             triangles,
             cluster: (0..positions.len() as u32).collect(),
         };

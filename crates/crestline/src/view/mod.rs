@@ -58,29 +58,29 @@ pub fn view_html(
     let display = display_mesh(mesh, DISPLAY_FACES);
     let scene = scene_json(mesh, &display, lines, curvature, style);
     let mut html = String::with_capacity(THREE.len() + scene.len() + 4096);
-    let _ = write!(
+    let _ = writeln!(
         html,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n\
          <style>{CSS}</style>\n</head>\n<body>\n\
          <canvas id=\"view\"></canvas>\n\
          <div id=\"panel\"><div id=\"families\"></div>\
          <label>surface <select id=\"color\"><option value=\"\">grey</option></select></label>\
-         <div id=\"info\"></div></div>\n",
+         <div id=\"info\"></div></div>",
         escape(title)
     );
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<script id=\"scene\" type=\"application/json\">{}</script>\n",
+        "<script id=\"scene\" type=\"application/json\">{}</script>",
         scene.replace("</", "<\\/")
     );
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<!-- three.js {}-->\n<script id=\"three\" type=\"text/plain\">{THREE}</script>\n",
+        "<!-- three.js {}-->\n<script id=\"three\" type=\"text/plain\">{THREE}</script>",
         escape(THREE_LICENSE).replace("--", "- -")
     );
-    let _ = write!(
+    let _ = writeln!(
         html,
-        "<script>{ON_ERROR}</script>\n<script type=\"module\">\n{VIEWER}</script>\n</body>\n</html>\n"
+        "<script>{ON_ERROR}</script>\n<script type=\"module\">\n{VIEWER}</script>\n</body>\n</html>"
     );
     html
 }
@@ -119,7 +119,13 @@ fn scene_json(
             ("k_min", &|v| k(v).1),
         ];
         for (name, value) in named {
-            let values = display.per_vertex(|v| if field.unreliable[v] { f64::NAN } else { value(v) });
+            let values = display.per_vertex(|v| {
+                if field.unreliable[v] {
+                    f64::NAN
+                } else {
+                    value(v)
+                }
+            });
             quantities.insert(name.into(), floats(&values).into());
         }
     }
