@@ -31,7 +31,7 @@
 //! - The smoothed image is kept whole (one value per sample), but the derivatives
 //!   of order 1 to 3 and the curvature only at the corners of the cells the
 //!   isosurface meets (the others cannot carry a line), computed over blocks of z
-//!   slices ([`frames`]): memory grows with the isosurface, not with the image.
+//!   slices (module `frames`): memory grows with the isosurface, not with the image.
 
 mod frames;
 

@@ -118,7 +118,7 @@ impl ImageCurvature {
     /// [`ImageCurvature::new`] to be evaluated at `points` (world coordinates)
     /// only: with σ > 0 the derivatives are kept at the corners of the cells that
     /// hold the points (elsewhere the curvature is `None`, as outside the grid),
-    /// computed a few z slices at a time ([`Derivatives::at_voxels`]), so that
+    /// computed a few z slices at a time, so that
     /// memory grows with the points rather than with the image. At the points, the
     /// same values as [`ImageCurvature::new`]'s.
     ///
