@@ -583,3 +583,29 @@ fn a_minimum_piece_size_that_empties_the_surface_is_named() {
     assert!(warning.contains("try a lower `min_component`"), "{warning}");
     assert!(!warning.contains("`strength`"), "{warning}");
 }
+
+#[test]
+fn a_field_kept_where_creases_are_strong_gives_the_same_surface_in_less_memory() {
+    use crestline::volume::crease::{crease_surface, default_options, Survey};
+    use crestline::volume::Smoothing;
+    let volume = crossing_sheets(SHEETS, 60f64.to_radians(), 2.5, 15.0);
+    let whole = ridge_field(&volume);
+    let survey = Survey::new(&volume, Smoothing::CubicSpline, true).unwrap();
+    let options = default_options(survey.eigenvalue_range());
+    assert_eq!(options, whole.default_options());
+    // Twice the default strength: fewer samples are strong, the surface is smaller.
+    let strong = CrossingOptions {
+        strength: 2.0 * options.strength,
+        ..options
+    };
+    let kept = survey.field(&volume, strong.strength).unwrap();
+    assert!(kept.kept_len() < whole.kept_len() / 2, "{} of {}", kept.kept_len(), whole.kept_len());
+    assert_eq!(whole.kept_len(), volume.len());
+    let expected = crease_surface(&whole, &strong, 0).unwrap();
+    let got = crease_surface(&kept, &strong, 0).unwrap();
+    assert!(!expected.triangles.is_empty());
+    assert_eq!(got.positions, expected.positions);
+    assert_eq!(got.triangles, expected.triangles);
+    // Asked for weaker creases than it keeps, the field refuses.
+    assert!(crease_surface(&kept, &options, 0).is_err());
+}

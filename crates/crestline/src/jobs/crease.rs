@@ -8,8 +8,10 @@ use serde::{Deserialize, Serialize};
 use super::image::prepared_image;
 use crate::mesh::TriangleSoup;
 use crate::progress::{try_stage, Observer};
-use crate::volume::crease::{crease_surface_observed, CreaseField, DEFAULT_STRENGTH_FRACTION};
-use crate::volume::{Derivatives, Volume};
+use crate::volume::crease::{
+    crease_surface_of, default_options, Survey, DEFAULT_STRENGTH_FRACTION,
+};
+use crate::volume::{Smoothing, Volume};
 use crate::{Error, Result};
 
 /// Options of [`crease`].
@@ -66,20 +68,21 @@ pub fn crease(
 ) -> Result<TriangleSoup> {
     options.check()?;
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
-    let derivatives = try_stage(observer, "reconstruction", || {
-        if options.sigma == 0.0 {
-            Derivatives::cubic_spline(&volume, 2)
-        } else {
-            Derivatives::new(&volume, options.sigma, 2)
-        }
+    let smoothing = if options.sigma == 0.0 {
+        Smoothing::CubicSpline
+    } else {
+        Smoothing::Gaussian(options.sigma)
+    };
+    let survey = try_stage(observer, "reconstruction", || {
+        Survey::new(&volume, smoothing, !options.valley)
     })?;
-    let field = try_stage(observer, "eigenframes", || {
-        CreaseField::new(&volume, &derivatives, !options.valley)
-    })?;
-    drop(derivatives);
-    let mut crossing = field.default_options();
+    let mut crossing = default_options(survey.eigenvalue_range());
     crossing.strength *= options.strength / DEFAULT_STRENGTH_FRACTION;
-    let soup = crease_surface_observed(&field, &crossing, options.min_component, observer)?;
+    let field = try_stage(observer, "eigenframes", || {
+        survey.field(&volume, crossing.strength)
+    })?;
+    observer.count("kept samples", field.kept_len());
+    let soup = crease_surface_of(field, &crossing, options.min_component, observer)?;
     observer.count("vertices", soup.positions.len());
     observer.count("triangles", soup.triangles.len());
     Ok(soup)

@@ -240,10 +240,10 @@ impl Derivatives {
     }
 
     /// `value(derivatives, index)` at each member of `voxels` (sample `index`), in
-    /// order, with `derivatives` holding `partials` of `volume` smoothed by `sigma`
-    /// on a block of [`BLOCK_SLICES`] z slices that holds `index`: the derivatives
-    /// at scattered samples in the memory of a few slices. Blocks without a member
-    /// are not computed; the members of a block are evaluated in parallel.
+    /// order, with `derivatives` holding `partials` of `volume` smoothed by a
+    /// Gaussian of standard deviation `sigma` on a block of z slices that holds
+    /// `index` ([`Derivatives::for_blocks`]); the members of a block are evaluated
+    /// in parallel.
     ///
     /// Errors as [`Derivatives::on_slices`].
     pub(crate) fn at_voxels<T: Send>(
@@ -253,11 +253,53 @@ impl Derivatives {
         voxels: &VoxelSet,
         value: impl Fn(&Derivatives, [usize; 3]) -> T + Sync,
     ) -> Result<Vec<T>> {
+        let grid = volume.grid();
+        let mut values = Vec::with_capacity(voxels.len());
+        let smoothing = Smoothing::Gaussian(sigma);
+        Derivatives::for_blocks(
+            volume,
+            smoothing,
+            partials,
+            voxels,
+            |derivatives, members| {
+                let at = |&at: &usize| value(derivatives, grid.position_of(at));
+                values.par_extend(members.par_iter().map(at));
+                Ok(())
+            },
+        )?;
+        Ok(values)
+    }
+
+    /// `visit(derivatives, members)` for every block of [`BLOCK_SLICES`] z slices
+    /// that holds members of `voxels`, in order: `derivatives` hold `partials` of
+    /// `volume` made differentiable as `smoothing` says on the block's slices, and
+    /// `members` are the block's members (linear indices, increasing). The
+    /// derivatives at scattered samples in the memory of a few slices.
+    ///
+    /// Errors as [`Derivatives::on_slices`] (and, for the spline, as
+    /// [`Derivatives::cubic_spline`]), or as `visit`.
+    pub(crate) fn for_blocks(
+        volume: &Volume,
+        smoothing: Smoothing,
+        partials: &[Partial],
+        voxels: &VoxelSet,
+        mut visit: impl FnMut(&Derivatives, &[usize]) -> Result<()>,
+    ) -> Result<()> {
         orthonormal_direction(volume)?;
-        world_kernels(volume, sigma)?;
+        let kernels = match smoothing {
+            Smoothing::Gaussian(sigma) => world_kernels(volume, sigma)?,
+            Smoothing::CubicSpline => {
+                if let Some(p) = partials.iter().find(|p| p.order() > 2) {
+                    return Err(Error::Argument(format!(
+                        "the approximating cubic B-spline has derivatives up to order 2 at the grid points, not {}",
+                        p.order()
+                    )));
+                }
+                spline_kernels(volume.spacing())
+            }
+        };
         let grid = volume.grid();
         let (nz, plane) = (grid.dims[2], grid.plane_len());
-        let mut values = Vec::with_capacity(voxels.len());
         for first in (0..nz).step_by(BLOCK_SLICES) {
             let slices = first..(first + BLOCK_SLICES).min(nz);
             let members: Vec<usize> = voxels
@@ -266,11 +308,10 @@ impl Derivatives {
             if members.is_empty() {
                 continue;
             }
-            let derivatives = Derivatives::on_slices(volume, sigma, partials, slices)?;
-            let at = |&at: &usize| value(&derivatives, grid.position_of(at));
-            values.par_extend(members.par_iter().map(at));
+            let derivatives = Derivatives::filtered(volume, smoothing, &kernels, partials, slices)?;
+            visit(&derivatives, &members)?;
         }
-        Ok(values)
+        Ok(())
     }
 
     /// The number of samples along x, y and z (those of the volume).

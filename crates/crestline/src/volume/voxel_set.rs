@@ -23,6 +23,34 @@ impl VoxelSetBuilder {
         }
     }
 
+    /// The samples `at` of `0..len` where `member(at)`, decided in parallel, 64 at a
+    /// time.
+    pub fn from_fn(len: usize, member: impl Fn(usize) -> bool + Sync) -> VoxelSetBuilder {
+        use rayon::prelude::*;
+        let words = (0..len.div_ceil(WORD))
+            .into_par_iter()
+            .map(|w| {
+                let samples = w * WORD..((w + 1) * WORD).min(len);
+                samples.fold(0u64, |word, at| {
+                    word | (u64::from(member(at)) << (at % WORD))
+                })
+            })
+            .collect();
+        VoxelSetBuilder { words, len }
+    }
+
+    /// Every sample of `0..len`.
+    pub fn full(len: usize) -> VoxelSetBuilder {
+        let mut words = vec![u64::MAX; len.div_ceil(WORD)];
+        if let Some(last) = words.last_mut() {
+            let used = len - (len.div_ceil(WORD) - 1) * WORD;
+            if used < WORD {
+                *last = (1 << used) - 1;
+            }
+        }
+        VoxelSetBuilder { words, len }
+    }
+
     /// Adds sample `at` (below the length given to [`VoxelSetBuilder::new`]).
     #[inline]
     pub fn insert(&mut self, at: usize) {
@@ -58,6 +86,14 @@ impl VoxelSet {
     /// The number of members.
     pub fn len(&self) -> usize {
         self.before[self.words.len()]
+    }
+
+    /// Whether `at` is a member.
+    #[inline]
+    pub fn contains(&self, at: usize) -> bool {
+        self.words
+            .get(at / WORD)
+            .is_some_and(|word| word >> (at % WORD) & 1 == 1)
     }
 
     /// The number of member `at` (0 for the first), or `None` if `at` is not one.
@@ -113,5 +149,14 @@ mod tests {
             [5, 63, 64, 65, 127]
         );
         assert_eq!(set.members(301..999).count(), 0);
+        let odd = VoxelSetBuilder::from_fn(1000, |at| at % 2 == 1).build();
+        assert_eq!(odd.len(), 500);
+        assert!(odd.contains(999) && !odd.contains(998) && !odd.contains(1000));
+        for len in [0, 1, 63, 64, 65, 130] {
+            let full = VoxelSetBuilder::full(len).build();
+            assert_eq!(full.len(), len);
+            assert_eq!(full.members(0..len + 70).count(), len);
+            assert_eq!(full.number(len.saturating_sub(1)), len.checked_sub(1));
+        }
     }
 }

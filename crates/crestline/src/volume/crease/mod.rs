@@ -27,8 +27,10 @@ mod trim;
 
 pub use baseline::oriented_marching_cubes;
 pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
-pub use field::{CreaseField, Sample};
-pub use surface::{crease_surface, crease_surface_observed, DEGENERATE, STAGES, STRENGTH};
+pub use field::{default_options, CreaseField, Sample, Survey};
+pub use surface::{
+    crease_surface, crease_surface_observed, crease_surface_of, DEGENERATE, STAGES, STRENGTH,
+};
 pub use tensor::{similarity, Eigenframe};
 
 /// The default ε of the tensor T, as a fraction of the range of the Hessian's

@@ -9,39 +9,41 @@
 //! so that the strength never leaves a face crossed an odd number of times, and is
 //! then trimmed along −λ3 = s (see `surface.rs`).
 
-use rayon::prelude::*;
-
 use super::field::CreaseField;
 use crate::volume::grid::Grid;
+use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
 
 /// The samples at least as strong as the strength, and the cells, faces and edges
 /// around them.
 pub(crate) struct StrongCells {
     grid: Grid,
-    /// Per sample: −λ3 ≥ s.
-    strong: Vec<bool>,
+    /// The samples where −λ3 ≥ s.
+    strong: VoxelSet,
 }
 
 impl StrongCells {
     /// The samples of `field` where −λ3 is at least `strength`.
     pub fn new(field: &CreaseField, strength: f64) -> StrongCells {
         let grid = field.grid();
-        let strong = (0..grid.sample_count())
-            .into_par_iter()
-            .map(|n| -field.sample(grid.position_of(n)).frame.eigenvalues[2] >= strength)
-            .collect();
+        let strong = VoxelSetBuilder::from_fn(grid.sample_count(), |n| {
+            -field.sample(grid.position_of(n)).frame.eigenvalues[2] >= strength
+        })
+        .build();
         StrongCells { grid, strong }
     }
 
     /// Whether a sample is at least as strong as the strength.
     fn sample(&self, index: [usize; 3]) -> bool {
-        self.strong[self.grid.index(index)]
+        self.strong.contains(self.grid.index(index))
     }
 
     /// Whether the cell with lowest corner `cell` (inside the grid) has a strong
     /// corner.
     pub fn cell(&self, cell: [usize; 3]) -> bool {
-        self.grid.corners(cell).iter().any(|&at| self.strong[at])
+        self.grid
+            .corners(cell)
+            .iter()
+            .any(|&at| self.strong.contains(at))
     }
 
     /// Whether one of the (up to four) cells around grid edge `key` is strong.

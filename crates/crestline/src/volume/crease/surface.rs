@@ -5,6 +5,7 @@
 //! Only the cells with a corner as strong as the strength are built, from
 //! crossings of any strength, and the surface is then trimmed along −λ3 = s.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use rayon::prelude::*;
@@ -19,6 +20,7 @@ use super::strong::StrongCells;
 use super::trim::trimmed;
 use crate::mesh::{ScalarProperty, TriangleSoup};
 use crate::progress::{try_stage, Observer, Silent};
+use crate::volume::grid::Grid;
 use crate::{Point, Result, Space, Vector};
 
 /// The name of the per-vertex ridge strength −λ3 in the surface's soup.
@@ -66,18 +68,55 @@ pub fn crease_surface_observed(
     min_component: usize,
     observer: &mut dyn Observer,
 ) -> Result<TriangleSoup> {
+    surface_of(Cow::Borrowed(field), options, min_component, observer)
+}
+
+/// [`crease_surface_observed`] taking the field, whose values are dropped once the
+/// normals are computed (the triangulation needs only its grid), so that they and
+/// the surface are not held at once.
+pub fn crease_surface_of(
+    field: CreaseField,
+    options: &CrossingOptions,
+    min_component: usize,
+    observer: &mut dyn Observer,
+) -> Result<TriangleSoup> {
+    surface_of(Cow::Owned(field), options, min_component, observer)
+}
+
+/// The stages of [`crease_surface_observed`] on a borrowed or owned field.
+fn surface_of(
+    field: Cow<'_, CreaseField>,
+    options: &CrossingOptions,
+    min_component: usize,
+    observer: &mut dyn Observer,
+) -> Result<TriangleSoup> {
+    if options.strength < field.least_strength() {
+        return Err(crate::Error::Argument(format!(
+            "the crease field keeps only creases of strength −λ3 ≥ {}, not {}: survey it \
+             for the lower strength",
+            field.least_strength(),
+            options.strength
+        )));
+    }
     let [crossings_stage, degenerate_stage, normals_stage, triangulation_stage] = STAGES;
     let (strong, crossings) = try_stage(observer, crossings_stage, || {
-        let strong = StrongCells::new(field, options.strength);
-        let crossings = crossings_in_strong_cells(field, options, &strong);
+        let strong = StrongCells::new(&field, options.strength);
+        let crossings = crossings_in_strong_cells(&field, options, &strong);
         Ok((strong, crossings))
     })?;
     let (crossings, degenerate) = try_stage(observer, degenerate_stage, || {
-        Ok(degenerate_points(field, options, crossings, &strong))
+        Ok(degenerate_points(&field, options, crossings, &strong))
     })?;
     let points = try_stage(observer, normals_stage, || {
-        Ok(Points::new(field, options.epsilon, &crossings, &degenerate))
+        Ok(Points::new(
+            &field,
+            options.epsilon,
+            &crossings,
+            &degenerate,
+        ))
     })?;
+    let (grid, space) = (field.grid(), field.space());
+    drop(field);
     let (soup, sizes) = try_stage(observer, triangulation_stage, || {
         let pieces = Pieces {
             strong: &strong,
@@ -85,7 +124,7 @@ pub fn crease_surface_observed(
             degenerate: &degenerate,
             points: &points,
         };
-        Ok(triangulated(field, options, &pieces, min_component))
+        Ok(triangulated((grid, space), options, &pieces, min_component))
     })?;
     check_kept(&sizes, min_component, observer)?;
     Ok(soup)
@@ -133,7 +172,7 @@ struct Pieces<'a> {
 /// The last stage of [`crease_surface_observed`]: the polygons of the strong cells,
 /// triangulated, trimmed to the strength, the small pieces dropped.
 fn triangulated(
-    field: &CreaseField,
+    (grid, space): (Grid, Option<Space>),
     options: &CrossingOptions,
     pieces: &Pieces<'_>,
     min_component: usize,
@@ -144,7 +183,6 @@ fn triangulated(
         degenerate,
         points,
     } = *pieces;
-    let grid = field.grid();
     let index = EdgeIndex::new(crossings);
     let on_face: HashMap<u64, usize> = degenerate
         .iter()
@@ -175,7 +213,7 @@ fn triangulated(
         largest,
         kept: triangles.len(),
     };
-    (compact(Mesh { triangles, ..mesh }, field.space()), sizes)
+    (compact(Mesh { triangles, ..mesh }, space), sizes)
 }
 
 /// The triangles of the connected pieces (sharing vertices) of at least `min`
