@@ -599,7 +599,12 @@ fn a_field_kept_where_creases_are_strong_gives_the_same_surface_in_less_memory()
         ..options
     };
     let kept = survey.field(&volume, strong.strength).unwrap();
-    assert!(kept.kept_len() < whole.kept_len() / 2, "{} of {}", kept.kept_len(), whole.kept_len());
+    assert!(
+        kept.kept_len() < whole.kept_len() / 2,
+        "{} of {}",
+        kept.kept_len(),
+        whole.kept_len()
+    );
     assert_eq!(whole.kept_len(), volume.len());
     let expected = crease_surface(&whole, &strong, 0).unwrap();
     let got = crease_surface(&kept, &strong, 0).unwrap();
