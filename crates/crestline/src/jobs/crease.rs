@@ -57,10 +57,11 @@ impl CreaseOptions {
 
 /// The ridge (or valley) surface of `volume` as `options` say: triangles that need
 /// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
-/// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction`,
-/// `eigenframes` and those of [`crease_surface_observed`]; the counts `vertices`
-/// and `triangles`, and a warning naming the option that emptied the surface. Non-finite samples
-/// are replaced first ([`prepared_image`]).
+/// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction` (the
+/// survey of the eigenvalues, [`Survey`]), `eigenframes` (the field kept where
+/// creases are as strong as asked) and those of [`crease_surface_of`]; the counts
+/// `kept samples`, `vertices` and `triangles`, and a warning naming the option that
+/// emptied the surface. Non-finite samples are replaced first ([`prepared_image`]).
 pub fn crease(
     volume: &Volume,
     options: &CreaseOptions,
