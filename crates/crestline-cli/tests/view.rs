@@ -124,33 +124,41 @@ fn shots(input: &str, args: &[&str], hide: &str, dir: &Path) -> Option<(Pixmap, 
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let (dom, console) = open(&browser, &page, "", "--dump-dom", &dir.join("profile"));
-    // SwiftShader's own performance notes are not the page's.
-    let page_messages: Vec<&String> = console
-        .iter()
-        .filter(|line| !line.contains("GL Driver Message"))
-        .collect();
-    assert!(page_messages.is_empty(), "console: {page_messages:#?}");
-    assert!(
-        dom.contains("data-ready=\"true\""),
-        "the viewer did not finish:\n{}",
-        &dom[..dom.len().min(2000)]
-    );
-    assert!(
-        !dom.contains("data-error"),
-        "the viewer failed:\n{}",
-        &dom[..dom.len().min(2000)]
-    );
+    let hidden = format!("#hide={hide}");
+    for fragment in ["", hidden.as_str()] {
+        let (dom, console) = open(
+            &browser,
+            &page,
+            fragment,
+            "--dump-dom",
+            &dir.join("profile"),
+        );
+        let start = &dom[..dom.len().min(2000)];
+        assert!(
+            dom.contains("data-ready=\"true\""),
+            "the viewer did not finish ({fragment}):\n{start}"
+        );
+        assert!(
+            !dom.contains("data-error"),
+            "the viewer failed ({fragment}):\n{start}"
+        );
+        // SwiftShader's own performance notes are not the page's.
+        let page_messages: Vec<&String> = console
+            .iter()
+            .filter(|line| !line.contains("GL Driver Message"))
+            .collect();
+        assert!(
+            page_messages.is_empty(),
+            "console ({fragment}): {page_messages:#?}"
+        );
+    }
     let shot = |fragment: &str, name: &str| {
         let file = dir.join(name);
         let what = format!("--screenshot={}", file.display());
         open(&browser, &page, fragment, &what, &dir.join("profile"));
         Pixmap::load_png(&file).expect("a PNG screenshot")
     };
-    Some((
-        shot("", "shown.png"),
-        shot(&format!("#hide={hide}"), "hidden.png"),
-    ))
+    Some((shot("", "shown.png"), shot(&hidden, "hidden.png")))
 }
 
 /// The pixels of ridge red, valley blue and surface grey in the scene of `shot`,

@@ -5,7 +5,8 @@
 // colour the surface by a curvature quantity, and a click on a line to see its kind,
 // length and strength.
 //
-// The URL fragment sets the initial state, e.g. `view.html#hide=ridges&color=mean`.
+// The URL fragment sets the initial state, e.g. `view.html#hide=ridges&color=mean`:
+// the hidden families' boxes are clicked, the colouring chosen in its menu.
 
 const THREE = await import(
   URL.createObjectURL(new Blob([document.getElementById("three").textContent], { type: "text/javascript" }))
@@ -81,7 +82,6 @@ const families = scene_data.families.map((family) => {
   geometry.setAttribute("position", new THREE.BufferAttribute(floats(family.segments), 3));
   const material = new THREE.LineBasicMaterial({ color: family.color });
   const object = new THREE.LineSegments(geometry, material);
-  object.visible = !hidden.has(family.name);
   object.userData = { family, line_of_segment: indices(family.line_of_segment) };
   scene.add(object);
   return object;
@@ -186,4 +186,8 @@ function resize() {
 }
 window.addEventListener("resize", resize);
 resize();
+// The fragment's hidden families are unticked as a click would, through their boxes.
+for (const box of panel.querySelectorAll("input")) {
+  if (hidden.has(box.dataset.family)) box.click();
+}
 document.body.dataset.ready = "true";
