@@ -29,6 +29,8 @@ def test_lines_show_on_their_mesh_as_a_self_contained_page(bunny_small, tmp_path
     assert frame.startswith("<iframe srcdoc=") and html.unescape(frame.split('"')[1]) == page
     view.save(tmp_path / "bunny.html")
     assert (tmp_path / "bunny.html").read_text(encoding="utf-8") == page
+    lines.show(*bunny_small, title="bunny & co", path=tmp_path / "shown.html")
+    assert (tmp_path / "shown.html").read_text(encoding="utf-8") == page
     # The families shown are those of the lines.
     assert '"name":"ridges"' in page and '"name":"valleys"' in page
 

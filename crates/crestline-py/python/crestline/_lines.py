@@ -116,12 +116,22 @@ class Lines(Sequence[Line]):
 
         _crestline.write_lines(file_path(path), self._parts(), self.space)
 
-    def show(self, vertices: Any, faces: Any = None, title: str = "") -> "View":
+    def show(
+        self,
+        vertices: Any,
+        faces: Any = None,
+        title: str = "",
+        path: Union[str, "PathLike[str]", None] = None,
+    ) -> "View":
         """The interactive 3D view of these lines on the mesh (:func:`crestline.view`):
-        shown in Jupyter when it is a cell's result, written by ``.save(path)``."""
+        shown in Jupyter when it is a cell's result, and written to ``path``
+        (``.html``) when given (or later by ``.save(path)``)."""
         from ._view import view
 
-        return view(vertices, faces, lines=self, title=title)
+        page = view(vertices, faces, lines=self, title=title)
+        if path is not None:
+            page.save(path)
+        return page
 
     def _parts(self) -> List[Tuple[str, bool, float, npt.NDArray[np.float64], List[Tuple[str, List[float]]]]]:
         """The lines as the extension module takes them."""
