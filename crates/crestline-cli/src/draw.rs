@@ -24,12 +24,9 @@ pub struct DrawArgs {
     /// Output drawing (.svg).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which feature lines to draw: ridges (the options of `crestline ridges`),
-    /// morse (those of `crestline morse`), crest (for a 3D image: its crest lines
-    /// by Marching Lines, traced in the image) or none (e.g. silhouettes only).
-    #[arg(long, default_value_t = DrawingOptions::default().lines,
-          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
-    pub lines: LinesChoice,
+    /// Which feature lines, and how they are traced.
+    #[command(flatten)]
+    pub features: FeatureLineArgs,
     /// Also draw the silhouettes (smooth occluding contours).
     #[arg(long)]
     pub silhouettes: bool,
@@ -99,13 +96,24 @@ pub struct DrawArgs {
     /// Also render a PNG preview next to the SVG (same name, .png).
     #[arg(long)]
     pub png: bool,
+    #[command(flatten)]
+    pub report: ReportArg,
+}
+
+/// The feature lines of `draw` and `view` and the options they are traced with.
+#[derive(clap::Args, Debug)]
+pub struct FeatureLineArgs {
+    /// Which feature lines: ridges (the options of `crestline ridges`), morse (those
+    /// of `crestline morse`), crest (for a 3D image: its crest lines by Marching
+    /// Lines, traced in the image) or none (e.g. silhouettes only).
+    #[arg(long, default_value_t = LinesChoice::default(),
+          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
+    pub lines: LinesChoice,
     /// Options of the Morse-Smale lines (with `--lines morse`).
     #[command(flatten)]
     pub morse: MorseArgs,
     #[command(flatten)]
     pub tracer: TracerArgs,
-    #[command(flatten)]
-    pub report: ReportArg,
 }
 
 /// The line families `draw` can add besides the silhouettes.
@@ -128,7 +136,7 @@ impl DrawArgs {
     /// The job's options.
     fn options(&self) -> DrawingOptions {
         DrawingOptions {
-            lines: self.lines,
+            lines: self.features.lines,
             view: self.view.unwrap_or(DrawingOptions::default().view),
             camera: self.camera,
             perspective: self.perspective,
@@ -151,15 +159,15 @@ impl DrawArgs {
             width_by_depth: self.width_by_depth,
             fade_by_view: self.fade_by_view,
             plot: self.plot,
-            ridges: self.tracer.options(),
-            morse: self.morse.options(self.tracer.estimator),
+            ridges: self.features.tracer.options(),
+            morse: self.features.morse.options(self.features.tracer.estimator),
         }
     }
 }
 
 /// The files `draw` reads: the mesh, the smoothing weights and the style.
 fn inputs(args: &DrawArgs) -> Vec<Role<'_>> {
-    let mut inputs = args.tracer.inputs(&args.mesh);
+    let mut inputs = args.features.tracer.inputs(&args.mesh);
     inputs.extend(args.style.as_deref().map(|s| ("the --style file", s)));
     inputs
 }
@@ -182,8 +190,8 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     let style = options.style(base.unwrap_or_default())?;
     options.draw_options().check()?;
     let mut report = report_with_progress("draw", &args.mesh);
-    let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
-    options.ridges = options_for(&loaded.surface.mesh, &args.mesh, &args.tracer)?;
+    let loaded = load_for_tracing(&args.mesh, &args.features.tracer, &mut report)?;
+    options.ridges = options_for(&loaded.surface.mesh, &args.mesh, &args.features.tracer)?;
     let input = (loaded.volume.as_ref(), None);
     let mut drawing =
         draw(&loaded.surface, input, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;

@@ -6,15 +6,15 @@ use std::path::{Path, PathBuf};
 
 use crestline::draw::Style;
 use crestline::io::{choose_format, write_atomically, FileFormat};
-use crestline::jobs::{view, LinesChoice, ViewOptions};
+use crestline::jobs::{view, ViewOptions};
 use crestline::view::view_html;
 use crestline::Result;
 
+use super::draw::FeatureLineArgs;
 use super::failure::explain;
 use super::load::report_with_progress;
-use super::morse::MorseArgs;
 use super::outputs::{check_paths, OutputSet, Role};
-use super::ridges::{load_for_tracing, options_for, TracerArgs};
+use super::ridges::{load_for_tracing, options_for};
 use super::ReportArg;
 
 /// Arguments of `crestline view`.
@@ -25,17 +25,9 @@ pub struct ViewArgs {
     /// Output view (.html): one file that opens in a browser with no network.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which feature lines to show: ridges (the options of `crestline ridges`),
-    /// morse (those of `crestline morse`), crest (for a 3D image: its crest lines
-    /// by Marching Lines) or none.
-    #[arg(long, default_value_t = ViewOptions::default().lines,
-          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
-    pub lines: LinesChoice,
-    /// Options of the Morse-Smale lines (with `--lines morse`).
+    /// Which feature lines, and how they are traced.
     #[command(flatten)]
-    pub morse: MorseArgs,
-    #[command(flatten)]
-    pub tracer: TracerArgs,
+    pub features: FeatureLineArgs,
     #[command(flatten)]
     pub report: ReportArg,
 }
@@ -47,13 +39,18 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .into_iter()
         .flatten()
         .collect();
-    check_paths(&args.tracer.inputs(&args.mesh), &outputs)?;
+    let FeatureLineArgs {
+        lines,
+        morse,
+        tracer,
+    } = &args.features;
+    check_paths(&tracer.inputs(&args.mesh), &outputs)?;
     let mut report = report_with_progress("view", &args.mesh);
-    let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
+    let loaded = load_for_tracing(&args.mesh, tracer, &mut report)?;
     let options = ViewOptions {
-        lines: args.lines,
-        ridges: options_for(&loaded.surface.mesh, &args.mesh, &args.tracer)?,
-        morse: args.morse.options(args.tracer.estimator),
+        lines: *lines,
+        ridges: options_for(&loaded.surface.mesh, &args.mesh, tracer)?,
+        morse: morse.options(tracer.estimator),
     };
     let input = (loaded.volume.as_ref(), None);
     let (lines, curvature) =

@@ -40,7 +40,7 @@ use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 use crate::progress::{try_stage, Observer, Silent};
 use crate::volume::marching_lines::{BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
-use crate::volume::{Derivatives, Partial, Volume};
+use crate::volume::{Derivatives, Volume};
 use crate::{Error, Point, Result, Vector};
 use frames::{Curvatures, Frame};
 
@@ -272,11 +272,7 @@ pub fn trace_observed(
         }
     }
     let (curvatures, smoothed) = try_stage(observer, "derivatives", || {
-        let value = Partial::new([0, 0, 0])?;
-        let smoothed = Derivatives::with_partials(volume, tracing.sigma, &[value])?
-            .into_grid(value)
-            .expect("order 0 is computed");
-        let smoothed = volume.with_samples(smoothed)?;
+        let smoothed = Derivatives::smoothed(volume, tracing.sigma)?;
         let curvatures =
             Curvatures::at_isosurface(volume, &smoothed, tracing.sigma, tracing.level)?;
         Ok((curvatures, smoothed))

@@ -59,6 +59,7 @@ pub use silhouette::silhouettes;
 pub use simplify::{douglas_peucker, douglas_peucker_kept};
 pub use style::{check_taper, group_name, KindStyle, Style, MAX_TAPER};
 pub use suggestive::{suggestive_contours, SuggestiveOptions};
+pub(crate) use svg::escape;
 pub use svg::{svg_document, write_svg};
 pub use visibility::visible_pieces;
 

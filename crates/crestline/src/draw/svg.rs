@@ -268,8 +268,9 @@ fn median_strength(paths: &[ScreenPath]) -> f64 {
     strengths.get(strengths.len() / 2).copied().unwrap_or(0.0)
 }
 
-/// `text` with the XML special characters escaped.
-fn escape(text: &str) -> String {
+/// `text` with the XML special characters escaped (and control characters made
+/// spaces), for text and attributes of SVG and HTML.
+pub(crate) fn escape(text: &str) -> String {
     text.chars()
         .map(|c| match c {
             '&' => "&amp;".to_string(),

@@ -235,13 +235,8 @@ pub fn draw(
     let drawing_options = options.draw_options();
     drawing_options.check()?;
     let camera = options.camera(surface)?;
-    let lines = match given {
-        Some(lines) => lines,
-        None => try_stage_with(observer, "extraction", |observer| {
-            let choice = (options.lines, &options.ridges, &options.morse);
-            feature_lines_of(surface, volume, choice, observer)
-        })?,
-    };
+    let choice = (options.lines, &options.ridges, &options.morse);
+    let lines = given_or_traced(surface, (volume, given), choice, observer)?;
     let no_lines = lines.is_empty();
     let estimator = surface.estimator(options.ridges.estimator);
     let mut drawing = draw_observed(
@@ -262,9 +257,26 @@ pub fn draw(
     Ok(drawing)
 }
 
-/// The feature lines `lines` chooses, traced with `ridges` or `morse` (the
-/// ridges' threshold also filters crest lines).
-pub(super) fn feature_lines_of(
+/// The `given` lines, or else (the stage `extraction`, with the stages of their
+/// job) those `lines` chooses, traced with `ridges` or `morse` (the ridges'
+/// threshold also filters crest lines; `volume` is the image of an isosurface,
+/// which crest lines need).
+pub(super) fn given_or_traced(
+    surface: &Surface,
+    (volume, given): (Option<&Volume>, Option<FeatureLines>),
+    choice: (LinesChoice, &RidgesOptions, &MorseOptions),
+    observer: &mut dyn Observer,
+) -> Result<FeatureLines> {
+    match given {
+        Some(lines) => Ok(lines),
+        None => try_stage_with(observer, "extraction", |observer| {
+            traced(surface, volume, choice, observer)
+        }),
+    }
+}
+
+/// The feature lines `lines` chooses (see [`given_or_traced`]).
+fn traced(
     surface: &Surface,
     volume: Option<&Volume>,
     (lines, ridges_options, morse_options): (LinesChoice, &RidgesOptions, &MorseOptions),

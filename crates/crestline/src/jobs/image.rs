@@ -10,7 +10,7 @@ use crate::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
 use crate::error::readable;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
-use crate::volume::{isosurface as marching_cubes, Derivatives, Partial, Volume};
+use crate::volume::{isosurface as marching_cubes, Derivatives, Volume};
 use crate::{Error, Result};
 
 /// One voxel: the largest spacing of `volume`, the unit of the image jobs'
@@ -155,11 +155,7 @@ fn smoothed_image(volume: &Volume, sigma: f64) -> Result<Cow<'_, Volume>> {
         return Ok(Cow::Borrowed(volume));
     }
     ImageCurvature::check_sigma(sigma)?;
-    let value = Partial::ALL[0];
-    let smoothed = Derivatives::with_partials(volume, sigma, &[value])?.into_grid(value);
-    Ok(Cow::Owned(volume.with_samples(
-        smoothed.expect("the values are computed"),
-    )?))
+    Ok(Cow::Owned(Derivatives::smoothed(volume, sigma)?))
 }
 
 /// A sample value outside the surface `f = level` (below the level), as far

@@ -3,13 +3,13 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::draw::{feature_lines_of, LinesChoice};
+use super::draw::{given_or_traced, LinesChoice};
 use super::image::Surface;
 use super::morse::MorseOptions;
 use super::ridges::RidgesOptions;
 use crate::curvature::{estimate_curvature, CurvatureField};
 use crate::lines::FeatureLines;
-use crate::progress::{try_stage, try_stage_with, Observer};
+use crate::progress::{try_stage, Observer};
 use crate::volume::Volume;
 use crate::Result;
 
@@ -36,13 +36,8 @@ pub fn view(
     options: &ViewOptions,
     observer: &mut dyn Observer,
 ) -> Result<(FeatureLines, CurvatureField)> {
-    let lines = match given {
-        Some(lines) => lines,
-        None => try_stage_with(observer, "extraction", |observer| {
-            let choice = (options.lines, &options.ridges, &options.morse);
-            feature_lines_of(surface, volume, choice, observer)
-        })?,
-    };
+    let choice = (options.lines, &options.ridges, &options.morse);
+    let lines = given_or_traced(surface, (volume, given), choice, observer)?;
     let estimator = surface.estimator(options.ridges.estimator);
     let curvature = try_stage(observer, "curvature", || {
         estimate_curvature(&surface.mesh, estimator.as_ref())

@@ -23,7 +23,7 @@ use base64::Engine as _;
 use serde_json::json;
 
 use crate::curvature::CurvatureField;
-use crate::draw::{group_name, Style};
+use crate::draw::{escape, group_name, Style};
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
 
@@ -76,7 +76,8 @@ pub fn view_html(
     let _ = writeln!(
         html,
         "<!-- three.js {}-->\n<script id=\"three\" type=\"text/plain\">{THREE}</script>",
-        escape(THREE_LICENSE).replace("--", "- -")
+        // A comment holds any text but `--`.
+        THREE_LICENSE.replace("--", "- -")
     );
     let _ = writeln!(
         html,
@@ -108,7 +109,9 @@ fn scene_json(
     curvature: Option<&CurvatureField>,
     style: &Style,
 ) -> String {
-    let (center, radius) = bounds(mesh);
+    let bounds = mesh.bounding_box();
+    let center = bounds.center();
+    let radius = (bounds.diagonal() / 2.0).max(f64::MIN_POSITIVE);
     let mut quantities = serde_json::Map::new();
     if let Some(field) = curvature {
         let k = |v: usize| (field.k_max[v], field.k_min[v]);
@@ -140,7 +143,7 @@ fn scene_json(
     json!({
         "background": style.background.clone().unwrap_or_else(|| "#ffffff".into()),
         "surface_color": SURFACE_COLOR,
-        "center": center,
+        "center": [center.x, center.y, center.z],
         "radius": radius,
         "positions": floats(&positions),
         "triangles": bytes_of_u32(&triangles),
@@ -180,26 +183,6 @@ fn family_json(lines: &FeatureLines, kind: LineKind, style: &Style) -> serde_jso
     })
 }
 
-/// The centre and radius of the mesh's bounding box.
-fn bounds(mesh: &Mesh) -> ([f64; 3], f64) {
-    let mut low = [f64::INFINITY; 3];
-    let mut high = [f64::NEG_INFINITY; 3];
-    for p in mesh.positions() {
-        for a in 0..3 {
-            low[a] = low[a].min(p[a]);
-            high[a] = high[a].max(p[a]);
-        }
-    }
-    let center = std::array::from_fn(|a| 0.5 * (low[a] + high[a]));
-    let radius = (0..3)
-        .map(|a| (high[a] - low[a]).powi(2))
-        .sum::<f64>()
-        .sqrt()
-        .max(f64::MIN_POSITIVE)
-        / 2.0;
-    (center, radius)
-}
-
 /// `values` as little-endian `f32` bytes in base64.
 fn floats<T: Copy + Into<f64>>(values: &[T]) -> String {
     let bytes: Vec<u8> = values
@@ -213,12 +196,4 @@ fn floats<T: Copy + Into<f64>>(values: &[T]) -> String {
 fn bytes_of_u32(values: &[u32]) -> String {
     let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
     base64::engine::general_purpose::STANDARD.encode(bytes)
-}
-
-/// `text` with the HTML special characters escaped.
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }

@@ -139,11 +139,7 @@ impl Derivatives {
     /// derivatives jump at the grid points) or the direction matrix is not
     /// orthonormal.
     pub fn cubic_spline(volume: &Volume, max_order: usize) -> Result<Derivatives> {
-        if max_order > 2 {
-            return Err(Error::Argument(format!(
-                "the approximating cubic B-spline has derivatives up to order 2 at the grid points, not {max_order}"
-            )));
-        }
+        check_spline_order(max_order)?;
         let partials: Vec<Partial> = Partial::up_to(max_order).collect();
         let kernels = spline_kernels(volume.spacing());
         let slices = 0..volume.dims()[2];
@@ -175,6 +171,18 @@ impl Derivatives {
     /// more voxels than the samples along an axis (at least 4 voxels are allowed).
     pub fn with_partials(volume: &Volume, sigma: f64, partials: &[Partial]) -> Result<Derivatives> {
         Derivatives::on_slices(volume, sigma, partials, 0..volume.dims()[2])
+    }
+
+    /// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units:
+    /// the partial of order 0 alone, as a volume on the same grid.
+    ///
+    /// Errors as [`Derivatives::with_partials`].
+    pub fn smoothed(volume: &Volume, sigma: f64) -> Result<Volume> {
+        let value = Partial::ALL[0];
+        let samples = Derivatives::with_partials(volume, sigma, &[value])?
+            .into_grid(value)
+            .expect("the partial asked for is computed");
+        volume.with_samples(samples)
     }
 
     /// [`Derivatives::with_partials`] on the z slices `slices` only: the same values
@@ -289,12 +297,9 @@ impl Derivatives {
         let kernels = match smoothing {
             Smoothing::Gaussian(sigma) => world_kernels(volume, sigma)?,
             Smoothing::CubicSpline => {
-                if let Some(p) = partials.iter().find(|p| p.order() > 2) {
-                    return Err(Error::Argument(format!(
-                        "the approximating cubic B-spline has derivatives up to order 2 at the grid points, not {}",
-                        p.order()
-                    )));
-                }
+                partials
+                    .iter()
+                    .try_for_each(|p| check_spline_order(p.order()))?;
                 spline_kernels(volume.spacing())
             }
         };
@@ -398,6 +403,17 @@ impl Derivatives {
         }
         Some(values)
     }
+}
+
+/// An error unless the approximating cubic B-spline has derivatives of `order` at
+/// the grid points (up to 2: its third derivatives jump there).
+fn check_spline_order(order: usize) -> Result<()> {
+    if order > 2 {
+        return Err(Error::Argument(format!(
+            "the approximating cubic B-spline has derivatives up to order 2 at the grid points, not {order}"
+        )));
+    }
+    Ok(())
 }
 
 /// The volume's direction matrix, or an error unless it is orthonormal.

@@ -100,15 +100,31 @@ impl CreaseField {
             .into_par_iter()
             .map(|n| packed(std::array::from_fn(|c| grids[c][n]), sign, &r))
             .collect();
-        let frames: Vec<Eigenframe> = values.par_iter().map(|v| unpack(v).frame).collect();
-        let eigenvalue_range = frames
+        let mut field = CreaseField::of_records(volume, None, 0.0, values, EMPTY_RANGE);
+        field.eigenvalue_range = field
+            .frames
             .par_iter()
             .map(|f| (f.eigenvalues[2], f.eigenvalues[0]))
             .reduce(|| EMPTY_RANGE, widest);
-        Ok(CreaseField {
+        Ok(field)
+    }
+
+    /// The field of `volume` with the packed `values` of the grid points `kept`
+    /// (all with `None`), their eigenframes computed, holding every crease of at
+    /// least `least_strength`, with the eigenvalue range `eigenvalue_range`.
+    fn of_records(
+        volume: &Volume,
+        kept: Option<VoxelSet>,
+        least_strength: f64,
+        values: Vec<[f32; 9]>,
+        eigenvalue_range: (f64, f64),
+    ) -> CreaseField {
+        let frames = values.par_iter().map(|v| unpack(v).frame).collect();
+        let r = *volume.direction();
+        CreaseField {
             dims: volume.dims(),
-            kept: None,
-            least_strength: 0.0,
+            kept,
+            least_strength,
             values,
             frames,
             origin: Point::from(volume.origin()),
@@ -116,7 +132,7 @@ impl CreaseField {
             world_to_grid: *volume.world_to_grid(),
             eigenvalue_range,
             space: volume.space(),
-        })
+        }
     }
 
     /// The anatomical frame of the world coordinates, the image's.
@@ -367,19 +383,13 @@ impl Survey {
             values.par_extend(members.par_iter().map(record));
             Ok(())
         })?;
-        let frames: Vec<Eigenframe> = values.par_iter().map(|v| unpack(v).frame).collect();
-        Ok(CreaseField {
-            dims: volume.dims(),
-            kept: Some(kept),
-            least_strength: strength,
+        Ok(CreaseField::of_records(
+            volume,
+            Some(kept),
+            strength,
             values,
-            frames,
-            origin: Point::from(volume.origin()),
-            grid_to_world: r * Matrix3::from_diagonal(&Vector::from(volume.spacing())),
-            world_to_grid: *volume.world_to_grid(),
-            eigenvalue_range: self.eigenvalue_range,
-            space: volume.space(),
-        })
+            self.eigenvalue_range,
+        ))
     }
 }
 
