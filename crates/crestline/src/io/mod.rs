@@ -34,6 +34,7 @@ pub(crate) mod ply_header;
 mod ply_records;
 mod soup;
 mod stl;
+mod structure;
 mod volume;
 pub(crate) mod vtk;
 
@@ -44,6 +45,7 @@ pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
 pub use soup::{soup_format, write_soup};
 pub use stl::read_stl;
+pub use structure::Structure;
 pub use volume::{
     is_volume_path, read_raw_volume, read_volume, volume_files, SampleType,
     SUPPORTED_VOLUME_EXTENSIONS,
