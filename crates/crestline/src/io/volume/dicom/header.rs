@@ -1,0 +1,165 @@
+//! What crestline reads of each DICOM file before its pixels: the series it
+//! belongs to, how its pixels are stored (PS3.3 C.7.6.3 Image Pixel Module) and
+//! where each of its frames lies ([`super::multiframe`]).
+//!
+//! Files are parsed up to the Pixel Data element (7FE0,0010), so grouping and
+//! checking a series costs a few kilobytes per file. A file without Rows (0028,0010)
+//! is not an image (a DICOMDIR, a structure set, a report) and is skipped.
+
+use std::path::{Path, PathBuf};
+
+use dicom_dictionary_std::tags;
+use dicom_object::{InMemDicomObject, OpenFileOptions, Tag};
+
+use super::multiframe;
+use super::pixels::{self, Rescale};
+use crate::volume::voxel_count;
+use crate::{Error, Point, Result, Vector};
+
+/// A DICOM data set (the root of a file or an item of a sequence).
+pub(super) type Object = InMemDicomObject;
+
+/// One 2D image of a file: where it lies and how its stored values become
+/// modality values.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Frame {
+    /// The frame's number in its file, from 0.
+    pub number: u32,
+    /// Its plane in the patient coordinate system.
+    pub plane: Plane,
+    /// Its modality LUT (PS3.3 C.11.1).
+    pub rescale: Rescale,
+}
+
+/// The placement of a frame, as the Image Plane Module (PS3.3 C.7.6.2) or the
+/// Plane Position, Plane Orientation and Pixel Measures functional groups
+/// (C.7.6.16.2.3–5) give it; absent attributes are `None`.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Plane {
+    /// Rows (0028,0010) and Columns (0028,0011).
+    pub size: [u32; 2],
+    /// Image Position (Patient) (0020,0032): the centre of the first pixel, mm.
+    pub position: Option<Point>,
+    /// Image Orientation (Patient) (0020,0037): the direction of the rows (of
+    /// increasing column index) and of the columns.
+    pub orientation: Option<[Vector; 2]>,
+    /// Pixel Spacing (0028,0030): between rows, then between columns, mm.
+    pub pixel_spacing: Option<[f64; 2]>,
+    /// Slice Thickness (0018,0050), mm: the slice spacing of a lone slice only.
+    pub thickness: Option<f64>,
+}
+
+/// The attributes of a DICOM image file that reading its series needs.
+#[derive(Clone, Debug)]
+pub(super) struct Header {
+    /// The file.
+    pub path: PathBuf,
+    /// Series Instance UID (0020,000E), empty if absent.
+    pub series: String,
+    /// Its frames, in the order stored.
+    pub frames: Vec<Frame>,
+}
+
+/// The header of the DICOM file at `path`, or `None` if it holds no image.
+/// Errors name the file: one that cannot be parsed, pixels that are not one
+/// sample of 8, 16 or 32 bits, a transfer syntax this build cannot decode.
+pub(super) fn read(path: &Path) -> Result<Option<Header>> {
+    let object = OpenFileOptions::new()
+        .read_until(tags::PIXEL_DATA)
+        .open_file(path)
+        .map_err(|e| Error::File {
+            path: path.to_path_buf(),
+            message: format!("cannot be read as DICOM: {e}"),
+        })?;
+    let header = || -> Result<Option<Header>> {
+        let Some(rows) = unsigned(&object, tags::ROWS, "Rows")? else {
+            return Ok(None);
+        };
+        let columns = unsigned(&object, tags::COLUMNS, "Columns")?
+            .ok_or_else(|| missing("Columns", tags::COLUMNS))?;
+        check_pixel_format(&object)?;
+        pixels::check_transfer_syntax(object.meta().transfer_syntax())?;
+        let count = unsigned(&object, tags::NUMBER_OF_FRAMES, "Number of Frames")?.unwrap_or(1);
+        voxel_count([columns as usize, rows as usize, count as usize])?;
+        Ok(Some(Header {
+            path: path.to_path_buf(),
+            series: text(&object, tags::SERIES_INSTANCE_UID).unwrap_or_default(),
+            frames: multiframe::frames(&object, [rows, columns], count)?,
+        }))
+    };
+    header().map_err(|e| super::super::in_file(e, path))
+}
+
+/// An error unless the pixels are one sample (PS3.3 C.7.6.3.1.1) of 8, 16 or 32
+/// allocated bits, at most that many stored.
+fn check_pixel_format(object: &Object) -> Result<()> {
+    let samples = unsigned(object, tags::SAMPLES_PER_PIXEL, "Samples per Pixel")?.unwrap_or(1);
+    if samples != 1 {
+        return Err(Error::Parse(format!(
+            "has {samples} samples per pixel (a colour image); a volume needs one (MONOCHROME1 or MONOCHROME2)"
+        )));
+    }
+    let allocated = unsigned(object, tags::BITS_ALLOCATED, "Bits Allocated")?
+        .ok_or_else(|| missing("Bits Allocated", tags::BITS_ALLOCATED))?;
+    if ![8, 16, 32].contains(&allocated) {
+        return Err(Error::Parse(format!(
+            "has Bits Allocated (0028,0100) {allocated}; 8, 16 or 32 are supported"
+        )));
+    }
+    let stored = unsigned(object, tags::BITS_STORED, "Bits Stored")?.unwrap_or(allocated);
+    if stored == 0 || stored > allocated {
+        return Err(Error::Parse(format!(
+            "has Bits Stored (0028,0101) {stored} for {allocated} bits allocated"
+        )));
+    }
+    Ok(())
+}
+
+/// The error for a required attribute that is absent.
+fn missing(name: &str, tag: Tag) -> Error {
+    Error::Parse(format!("has no {name} {tag}"))
+}
+
+/// The value of the unsigned attribute `tag` (US, UL or IS), if present.
+pub(super) fn unsigned(object: &Object, tag: Tag, name: &str) -> Result<Option<u32>> {
+    match object.get(tag) {
+        None => Ok(None),
+        Some(element) => element
+            .to_int::<u32>()
+            .map(Some)
+            .map_err(|_| Error::Parse(format!("its {name} {tag} is not a count"))),
+    }
+}
+
+/// The `N` finite numbers of the decimal attribute `tag` (DS or FD), if present.
+pub(super) fn numbers<const N: usize>(
+    object: &Object,
+    tag: Tag,
+    name: &str,
+) -> Result<Option<[f64; N]>> {
+    let Some(element) = object.get(tag) else {
+        return Ok(None);
+    };
+    let values = element
+        .to_multi_float64()
+        .ok()
+        .filter(|values| values.len() == N && values.iter().all(|v| v.is_finite()));
+    values
+        .map(|values| Some(std::array::from_fn(|i| values[i])))
+        .ok_or_else(|| Error::Parse(format!("its {name} {tag} is not {N} finite numbers")))
+}
+
+/// The text of the attribute `tag` without padding, if present.
+pub(super) fn text(object: &Object, tag: Tag) -> Option<String> {
+    let value = object.get(tag)?.to_str().ok()?;
+    Some(
+        value
+            .trim_matches(|c: char| c.is_whitespace() || c == '\0')
+            .to_string(),
+    )
+}
+
+/// The first item of the sequence `tag` of `object`, if it has one.
+pub(super) fn first_item(object: &Object, tag: Tag) -> Option<&Object> {
+    object.get(tag)?.items()?.first()
+}
