@@ -93,7 +93,10 @@ pub(super) fn dicomdir_files(path: &Path) -> Result<Vec<PathBuf>> {
 
     let object = dicom_object::open_file(path).map_err(|e| Error::File {
         path: path.to_path_buf(),
-        message: format!("cannot be read as a DICOMDIR: {e}"),
+        message: format!(
+            "cannot be read as a DICOMDIR: {}",
+            super::header::causes(&e)
+        ),
     })?;
     let records = object
         .get(tags::DIRECTORY_RECORD_SEQUENCE)

@@ -69,7 +69,7 @@ pub(super) fn read(path: &Path) -> Result<Option<Header>> {
         .open_file(path)
         .map_err(|e| Error::File {
             path: path.to_path_buf(),
-            message: format!("cannot be read as DICOM: {e}"),
+            message: format!("cannot be read as DICOM: {}", causes(&e)),
         })?;
     let header = || -> Result<Option<Header>> {
         let Some(rows) = unsigned(&object, tags::ROWS, "Rows")? else {
@@ -88,6 +88,20 @@ pub(super) fn read(path: &Path) -> Result<Option<Header>> {
         }))
     };
     header().map_err(|e| super::super::in_file(e, path))
+}
+
+/// `err` and the errors that caused it, on one line.
+pub(super) fn causes(err: &dyn std::error::Error) -> String {
+    let mut text = err.to_string();
+    let mut source = err.source();
+    while let Some(cause) = source {
+        let message = cause.to_string();
+        if !text.contains(&message) {
+            text = format!("{text}: {message}");
+        }
+        source = cause.source();
+    }
+    text.replace(['\n', '\r'], " ")
 }
 
 /// An error unless the pixels are one sample (PS3.3 C.7.6.3.1.1) of 8, 16 or 32
@@ -131,22 +145,70 @@ pub(super) fn unsigned(object: &Object, tag: Tag, name: &str) -> Result<Option<u
     }
 }
 
-/// The `N` finite numbers of the decimal attribute `tag` (DS or FD), if present.
+/// The `N` finite numbers of the decimal attribute `tag` (DS or FD), if present
+/// and not empty (type 2 attributes may be empty).
 pub(super) fn numbers<const N: usize>(
     object: &Object,
     tag: Tag,
     name: &str,
 ) -> Result<Option<[f64; N]>> {
+    let values = decimals(object, tag, name, N)?;
+    Ok(values.map(|values| std::array::from_fn(|i| values[i])))
+}
+
+/// The `count` finite numbers of the decimal attribute `tag` (DS or FD), if
+/// present and not empty.
+pub(super) fn decimals(
+    object: &Object,
+    tag: Tag,
+    name: &str,
+    count: usize,
+) -> Result<Option<Vec<f64>>> {
     let Some(element) = object.get(tag) else {
         return Ok(None);
     };
+    if text(object, tag).is_some_and(|text| text.is_empty()) {
+        return Ok(None);
+    }
+    let valid = |values: Vec<f64>| {
+        Some(values).filter(|values| values.len() == count && values.iter().all(|v| v.is_finite()))
+    };
+    // An element of VR UN (written by a tool that did not know the attribute)
+    // holds the decimal string as bytes.
     let values = element
         .to_multi_float64()
         .ok()
-        .filter(|values| values.len() == N && values.iter().all(|v| v.is_finite()));
+        .and_then(valid)
+        .or_else(|| decimal_strings(&element.to_bytes().ok()?).and_then(valid));
     values
-        .map(|values| Some(std::array::from_fn(|i| values[i])))
-        .ok_or_else(|| Error::Parse(format!("its {name} {tag} is not {N} finite numbers")))
+        .map(Some)
+        .ok_or_else(|| Error::Parse(format!("its {name} {tag} is not {count} finite numbers")))
+}
+
+/// The tag that the attribute `tag` (AT) holds, if present; of VR UN, the
+/// little-endian group and element numbers of its bytes.
+pub(super) fn tag_value(object: &Object, tag: Tag) -> Option<Tag> {
+    let element = object.get(tag)?;
+    element.value().to_tag().ok().or_else(|| {
+        let bytes = element.to_bytes().ok()?;
+        let [g0, g1, e0, e1] = *bytes.as_ref() else {
+            return None;
+        };
+        Some(Tag(
+            u16::from_le_bytes([g0, g1]),
+            u16::from_le_bytes([e0, e1]),
+        ))
+    })
+}
+
+/// The numbers of a multi-valued decimal string (PS3.5 §6.2, DS) in `bytes`.
+fn decimal_strings(bytes: &[u8]) -> Option<Vec<f64>> {
+    std::str::from_utf8(bytes)
+        .ok()?
+        .trim_matches(|c: char| c.is_whitespace() || c == '\0')
+        .split('\\')
+        .map(|value| value.trim().parse().ok())
+        .collect()
 }
 
 /// The text of the attribute `tag` without padding, if present.

@@ -22,7 +22,7 @@
 use dicom_dictionary_std::tags;
 use dicom_object::Tag;
 
-use super::header::{first_item, numbers, Frame, Object, Plane};
+use super::header::{decimals, first_item, numbers, tag_value, Frame, Object, Plane};
 use super::pixels::Rescale;
 use crate::{Error, Point, Result, Vector};
 
@@ -147,19 +147,14 @@ fn rescale(object: &Object) -> Result<Rescale> {
 /// The Grid Frame Offset Vector (3004,000C) if the Frame Increment Pointer
 /// (0028,0009) points to it: one offset per frame.
 fn grid_frame_offsets(object: &Object, count: u32) -> Result<Option<Vec<f64>>> {
-    let pointer = object
-        .get(tags::FRAME_INCREMENT_POINTER)
-        .and_then(|element| element.value().to_tag().ok());
-    if pointer != Some(tags::GRID_FRAME_OFFSET_VECTOR) {
+    if tag_value(object, tags::FRAME_INCREMENT_POINTER) != Some(tags::GRID_FRAME_OFFSET_VECTOR) {
         return Ok(None);
     }
-    let offsets = object
-        .get(tags::GRID_FRAME_OFFSET_VECTOR)
-        .and_then(|element| element.to_multi_float64().ok())
-        .filter(|offsets| offsets.len() == count as usize && offsets.iter().all(|o| o.is_finite()));
-    offsets.map(Some).ok_or_else(|| {
-        Error::Parse(format!(
-            "its Grid Frame Offset Vector (3004,000C) is not {count} finite numbers, one per frame"
-        ))
-    })
+    let name = "Grid Frame Offset Vector";
+    match decimals(object, tags::GRID_FRAME_OFFSET_VECTOR, name, count as usize)? {
+        Some(offsets) => Ok(Some(offsets)),
+        None => Err(Error::Parse(format!(
+            "has no {name} (3004,000C), which its Frame Increment Pointer (0028,0009) points to"
+        ))),
+    }
 }

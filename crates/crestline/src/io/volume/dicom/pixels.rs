@@ -16,6 +16,7 @@ use dicom_object::OpenFileOptions;
 use dicom_pixeldata::{PixelDecoder, PixelRepresentation};
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
 
+use super::header::causes;
 use crate::{Error, Result};
 
 /// The linear modality LUT of a frame: Rescale Slope and Intercept (PS3.3
@@ -60,10 +61,10 @@ pub(super) fn decode(path: &Path, targets: Vec<Target<'_>>) -> Result<()> {
     };
     let object = OpenFileOptions::new()
         .open_file(path)
-        .map_err(|e| fail(format!("cannot be read as DICOM: {e}")))?;
+        .map_err(|e| fail(format!("cannot be read as DICOM: {}", causes(&e))))?;
     let decoded = object
         .decode_pixel_data()
-        .map_err(|e| fail(format!("its pixel data cannot be decoded: {e}")))?;
+        .map_err(|e| fail(format!("its pixel data cannot be decoded: {}", causes(&e))))?;
     let bytes = usize::from(decoded.bits_allocated() / 8);
     let bits = u32::from(decoded.bits_stored());
     if ![1, 2, 4].contains(&bytes) || bits == 0 || bits as usize > 8 * bytes {
