@@ -131,7 +131,10 @@ fn an_rt_dose_grid_is_a_multi_frame_volume_in_gray() {
     let Some(err) = error("rtdose_rle.dcm") else {
         return;
     };
-    assert!(err.contains("rtdose_rle.dcm: its pixel data cannot be decoded"), "{err}");
+    assert!(
+        err.contains("rtdose_rle.dcm: its pixel data cannot be decoded"),
+        "{err}"
+    );
     assert!(err.contains("BitsAllocated"), "{err}");
 }
 
