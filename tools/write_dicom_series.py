@@ -109,6 +109,11 @@ def slice_dataset(
     ds.Modality = "CT"
     ds.PatientName = "Template^MNI152"
     ds.PatientID = "MNI152"
+    ds.StudyDate = "20260101"
+    ds.StudyTime = "120000"
+    ds.StudyID = "1"
+    ds.AccessionNumber = ""
+    ds.SeriesNumber = 1
     ds.InstanceNumber = instance
     ds.ImagePositionPatient = [f"{v:.10g}" for v in position]
     ds.ImageOrientationPatient = [f"{v:.10g}" for v in orientation]
