@@ -6,11 +6,16 @@
 //! `data/dicom/pydicom/`; each test is skipped, with a message, when they are
 //! absent.
 
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use crestline::io::{read_dicom, read_volume, read_volume_with, volume_files, VolumeReadOptions};
 use crestline::volume::Volume;
 use crestline::Space;
+
+#[path = "common/mutation.rs"]
+mod mutation;
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/dicom/pydicom")
@@ -219,4 +224,57 @@ fn a_folder_without_dicom_files_is_an_error_saying_so() {
     };
     let err = read_volume_with(&nifti, &options).unwrap_err().to_string();
     assert!(err.contains("not DICOM"), "{err}");
+}
+
+/// Mutants of each seed file read by [`mutants_never_panic_or_hang`] in a plain
+/// `cargo test` (`CRESTLINE_FUZZ_MUTANTS=N` for more).
+const MUTANTS: usize = 200;
+/// A mutant taking longer than this to read is a hang (a corrupt length that
+/// made dicom-rs fill a 4 GiB buffer took 6 s before lengths were checked).
+const HANG: Duration = Duration::from_secs(2);
+
+#[test]
+fn mutants_never_panic_or_hang() {
+    // Bit flips, interesting bytes, truncations, duplicated and deleted chunks of
+    // a native, an RLE and a multi-frame file: each read ends in a volume or in
+    // an error naming the file, on one line, without hanging.
+    let dir = tempfile::tempdir().unwrap();
+    let kept_dir = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let mut rng = mutation::Rng(0x0d1c_0a11);
+    for name in ["MR_small.dcm", "MR_small_RLE.dcm", "rtdose.dcm"] {
+        let Some(seed) = fetched(name) else {
+            return;
+        };
+        let seed = std::fs::read(seed).unwrap();
+        let count = mutation::env_number("CRESTLINE_FUZZ_MUTANTS").map_or(MUTANTS, |n| n as usize);
+        for index in 0..count {
+            let (bytes, applied) = mutation::mutate(&seed, &mut rng);
+            let path = dir.path().join(format!("{index}-{name}"));
+            std::fs::write(&path, &bytes).unwrap();
+            let start = Instant::now();
+            let outcome = catch_unwind(AssertUnwindSafe(|| read_volume(&path)));
+            let elapsed = start.elapsed();
+            let kept = kept_dir.join(format!("dicom-mutant-{index}-{name}"));
+            let Ok(result) = outcome else {
+                std::fs::copy(&path, &kept).unwrap();
+                panic!(
+                    "{name} mutant {index} ({applied:?}) panicked; kept as {}",
+                    kept.display()
+                );
+            };
+            if elapsed > HANG {
+                std::fs::copy(&path, &kept).unwrap();
+                panic!(
+                    "{name} mutant {index} ({applied:?}) took {elapsed:?}; kept as {}",
+                    kept.display()
+                );
+            }
+            if let Err(err) = result {
+                let message = err.to_string();
+                if let Some(problem) = mutation::message_problem(&message, &path) {
+                    panic!("{name} mutant {index} ({applied:?}): the error {problem}: {message}");
+                }
+            }
+        }
+    }
 }

@@ -9,10 +9,11 @@
 use std::path::{Path, PathBuf};
 
 use dicom_dictionary_std::tags;
-use dicom_object::{InMemDicomObject, OpenFileOptions, Tag};
+use dicom_object::file::ReadPreamble;
+use dicom_object::{DefaultDicomObject, InMemDicomObject, OpenFileOptions, Tag};
 
-use super::multiframe;
 use super::pixels::{self, Rescale};
+use super::{lengths, multiframe};
 use crate::volume::voxel_count;
 use crate::{Error, Point, Result, Vector};
 
@@ -64,13 +65,7 @@ pub(super) struct Header {
 /// Errors name the file: one that cannot be parsed, pixels that are not one
 /// sample of 8, 16 or 32 bits, a transfer syntax this build cannot decode.
 pub(super) fn read(path: &Path) -> Result<Option<Header>> {
-    let object = OpenFileOptions::new()
-        .read_until(tags::PIXEL_DATA)
-        .open_file(path)
-        .map_err(|e| Error::File {
-            path: path.to_path_buf(),
-            message: format!("cannot be read as DICOM: {}", causes(&e)),
-        })?;
+    let object = open(path, Some(tags::PIXEL_DATA))?;
     let header = || -> Result<Option<Header>> {
         let Some(rows) = unsigned(&object, tags::ROWS, "Rows")? else {
             return Ok(None);
@@ -88,6 +83,32 @@ pub(super) fn read(path: &Path) -> Result<Option<Header>> {
         }))
     };
     header().map_err(|e| super::super::in_file(e, path))
+}
+
+/// The DICOM file at `path`, parsed up to the element `until` (all of it for
+/// `None`) after checking its `DICM` mark and its element lengths
+/// ([`super::lengths`]). Errors name the file.
+pub(super) fn open(path: &Path, until: Option<Tag>) -> Result<DefaultDicomObject> {
+    let bytes = super::super::read_file(path)?;
+    let fail = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    if bytes.get(128..132) != Some(b"DICM") {
+        return Err(fail(
+            "has no DICM mark at byte 128: not a DICOM file (or one without the preamble of PS3.10 §7.1)"
+                .to_string(),
+        ));
+    }
+    lengths::check(&bytes).map_err(|e| super::super::in_file(e, path))?;
+    let options = OpenFileOptions::new().read_preamble(ReadPreamble::Never);
+    let options = match until {
+        Some(tag) => options.read_until(tag),
+        None => options,
+    };
+    options
+        .from_reader(&bytes[128..])
+        .map_err(|e| fail(format!("cannot be read as DICOM: {}", causes(&e))))
 }
 
 /// `err` and the errors that caused it, on one line.

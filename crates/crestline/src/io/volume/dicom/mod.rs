@@ -6,8 +6,9 @@
 //!
 //! 1. [`files`]: the files of the input (a folder's files with the `DICM` mark,
 //!    or those a DICOMDIR references);
-//! 2. [`header`]: each file parsed up to its pixel data (files that hold no image
-//!    are skipped), with the frames [`multiframe`] finds in it;
+//! 2. [`header`]: each file parsed up to its pixel data, once [`lengths`] has
+//!    checked its element lengths against its size (files that hold no image are
+//!    skipped), with the frames [`multiframe`] finds in it;
 //! 3. [`series`]: the files of one Series Instance UID;
 //! 4. [`geometry`]: the regular grid of the frames, ordered by position along
 //!    the normal of their planes;
@@ -24,6 +25,8 @@ mod files;
 mod geometry;
 #[cfg(feature = "dicom")]
 mod header;
+#[cfg(feature = "dicom")]
+mod lengths;
 #[cfg(feature = "dicom")]
 mod multiframe;
 #[cfg(feature = "dicom")]

@@ -10,9 +10,9 @@
 //! mapped by the frame's modality LUT (PS3.3 C.11.1): `slope · stored +
 //! intercept`, e.g. Hounsfield units of CT.
 
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-use dicom_object::OpenFileOptions;
 use dicom_pixeldata::{PixelDecoder, PixelRepresentation};
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
 
@@ -59,11 +59,15 @@ pub(super) fn decode(path: &Path, targets: Vec<Target<'_>>) -> Result<()> {
         path: path.to_path_buf(),
         message,
     };
-    let object = OpenFileOptions::new()
-        .open_file(path)
-        .map_err(|e| fail(format!("cannot be read as DICOM: {}", causes(&e))))?;
-    let decoded = object
-        .decode_pixel_data()
+    let object = super::header::open(path, None)?;
+    // dicom-rs's RLE decoder indexes corrupt segments without checking them: its
+    // panic is an error about the file like any other.
+    let decoded = catch_unwind(AssertUnwindSafe(|| object.decode_pixel_data()))
+        .map_err(|_| {
+            fail(
+                "its pixel data cannot be decoded: the decoder stopped on corrupt data".to_string(),
+            )
+        })?
         .map_err(|e| fail(format!("its pixel data cannot be decoded: {}", causes(&e))))?;
     let bytes = usize::from(decoded.bits_allocated() / 8);
     let bits = u32::from(decoded.bits_stored());
