@@ -7,6 +7,7 @@ series as from the NIfTI; and malformed series refused with one clear error.
 Needs pydicom and nibabel (the writer's), SimpleITK for the comparisons with ITK;
 the tests that need them skip when they are absent."""
 
+import io
 import shutil
 import subprocess
 import sys
@@ -131,6 +132,35 @@ def test_a_dicomdir_reads_the_files_it_references(tmp_path_factory, template):
     files.write(str(media))
     volume = crestline.read_volume(media / "DICOMDIR")
     assert_reads_as_template(volume, template, written["affine"], SLAB)
+
+
+def test_jpeg_baseline_decodes_as_libjpeg_does(tmp_path, template):
+    image = pytest.importorskip("PIL.Image")
+    from pydicom.encaps import encapsulate
+    from pydicom.uid import JPEGBaseline8Bit
+
+    plane = template[0][:, :, 90].astype(np.uint8)  # [column, row]
+    compressed = io.BytesIO()
+    image.fromarray(plane.T).save(compressed, format="JPEG", quality=90)
+    # Pillow's libjpeg decodes the same bytes: the reference.
+    reference = np.asarray(image.open(io.BytesIO(compressed.getvalue()))).T.astype(np.float32)
+    uids = {"study": "1.2.3", "series": "1.2.3.4", "frame": "1.2.3.5"}
+    ds = write_dicom_series.slice_dataset(plane, np.zeros(3), np.array([1.0, 0, 0, 0, 1, 0]), [1.0, 1.0, 1.0], uids, 1, "explicit")
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 8, 8, 7, 0
+    ds.RescaleSlope, ds.RescaleIntercept = "1", "0"
+    ds.file_meta.TransferSyntaxUID = JPEGBaseline8Bit
+    ds.PixelData = encapsulate([compressed.getvalue()])
+    ds["PixelData"].VR = "OB"
+    ds["PixelData"].is_undefined_length = True
+    ds.save_as(tmp_path / "slice.dcm", enforce_file_format=True)
+    volume = crestline.read_volume(tmp_path / "slice.dcm")
+    assert volume.data.shape == (*plane.shape, 1)
+    # Two decoders may round their inverse DCTs differently, by one grey level.
+    difference = np.abs(volume.data[:, :, 0] - reference)
+    print(f"JPEG baseline: largest difference from libjpeg {difference.max()}, mean {difference.mean():.4f}")
+    assert difference.max() <= 1
+    # And it is the image, lossy: within a few levels of the samples on average.
+    assert np.abs(volume.data[:, :, 0] - plane).mean() < 3
 
 
 def simpleitk_geometry(folder):
