@@ -65,7 +65,8 @@ pub(super) fn folder_files(dir: &Path) -> Result<Vec<PathBuf>> {
 /// The path of the file a DICOMDIR at `dicomdir` references by the components of
 /// its Referenced File ID, or an error for one that leaves the DICOMDIR's folder
 /// (an empty, `.`, `..` or absolute component).
-pub(super) fn referenced_file(dicomdir: &Path, components: &[String]) -> Result<PathBuf> {
+#[cfg(feature = "dicom")]
+fn referenced_file(dicomdir: &Path, components: &[String]) -> Result<PathBuf> {
     let mut path = dicomdir.parent().unwrap_or(Path::new("")).to_path_buf();
     for component in components {
         let component = component.trim();
@@ -142,6 +143,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "dicom")]
     fn referenced_files_stay_in_the_dicomdir_folder() {
         let dicomdir = Path::new("media/DICOMDIR");
         let parts = |p: &[&str]| p.iter().map(|s| s.to_string()).collect::<Vec<_>>();

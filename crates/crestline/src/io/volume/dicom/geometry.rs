@@ -355,7 +355,7 @@ mod tests {
             pixel_spacing: None,
             thickness: None,
         };
-        let stack = stack_of(&[plane.clone()]).unwrap();
+        let stack = stack_of(std::slice::from_ref(&plane)).unwrap();
         assert_eq!(stack.spacing, [1.0; 3]);
         assert_eq!(stack.origin, [0.0; 3]);
         let err = stack_of(&[plane.clone(), plane]).unwrap_err().to_string();
