@@ -21,6 +21,9 @@ explicit VR big endian, deflated explicit VR little endian, or RLE lossless
 (pydicom's own encoder).
 --shuffle gives the files random names and shuffles the Instance Numbers, so
 that only the positions tell the order.
+--enhanced writes one Enhanced CT file instead (PS3.3 C.7.6.16): the frames in
+reverse order, each placed by its Plane Position Sequence in the Per-frame
+Functional Groups, orientation, pixel measures and rescale in the Shared ones.
 
 Malformed series, for tests of what readers refuse:
 --drop-slice K leaves slice K out (a gap); --tilt DEG moves slice k by
@@ -42,11 +45,12 @@ from typing import Any, Dict, Optional, Sequence
 
 import nibabel as nib
 import numpy as np
-from pydicom.dataset import FileDataset, FileMetaDataset
+from pydicom.dataset import Dataset, FileDataset, FileMetaDataset
 from pydicom.filewriter import dcmwrite
 from pydicom.uid import (
     CTImageStorage,
     DeflatedExplicitVRLittleEndian,
+    EnhancedCTImageStorage,
     ExplicitVRBigEndian,
     ExplicitVRLittleEndian,
     ImplicitVRLittleEndian,
@@ -140,6 +144,44 @@ def slice_dataset(
     return ds
 
 
+def enhanced_dataset(
+    data: np.ndarray,
+    positions: Sequence[np.ndarray],
+    orientation: np.ndarray,
+    spacing: Sequence[float],
+    uids: Dict[str, str],
+) -> FileDataset:
+    """One Enhanced CT data set of the planes ``data[:, :, k]`` at ``positions``,
+    stored last plane first."""
+    ds = slice_dataset(data[:, :, 0], positions[0], orientation, spacing, uids, 1, "explicit")
+    ds.SOPClassUID = ds.file_meta.MediaStorageSOPClassUID = EnhancedCTImageStorage
+    for name in ("ImagePositionPatient", "ImageOrientationPatient", "PixelSpacing", "SliceThickness", "RescaleSlope", "RescaleIntercept"):
+        delattr(ds, name)
+    order = list(reversed(range(data.shape[2])))
+    ds.NumberOfFrames = len(order)
+    shared = Dataset()
+    shared.PlaneOrientationSequence = [Dataset()]
+    shared.PlaneOrientationSequence[0].ImageOrientationPatient = [f"{v:.10g}" for v in orientation]
+    shared.PixelMeasuresSequence = [Dataset()]
+    shared.PixelMeasuresSequence[0].PixelSpacing = [f"{spacing[1]:.10g}", f"{spacing[0]:.10g}"]
+    shared.PixelMeasuresSequence[0].SliceThickness = f"{spacing[2]:.10g}"
+    shared.PixelValueTransformationSequence = [Dataset()]
+    shared.PixelValueTransformationSequence[0].RescaleSlope = f"{SLOPE:g}"
+    shared.PixelValueTransformationSequence[0].RescaleIntercept = f"{INTERCEPT:g}"
+    shared.PixelValueTransformationSequence[0].RescaleType = "US"
+    ds.SharedFunctionalGroupsSequence = [shared]
+    frames = []
+    for k in order:
+        frame = Dataset()
+        frame.PlanePositionSequence = [Dataset()]
+        frame.PlanePositionSequence[0].ImagePositionPatient = [f"{v:.10g}" for v in positions[k]]
+        frames.append(frame)
+    ds.PerFrameFunctionalGroupsSequence = frames
+    stored = np.rint((data[:, :, order].transpose(2, 1, 0) - INTERCEPT) / SLOPE).astype(np.int16)
+    ds.PixelData = stored.tobytes()
+    return ds
+
+
 def write_series(
     nifti: Path,
     out: Path,
@@ -152,6 +194,7 @@ def write_series(
     tilt: float = 0.0,
     second_series: bool = False,
     mixed_orientation: bool = False,
+    enhanced: bool = False,
 ) -> Dict[str, Any]:
     """Write the series (see the module's doc); its LPS affine and Series UID."""
     if syntax not in SYNTAXES:
@@ -175,6 +218,10 @@ def write_series(
     if shuffle:
         rng.shuffle(instances)
     tilt_step = spacing[2] * math.tan(math.radians(tilt))
+    if enhanced:
+        positions = [affine[:3, 3] + axes[:, 2] * k for k in range(count)]
+        save(enhanced_dataset(data, positions, orientation, spacing, uids), out / "enhanced.dcm", "explicit")
+        return {"affine": affine, "series": uids["series"], "files": 1}
     written = []
     for k in range(count):
         if k == drop_slice:
@@ -214,6 +261,7 @@ def main() -> None:
     parser.add_argument("--tilt", type=float, default=0.0, metavar="DEG")
     parser.add_argument("--second-series", action="store_true")
     parser.add_argument("--mixed-orientation", action="store_true")
+    parser.add_argument("--enhanced", action="store_true")
     args = parser.parse_args()
     slices = tuple(int(v) for v in args.slices.split(":")) if args.slices else None
     written = write_series(
@@ -228,6 +276,7 @@ def main() -> None:
         tilt=args.tilt,
         second_series=args.second_series,
         mixed_orientation=args.mixed_orientation,
+        enhanced=args.enhanced,
     )
     print(f"write_dicom_series: {written['files']} slices of series {written['series']} in {args.out}")
 

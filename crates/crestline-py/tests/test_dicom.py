@@ -121,6 +121,13 @@ def test_every_transfer_syntax_reads_the_same_samples(syntax_slab, template):
     assert_reads_as_template(crestline.read_volume(folder), template, written["affine"], SLAB)
 
 
+@pytest.mark.parametrize("rotate", [0.0, 10.0])
+def test_an_enhanced_multi_frame_file_reads_as_the_nifti(rotate, tmp_path_factory, template):
+    folder, written = write(tmp_path_factory, "enhanced", slices=SLAB, rotate=rotate, enhanced=True)
+    volume = crestline.read_volume(folder / "enhanced.dcm")
+    assert_reads_as_template(volume, template, written["affine"], SLAB)
+
+
 def test_a_dicomdir_reads_the_files_it_references(tmp_path_factory, template):
     from pydicom.fileset import FileSet
 
