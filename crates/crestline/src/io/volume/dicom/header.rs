@@ -2,9 +2,10 @@
 //! belongs to, how its pixels are stored (PS3.3 C.7.6.3 Image Pixel Module) and
 //! where each of its frames lies ([`super::multiframe`]).
 //!
-//! Files are parsed up to the Pixel Data element (7FE0,0010), so grouping and
-//! checking a series costs a few kilobytes per file. A file without Rows (0028,0010)
-//! is not an image (a DICOMDIR, a structure set, a report) and is skipped.
+//! Each file is read whole (for [`super::lengths`] to check it against its size)
+//! but parsed only up to the Pixel Data element (7FE0,0010): grouping and checking
+//! a series decodes no pixel. A file without Rows (0028,0010) is not an image (a
+//! DICOMDIR, a structure set, a report) and is skipped.
 
 use std::path::{Path, PathBuf};
 
