@@ -322,6 +322,22 @@ def test_a_truncated_file_is_refused_naming_it(tmp_path):
     refused(tmp_path, victim.name)
 
 
+def test_a_modality_lut_table_is_refused_naming_the_file(tmp_path):
+    import pydicom
+    from pydicom.dataset import Dataset
+
+    write_dicom_series.write_series(MNI, tmp_path, slices=SLAB)
+    victim = sorted(tmp_path.glob("*.dcm"))[2]
+    ds = pydicom.dcmread(victim)
+    table = Dataset()
+    table.LUTDescriptor = [4, 0, 16]
+    table.ModalityLUTType = "HU"
+    table.add_new(0x00283006, "US", [0, 1, 2, 3])  # LUT Data
+    ds.ModalityLUTSequence = [table]
+    ds.save_as(victim, enforce_file_format=True)
+    refused(tmp_path, victim.name, "Modality LUT Sequence (0028,3000)")
+
+
 def test_an_undecodable_transfer_syntax_is_refused_by_name(tmp_path):
     source = PYDICOM_DATA / "MR_small_jp2klossless.dcm"
     if not source.exists():

@@ -133,8 +133,15 @@ fn normal(plane: &Plane) -> Option<Vector> {
 
 /// The modality LUT of the data set (PS3.3 C.11.1.1.2): Rescale Slope (0028,1053)
 /// and Rescale Intercept (0028,1052), or RT Dose's Dose Grid Scaling (3004,000E)
-/// as the slope; the identity without them.
+/// as the slope; the identity without them. A Modality LUT Sequence (0028,3000),
+/// a table instead of a line, is refused rather than ignored.
 fn rescale(object: &Object) -> Result<Rescale> {
+    if object.get(tags::MODALITY_LUT_SEQUENCE).is_some() {
+        return Err(Error::Parse(
+            "has a Modality LUT Sequence (0028,3000), a lookup table crestline does not apply"
+                .to_string(),
+        ));
+    }
     let slope = numbers::<1>(object, tags::RESCALE_SLOPE, "Rescale Slope")?;
     let dose = numbers::<1>(object, tags::DOSE_GRID_SCALING, "Dose Grid Scaling")?;
     let intercept = numbers::<1>(object, tags::RESCALE_INTERCEPT, "Rescale Intercept")?;
