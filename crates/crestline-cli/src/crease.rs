@@ -10,14 +10,17 @@ use crestline::Result;
 use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::surface::{naming, read_image, require_image};
+use super::surface::{naming, read_image, require_image, SeriesArg};
 use super::ReportArg;
 
 /// Arguments of `crestline crease`.
 #[derive(clap::Args, Debug)]
 pub struct CreaseArgs {
-    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
+    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, or a DICOM folder,
+    /// DICOMDIR or .dcm file).
     pub volume: PathBuf,
+    #[command(flatten)]
+    pub series: SeriesArg,
     /// Output surface: .ply (with the vertex properties strength = −λ3 and degenerate,
     /// 1 on the degenerate lines where the surface ends), .obj or .vtk.
     #[arg(short, long, value_name = "FILE")]
@@ -61,7 +64,7 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
         .collect();
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crease", &args.volume);
-    let volume = read_image(&args.volume, &mut report)?;
+    let volume = read_image(&args.volume, &args.series, &mut report)?;
     let soup = crease(&volume, &options, &mut report).map_err(|e| naming(e, &args.volume))?;
     let soup = args.frame.soup(soup)?;
     args.report

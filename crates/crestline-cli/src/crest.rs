@@ -12,7 +12,7 @@ use crestline::Result;
 use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
-use super::surface::{naming, read_image, require_image};
+use super::surface::{naming, read_image, require_image, SeriesArg};
 use super::ReportArg;
 
 /// The `--kind` argument, read by the library.
@@ -23,8 +23,11 @@ fn parse_family(text: &str) -> std::result::Result<LineFamily, String> {
 /// Arguments of `crestline crest-lines`.
 #[derive(clap::Args, Debug)]
 pub struct CrestArgs {
-    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
+    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, or a DICOM folder,
+    /// DICOMDIR or .dcm file).
     pub volume: PathBuf,
+    #[command(flatten)]
+    pub series: SeriesArg,
     /// The isosurface level I; inside is value ≥ I.
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: f64,
@@ -89,7 +92,7 @@ pub fn run(args: &CrestArgs) -> Result<()> {
         .collect();
     check_paths(&[("the input image", &args.volume)], &outputs)?;
     let mut report = report_with_progress("crest-lines", &args.volume);
-    let volume = read_image(&args.volume, &mut report)?;
+    let volume = read_image(&args.volume, &args.series, &mut report)?;
     let mut lines = crest_lines(&volume, args.level, &args.options(), &mut report)
         .map_err(|e| naming(e, &args.volume))?;
     lines.source = args.volume.display().to_string();

@@ -9,6 +9,7 @@ use crestline::Result;
 
 use super::load::{load_mesh, report_with_progress, StrictArg};
 use super::outputs::{check_paths, OutputSet};
+use super::surface::SeriesArg;
 use super::volume_info;
 use super::ReportArg;
 
@@ -16,9 +17,11 @@ use super::ReportArg;
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
     /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd).
+    /// .mha, .mhd, or a DICOM folder, DICOMDIR or .dcm file).
     #[arg(value_name = "MESH|VOLUME")]
     pub input: PathBuf,
+    #[command(flatten)]
+    pub series: SeriesArg,
     #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
@@ -31,7 +34,7 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     check_paths(&[("the input", &args.input)], &outputs)?;
     let mut report = report_with_progress("info", &args.input);
     if is_volume_path(&args.input) {
-        return volume_info::run(&args.input, &args.report, report);
+        return volume_info::run(&args.input, &args.series, &args.report, report);
     }
     let (mesh, repairs) = load_mesh(&args.input, args.strict, &mut report)?;
     let info = mesh_info(&mesh, &mut report);

@@ -18,7 +18,8 @@ use super::ReportArg;
 /// Arguments of `crestline iso`.
 #[derive(clap::Args, Debug)]
 pub struct IsoArgs {
-    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
+    /// The 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, or a DICOM folder,
+    /// DICOMDIR or .dcm file).
     pub volume: PathBuf,
     /// Output surface: .ply (with the double vertex properties k_max, k_min, mean,
     /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable and quality, the mean

@@ -22,8 +22,8 @@ use super::ReportArg;
 #[derive(clap::Args, Debug)]
 pub struct LandmarksArgs {
     /// The mesh (.obj, .ply, .off, .stl: ridges by extremality tracing) or 3D image
-    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, with --level: crest lines by
-    /// Marching Lines).
+    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM folder, DICOMDIR or .dcm
+    /// file, with --level: crest lines by Marching Lines).
     #[arg(value_name = "MESH|VOLUME")]
     pub input: PathBuf,
     /// Output: .mrk.json (3D Slicer markups), .json (every landmark and line with
@@ -92,7 +92,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
     let path: &Path = &args.input;
     let mut found = if is_volume_path(path) {
         let level = required_level(path, &args.tracer.volume)?;
-        let volume = read_image(path, &mut report)?;
+        let volume = read_image(path, &args.tracer.volume.series, &mut report)?;
         let crest = args.crest_options();
         let input = LinesFrom::Image {
             volume: &volume,

@@ -70,7 +70,7 @@ impl MorseArgs {
 #[derive(clap::Args, Debug)]
 pub struct MorseCommand {
     /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd; with --level).
+    /// .mha, .mhd, a DICOM folder, DICOMDIR or .dcm file; with --level).
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)

@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::path::Path;
 
 use crate::report::Report;
-use crestline::io::{is_volume_path, read_volume};
+use crestline::io::{is_volume_path, read_volume_with, VolumeReadOptions};
 use crestline::jobs::{self, CurvatureSource, IsoOptions, Length, Surface};
 use crestline::volume::Volume;
 use crestline::{Error, Result};
@@ -30,6 +30,26 @@ pub struct VolumeArgs {
     #[arg(long, default_value_t = IsoOptions::default().curvature,
           value_parser = super::named::<CurvatureSource>(CurvatureSource::NAMES))]
     pub curvature: CurvatureSource,
+    #[command(flatten)]
+    pub series: SeriesArg,
+}
+
+/// `--series`: the series to read from DICOM input holding several.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct SeriesArg {
+    /// For a DICOM folder or DICOMDIR holding several series: the Series Instance
+    /// UID of the one to read (without it, the error lists them).
+    #[arg(long, value_name = "UID")]
+    pub series: Option<String>,
+}
+
+impl SeriesArg {
+    /// The options of reading an image with this series.
+    pub fn options(&self) -> VolumeReadOptions {
+        VolumeReadOptions {
+            series: self.series.clone(),
+        }
+    }
 }
 
 impl VolumeArgs {
@@ -70,7 +90,7 @@ pub fn load_surface(
             ));
         }
         let level = required_level(path, volume)?;
-        let image = read_image(path, report)?;
+        let image = read_image(path, &volume.series, report)?;
         let surface = jobs::isosurface(&image, level, &iso, report).map_err(|e| naming(e, path))?;
         if let Some(from) = surface.image {
             report.section("sigma", from.sigma);
@@ -81,10 +101,10 @@ pub fn load_surface(
             volume: Some(image),
         });
     }
-    if volume.level.is_some() || volume.sigma.is_some() {
+    if volume.level.is_some() || volume.sigma.is_some() || volume.series.series.is_some() {
         return Err(argument(
             path,
-            "--level and --sigma apply to 3D images (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd), not to meshes",
+            &format!("--level, --sigma and --series apply to 3D images ({IMAGES}), not to meshes"),
         ));
     }
     let (mesh, _) = load_mesh_with_scalars(path, strict, report, scalars)?;
@@ -104,10 +124,15 @@ pub fn required_level(path: &Path, args: &VolumeArgs) -> Result<f64> {
     })
 }
 
-/// The 3D image at `path` (the stage `read`), its non-finite samples set to the
-/// background with a warning ([`jobs::prepared_image`]).
-pub fn read_image(path: &Path, report: &mut Report) -> Result<Volume> {
-    let volume = report.stage("read", || read_volume(path))?;
+/// The 3D images commands read, for their messages.
+pub const IMAGES: &str =
+    ".nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, or a DICOM folder, DICOMDIR or .dcm file";
+
+/// The 3D image at `path` (the stage `read`; of DICOM input, the series
+/// `series` chooses), its non-finite samples set to the background with a
+/// warning ([`jobs::prepared_image`]).
+pub fn read_image(path: &Path, series: &SeriesArg, report: &mut Report) -> Result<Volume> {
+    let volume = report.stage("read", || read_volume_with(path, &series.options()))?;
     let prepared = jobs::prepared_image(Cow::Owned(volume), report).map_err(|e| naming(e, path))?;
     Ok(prepared.into_owned())
 }
@@ -119,7 +144,7 @@ pub fn require_image(path: &Path, command: &str) -> Result<()> {
     } else {
         Err(argument(
             path,
-            &format!("{command} needs a 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd)"),
+            &format!("{command} needs a 3D image ({IMAGES})"),
         ))
     }
 }

@@ -4,17 +4,23 @@
 use std::path::Path;
 
 use crate::report::Report;
-use crestline::io::read_volume;
+use crestline::io::read_volume_with;
 use crestline::jobs::image_info;
 use crestline::volume::{ValueSummary, Volume};
 use crestline::{Result, Space};
 
 use super::outputs::OutputSet;
+use super::surface::SeriesArg;
 use super::ReportArg;
 
 /// Read the volume at `path`, print its summary and write the report if asked.
-pub fn run(path: &Path, report_arg: &ReportArg, mut report: Report) -> Result<()> {
-    let volume = report.stage("read", || read_volume(path))?;
+pub fn run(
+    path: &Path,
+    series: &SeriesArg,
+    report_arg: &ReportArg,
+    mut report: Report,
+) -> Result<()> {
+    let volume = report.stage("read", || read_volume_with(path, &series.options()))?;
     let values = image_info(&volume, &mut report);
     super::print_stdout(&summary(path, &volume, &values));
     if let Some(report_path) = &report_arg.report {

@@ -7,6 +7,7 @@
 
 use std::path::PathBuf;
 
+use crestline::io::VolumeReadOptions;
 use crestline::jobs;
 use crestline::mesh::TriangleSoup;
 use crestline::register::{PointSet, RegistrationOptions, RigidTransform};
@@ -26,6 +27,7 @@ use crate::progress::Callback;
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_volume, m)?)?;
+    m.add_function(wrap_pyfunction!(read_dicom, m)?)?;
     m.add_function(wrap_pyfunction!(isosurface, m)?)?;
     m.add_function(wrap_pyfunction!(crest_lines, m)?)?;
     m.add_function(wrap_pyfunction!(crease_surface, m)?)?;
@@ -45,20 +47,46 @@ type ImageArrays<'py> = (
     Option<&'static str>,
 );
 
-/// Read a 3D image (NIfTI, NRRD, MetaImage).
+/// Read a 3D image (NIfTI, NRRD, MetaImage, a DICOM folder, DICOMDIR or file),
+/// of DICOM input the series `series` if given.
 #[pyfunction]
-fn read_volume<'py>(py: Python<'py>, path: PathBuf) -> PyResult<ImageArrays<'py>> {
-    let path = path.as_path();
+#[pyo3(signature = (path, series=None))]
+fn read_volume<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    series: Option<String>,
+) -> PyResult<ImageArrays<'py>> {
+    let options = VolumeReadOptions { series };
     let volume = py
-        .detach(|| crestline::io::read_volume(path))
+        .detach(|| crestline::io::read_volume_with(&path, &options))
         .map_err(raised)?;
+    Ok(image_arrays(py, &volume))
+}
+
+/// Read a DICOM series from a list of files, the series `series` if given.
+#[pyfunction]
+#[pyo3(signature = (files, series=None))]
+fn read_dicom<'py>(
+    py: Python<'py>,
+    files: Vec<PathBuf>,
+    series: Option<String>,
+) -> PyResult<ImageArrays<'py>> {
+    let options = VolumeReadOptions { series };
+    let volume = py
+        .detach(|| crestline::io::read_dicom(&files, &options))
+        .map_err(raised)?;
+    Ok(image_arrays(py, &volume))
+}
+
+/// The arrays of `volume` for Python.
+fn image_arrays<'py>(py: Python<'py>, volume: &Volume) -> ImageArrays<'py> {
     let [nx, ny, nz] = volume.dims();
     let samples = Array3::from_shape_vec((nz, ny, nx), volume.samples().to_vec())
         .expect("x fastest, one sample per voxel");
     let placed = volume.affine();
     let affine = Array2::from_shape_fn((4, 4), |(r, c)| placed[(r, c)]);
     let space = volume.space().map(crestline::Space::name);
-    Ok((samples.into_pyarray(py), affine.into_pyarray(py), space))
+    (samples.into_pyarray(py), affine.into_pyarray(py), space)
 }
 
 /// The volume of the samples `(nz, ny, nx)` and the affine, checked by

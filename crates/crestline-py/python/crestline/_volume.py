@@ -81,11 +81,27 @@ Image = Union[Volume, npt.ArrayLike, Any]
 array indexed ``[i, j, k]`` (with ``spacing`` and ``origin``)."""
 
 
-def read_volume(path: Union[str, "PathLike[str]"]) -> Volume:
-    """Read a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or MetaImage
-    (.mha, .mhd). Raises :class:`crestline.FileError` naming the file if it cannot
-    be read."""
-    samples, affine, space = _crestline.read_volume(file_path(path))
+def read_volume(
+    path: Union[str, "PathLike[str]", Sequence[Union[str, "PathLike[str]"]]], series: Optional[str] = None
+) -> Volume:
+    """Read a 3-D image: NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr), MetaImage
+    (.mha, .mhd), or a DICOM series from a folder, a DICOMDIR, a ``.dcm`` file (or
+    any file with the DICOM mark) or a list of files.
+
+    A DICOM series is read in LPS millimetres, its samples the modality values
+    (Rescale Slope and Intercept applied), its slices ordered by position along the
+    normal of their planes. ``series`` is the Series Instance UID to read where the
+    input holds several (without it, the error lists them). Missing slices, uneven
+    spacing, gantry tilt, mixed orientations and transfer syntaxes that cannot be
+    decoded (JPEG-LS, JPEG 2000) are refused. Raises :class:`crestline.FileError`
+    naming the file or folder if it cannot be read."""
+    if series is not None and not isinstance(series, str):
+        raise TypeError(f"series: expected a Series Instance UID (str), got {type(series).__name__}")
+    if isinstance(path, (list, tuple)):
+        files = [file_path(p, "path") for p in path]
+        samples, affine, space = _crestline.read_dicom(files, series)
+    else:
+        samples, affine, space = _crestline.read_volume(file_path(path), series)
     frame: Optional[Space] = "RAS" if space == "RAS" else "LPS" if space == "LPS" else None
     return Volume(samples.transpose(2, 1, 0), affine, frame)
 

@@ -57,11 +57,13 @@ pub enum FileFormat {
     MetaImage,
     /// `.mhd`: MetaImage headers with a detached data file.
     MetaImageHeader,
+    /// `.dcm`: DICOM files (a series is also read from a folder or a DICOMDIR).
+    Dicom,
 }
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 20] = [
+    pub const ALL: [FileFormat; 21] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
@@ -82,6 +84,7 @@ impl FileFormat {
         FileFormat::NrrdHeader,
         FileFormat::MetaImage,
         FileFormat::MetaImageHeader,
+        FileFormat::Dicom,
     ];
 
     /// The extension, lowercase and without the leading dot (`"nii.gz"` for
@@ -108,6 +111,7 @@ impl FileFormat {
             FileFormat::NrrdHeader => "nhdr",
             FileFormat::MetaImage => "mha",
             FileFormat::MetaImageHeader => "mhd",
+            FileFormat::Dicom => "dcm",
         }
     }
 

@@ -17,8 +17,10 @@
 //! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
 //! crate they go through [`crate::atomic::write_atomically`].
 //!
-//! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage) into a
-//! [`crate::volume::Volume`], and [`read_raw_volume`] headerless samples.
+//! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage, DICOM series) into a
+//! [`crate::volume::Volume`], [`read_volume_with`] a chosen DICOM series,
+//! [`read_dicom`] a series from a list of files, and [`read_raw_volume`]
+//! headerless samples.
 //!
 //! Every reader and writer of the crate that picks its format by the file name
 //! asks [`choose_format`] for it, among the [`FileFormat`]s it handles. Every PLY
@@ -47,8 +49,8 @@ pub use soup::{soup_format, write_soup};
 pub use stl::read_stl;
 pub use structure::Structure;
 pub use volume::{
-    is_volume_path, read_raw_volume, read_volume, volume_files, SampleType,
-    SUPPORTED_VOLUME_EXTENSIONS,
+    is_volume_path, read_dicom, read_raw_volume, read_volume, read_volume_with, volume_files,
+    SampleType, VolumeReadOptions, SUPPORTED_VOLUME_EXTENSIONS,
 };
 
 use std::path::Path;

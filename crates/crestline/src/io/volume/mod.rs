@@ -2,9 +2,13 @@
 //!
 //! [`read_volume`] chooses the reader by the file extension: NIfTI-1 and NIfTI-2
 //! (`.nii`, `.nii.gz`), NRRD (`.nrrd`, `.nhdr` with a detached data file) and
-//! MetaImage (`.mha`, `.mhd` with a detached data file). [`read_raw_volume`] reads
-//! headerless samples whose layout the caller knows. Samples of every type become
-//! `f32` (32-bit integers and doubles may lose precision).
+//! MetaImage (`.mha`, `.mhd` with a detached data file); a folder, a DICOMDIR, a
+//! `.dcm` or `.dicom` file or any file with the DICOM `DICM` mark is a DICOM
+//! series (with the cargo feature `dicom`), and [`read_volume_with`] chooses one of
+//! several series in it; [`read_dicom`] reads a series from a list of files.
+//! [`read_raw_volume`] reads headerless samples whose layout the caller knows.
+//! Samples of every type become `f32` (32-bit integers and doubles may lose
+//! precision).
 //!
 //! Headers are checked before their data is read: the voxel count must be at most
 //! [`crate::volume::MAX_VOXELS`]; the sample buffer is reserved fallibly (a header
@@ -15,6 +19,7 @@
 //! of a text header, the field of a binary one, or how many bytes a truncated file
 //! holds ("the data ends after N of M bytes").
 
+mod dicom;
 mod metaimage;
 mod nifti;
 mod nrrd;
@@ -79,11 +84,21 @@ const READERS: [(FileFormat, Reader); 6] = [
 /// The file extensions [`read_volume`] understands (compared case-insensitively).
 pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &extensions(&READERS);
 
-/// Whether `path` names an image file by its extension (one of
-/// [`SUPPORTED_VOLUME_EXTENSIONS`], in any letter case), so that a command can
-/// tell volumes from meshes.
+/// Whether `path` names a 3D image, so that a command can tell volumes from
+/// meshes: a file with one of [`SUPPORTED_VOLUME_EXTENSIONS`] (in any letter
+/// case), or DICOM input (a folder, a DICOMDIR, a `.dcm` or `.dicom` file, or a
+/// file with the `DICM` mark at byte 128).
 pub fn is_volume_path(path: &Path) -> bool {
-    reader_for(path).is_ok()
+    reader_for(path).is_ok() || dicom::is_dicom_input(path)
+}
+
+/// How [`read_volume_with`] reads an image.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct VolumeReadOptions {
+    /// The Series Instance UID of the series to read from DICOM input holding
+    /// several; `None` reads the only series there (and an error lists the
+    /// series if there are several). Other formats refuse a series.
+    pub series: Option<String>,
 }
 
 /// Read a 3D image, choosing the reader by the extension in any letter case:
@@ -97,18 +112,65 @@ pub fn is_volume_path(path: &Path) -> bool {
 /// - `.mha`, `.mhd`: MetaImage, `NDims = 3`, raw or zlib-compressed; the geometry
 ///   is reported as written (ITK writes LPS).
 ///
-/// Errors are [`Error::File`] naming `path` (or a detached data file) and the
-/// problem.
+/// - a folder, a DICOMDIR, a `.dcm` or `.dicom` file, or a file with the `DICM`
+///   mark at byte 128 (such as `.dicom` files): a DICOM series, in LPS; see
+///   [`read_volume_with`].
+///
+/// Errors are [`Error::File`] naming `path` (or a detached data file, or the file
+/// of a series at fault) and the problem.
 pub fn read_volume(path: &Path) -> Result<Volume> {
-    let read = reader_for(path)?;
-    read(path).map_err(|e| in_file(e, path))
+    read_volume_with(path, &VolumeReadOptions::default())
+}
+
+/// Read a 3D image as [`read_volume`] does, with `options`.
+///
+/// DICOM input (with the cargo feature `dicom`; without it, an error saying so)
+/// is a folder (its files with the `DICM` mark; subfolders, hidden files and
+/// other files are skipped), a DICOMDIR (the files it references) or one file,
+/// single- or multi-frame. Of the images found, those of one series are read:
+/// the only one, or `options.series`. The volume's index axes are the rows, the
+/// columns and the normal of the slices, in LPS millimetres: slices are ordered by
+/// their Image Position (Patient) along the normal of their Image Orientation
+/// (Patient), and spaced by the step between those positions; an oblique series
+/// keeps its orientation as the direction matrix. Samples are the modality values
+/// (Rescale Slope and Intercept applied). Refused with an error naming the input
+/// and the problem: several series and none chosen (the error lists their UIDs),
+/// a missing slice or uneven spacing (the gap and the expected spacing), a gantry
+/// tilt (its angle; such series are not resampled), mixed orientations, sizes or
+/// pixel spacings, two slices at one position, colour images, and transfer
+/// syntaxes this build cannot decode (JPEG-LS, JPEG 2000; named with the file).
+pub fn read_volume_with(path: &Path, options: &VolumeReadOptions) -> Result<Volume> {
+    let series = options.series.as_deref();
+    match reader_for(path) {
+        Ok(read) if series.is_none() => read(path).map_err(|e| in_file(e, path)),
+        Ok(_) => Err(Error::File {
+            path: path.to_path_buf(),
+            message:
+                "a series was chosen, but the image is not DICOM: only DICOM input holds series"
+                    .to_string(),
+        }),
+        Err(_) if dicom::is_dicom_input(path) => dicom::read(dicom::Input::Path(path), series),
+        Err(err) => Err(err),
+    }
+}
+
+/// Read a DICOM series from a list of files, as [`read_volume_with`] reads a
+/// folder: files that hold no image are skipped, and of several series
+/// `options.series` is read. Errors about the series as a whole name the folder
+/// of the first file.
+pub fn read_dicom(files: &[PathBuf], options: &VolumeReadOptions) -> Result<Volume> {
+    dicom::read(dicom::Input::Files(files), options.series.as_deref())
 }
 
 /// The files reading the image at `path` reads: the file itself and, for a
-/// NRRD or MetaImage header that names one, its detached data file (so that a
-/// caller can refuse to write over any of them). A header that cannot be parsed
-/// gives the file alone; reading it will say what is wrong.
+/// NRRD or MetaImage header that names one, its detached data file; for DICOM
+/// input, the folder or DICOMDIR and then the DICOM files it holds or references
+/// (so that a caller can refuse to write over any of them). A header that cannot
+/// be parsed gives the file alone; reading it will say what is wrong.
 pub fn volume_files(path: &Path) -> Vec<PathBuf> {
+    if reader_for(path).is_err() && dicom::is_dicom_input(path) {
+        return dicom::input_files(path);
+    }
     let data_file = match choose_format(path, "", &READERS).map(|(format, _)| format) {
         Ok(FileFormat::Nrrd | FileFormat::NrrdHeader) => nrrd::data_file(path),
         Ok(FileFormat::MetaImage | FileFormat::MetaImageHeader) => metaimage::data_file(path),
@@ -173,9 +235,18 @@ pub fn read_raw_volume(
     read().map_err(|e| in_file(e, path))
 }
 
-/// The reader for the extension of `path`.
+/// The reader for the extension of `path`; the error lists the extensions and
+/// DICOM input.
 fn reader_for(path: &Path) -> Result<Reader> {
-    choose_format(path, "an image", &READERS).map(|(_, read)| read)
+    choose_format(path, "an image", &READERS)
+        .map(|(_, read)| read)
+        .map_err(|err| match err {
+            Error::File { path, message } => Error::File {
+                path,
+                message: format!("{message}, or a DICOM folder, DICOMDIR or .dcm file"),
+            },
+            other => other,
+        })
 }
 
 /// Name `path` in `err`, also for the argument errors of [`Volume::new`] (a
