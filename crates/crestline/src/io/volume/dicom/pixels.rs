@@ -37,8 +37,8 @@ pub(super) fn check_transfer_syntax(uid: &str) -> Result<()> {
         Some(syntax) => Err(Error::Parse(format!(
             "is stored in the transfer syntax {} ({uid}), which crestline cannot decode; \
              supported: uncompressed (implicit or explicit VR, little or big endian, deflated), \
-             JPEG baseline, extended and lossless, and RLE lossless (convert the series first, \
-             e.g. with `gdcmconv --raw` or `dcmdjpls`)",
+             8-bit JPEG baseline and extended, JPEG lossless, and RLE lossless (convert the \
+             series first, e.g. with gdcmconv --raw)",
             syntax.name()
         ))),
         None => Err(Error::Parse(format!(
