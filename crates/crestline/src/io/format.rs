@@ -57,11 +57,25 @@ pub enum FileFormat {
     MetaImage,
     /// `.mhd`: MetaImage headers with a detached data file.
     MetaImageHeader,
+    /// `.gii`: GIfTI files (surfaces, per-vertex values, labels).
+    Gifti,
+    /// `.surf.gii`: GIfTI surfaces.
+    GiftiSurface,
+    /// `.shape.gii`: GIfTI per-vertex shape measures (curvature, thickness).
+    GiftiShape,
+    /// `.func.gii`: GIfTI per-vertex functional data.
+    GiftiFunc,
+    /// `.label.gii`: GIfTI per-vertex labels.
+    GiftiLabel,
+    /// `.curv`: FreeSurfer per-vertex values (new curv format).
+    FreeSurferCurv,
+    /// `.label`: FreeSurfer ASCII labels.
+    FreeSurferLabel,
 }
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 20] = [
+    pub const ALL: [FileFormat; 27] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
@@ -82,6 +96,13 @@ impl FileFormat {
         FileFormat::NrrdHeader,
         FileFormat::MetaImage,
         FileFormat::MetaImageHeader,
+        FileFormat::Gifti,
+        FileFormat::GiftiSurface,
+        FileFormat::GiftiShape,
+        FileFormat::GiftiFunc,
+        FileFormat::GiftiLabel,
+        FileFormat::FreeSurferCurv,
+        FileFormat::FreeSurferLabel,
     ];
 
     /// The extension, lowercase and without the leading dot (`"nii.gz"` for
@@ -108,6 +129,13 @@ impl FileFormat {
             FileFormat::NrrdHeader => "nhdr",
             FileFormat::MetaImage => "mha",
             FileFormat::MetaImageHeader => "mhd",
+            FileFormat::Gifti => "gii",
+            FileFormat::GiftiSurface => "surf.gii",
+            FileFormat::GiftiShape => "shape.gii",
+            FileFormat::GiftiFunc => "func.gii",
+            FileFormat::GiftiLabel => "label.gii",
+            FileFormat::FreeSurferCurv => "curv",
+            FileFormat::FreeSurferLabel => "label",
         }
     }
 
