@@ -16,12 +16,12 @@
 //! [`MAX_FACE_CORNERS`] corners is rejected before its indices are read.
 //!
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
-//! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
+//! any triangles, orientable or not, as PLY, OBJ, VTK or GIfTI. Like every writer of the
 //! crate they go through [`crate::atomic::write_atomically`].
 //!
 //! Per-vertex values come from files of their own through [`read_vertex_values`]
-//! (FreeSurfer curv, GIfTI, text), and go to GIfTI and FreeSurfer files through
-//! the writers of [`gifti`] and [`freesurfer`].
+//! (FreeSurfer curv, GIfTI, text), and go to GIfTI and FreeSurfer curv files
+//! through [`write_vertex_values`].
 //!
 //! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage) into a
 //! [`crate::volume::Volume`], and [`read_raw_volume`] headerless samples.
@@ -51,9 +51,9 @@ pub use format::{choose_format, FileFormat, FormatChoice};
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
-pub use soup::{soup_format, write_soup};
+pub use soup::{soup_format, write_soup, write_soup_of_structure, DEFAULT_STRUCTURE};
 pub use stl::read_stl;
-pub use vertex_data::read_vertex_values;
+pub use vertex_data::{read_vertex_values, write_vertex_values, VERTEX_VALUE_FORMATS};
 pub use volume::{
     is_volume_path, read_raw_volume, read_volume, volume_files, SampleType,
     SUPPORTED_VOLUME_EXTENSIONS,

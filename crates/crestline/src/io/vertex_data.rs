@@ -1,14 +1,43 @@
 //! Per-vertex values in files of their own, in the order of a mesh file's
 //! vertices: FreeSurfer curv files (`lh.curv`, `lh.sulc`, told by their magic
 //! bytes whatever their name), GIfTI `.shape.gii`/`.func.gii` (any `.gii`), or
-//! text with one number per line.
+//! text with one number per line. [`write_vertex_values`] writes the first two.
 
 use std::path::Path;
 
 use super::format::{choose_format, FileFormat};
 use super::freesurfer::{curv, CURV_MAGIC};
-use super::gifti;
+use super::gifti::{self, Metadata};
 use crate::{Error, Result};
+
+/// The formats [`write_vertex_values`] writes.
+pub const VERTEX_VALUE_FORMATS: [FileFormat; 3] = [
+    FileFormat::GiftiShape,
+    FileFormat::GiftiFunc,
+    FileFormat::FreeSurferCurv,
+];
+
+/// Write one value per vertex in the format of the extension of `path`: a GIfTI
+/// `.shape.gii` (`NIFTI_INTENT_SHAPE`) or `.func.gii` (`NIFTI_INTENT_NONE`), the
+/// array with `metadata` (e.g. its `Name`), or a FreeSurfer `.curv` of a surface
+/// of `face_count` faces (no metadata, and no NaN). Written atomically.
+///
+/// Errors ([`Error::File`] naming `path`): an unsupported extension, a value too
+/// large for a 32-bit float, a NaN in a curv file.
+pub fn write_vertex_values(
+    path: &Path,
+    values: &[f64],
+    metadata: &Metadata<'_>,
+    face_count: usize,
+) -> Result<()> {
+    match choose_format(path, "per-vertex values", &VERTEX_VALUE_FORMATS)? {
+        FileFormat::FreeSurferCurv => curv::write_curv(path, values, face_count),
+        FileFormat::GiftiShape => {
+            gifti::write_gifti_values(path, values, "NIFTI_INTENT_SHAPE", metadata, &[])
+        }
+        _ => gifti::write_gifti_values(path, values, "NIFTI_INTENT_NONE", metadata, &[]),
+    }
+}
 
 /// Read one value per vertex from `path`: a FreeSurfer curv file (by its magic
 /// bytes), a GIfTI file (by its `.gii` extension: its first array) or text (one

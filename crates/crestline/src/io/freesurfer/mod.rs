@@ -23,6 +23,7 @@ pub(crate) mod label;
 pub(crate) mod surface;
 
 pub use curv::{read_curv, write_curv};
+pub(crate) use geometry::to_tkr;
 pub use geometry::VolumeGeometry;
 pub use label::{write_label, LabelledVertex};
 pub use surface::write_surface;
