@@ -15,8 +15,8 @@ use super::ReportArg;
 /// Arguments of `crestline info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface) or 3D image
+    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd).
     #[arg(value_name = "MESH|VOLUME")]
     pub input: PathBuf,
     #[command(flatten)]

@@ -82,8 +82,8 @@ impl MorseArgs {
 /// Arguments of `crestline morse`.
 #[derive(clap::Args, Debug)]
 pub struct MorseCommand {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd; with --level).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface) or 3D image
+    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd; with --level).
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)

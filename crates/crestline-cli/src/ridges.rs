@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
-use crestline::io::{choose_format, FileFormat, FormatChoice};
+use crestline::io::{choose_format, is_volume_path, FileFormat, FormatChoice};
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
 use crestline::lines::{write_vertex_labels, FeatureLines, LineFormat, LABEL_FORMATS};
 use crestline::mesh::Mesh;
@@ -202,24 +202,30 @@ fn output_format(path: &Path) -> Result<Option<LineFormat>> {
     choose_format(path, "ridge and valley lines", &choices).map(|(_, format)| format)
 }
 
-/// Write the labels of the vertices of the input mesh that `lines` pass near
-/// ([`write_vertex_labels`]); an isosurface of an image has no vertex order of a
-/// file to label.
-fn write_labels(path: &Path, lines: &FeatureLines, loaded: &Loaded, input: &Path) -> Result<()> {
-    if loaded.volume.is_some() {
-        return Err(Error::File {
-            path: input.to_path_buf(),
-            message: "vertex labels (.label.gii, .label) label the vertices of a mesh file; \
-                      an isosurface of a 3D image has none"
-                .into(),
-        });
-    }
-    write_vertex_labels(path, lines, &loaded.surface.mesh)
+/// Refuse vertex labels where they cannot be made: on an isosurface of an
+/// image (no vertex order of a file to label) or with `--fair` (faired lines
+/// leave the surface).
+fn check_labels(args: &RidgesArgs) -> Result<()> {
+    let problem = if is_volume_path(&args.mesh) {
+        "vertex labels (.label.gii, .label) label the vertices of a mesh file; \
+         an isosurface of a 3D image has none"
+    } else if args.tracer.fair {
+        "vertex labels (.label.gii, .label) need the lines on the surface; --fair moves them off it"
+    } else {
+        return Ok(());
+    };
+    Err(Error::File {
+        path: args.output.clone(),
+        message: problem.into(),
+    })
 }
 
 /// Trace the lines and write them, or the labels of the vertices they pass near.
 pub fn run(args: &RidgesArgs) -> Result<()> {
     let format = output_format(&args.output)?;
+    if format.is_none() {
+        check_labels(args)?;
+    }
     let outputs: Vec<Role<'_>> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();
@@ -236,7 +242,7 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
         None => args
             .report
             .write_with_output(&mut report, &args.output, |p| {
-                write_labels(p, &lines, &loaded, &args.mesh)
+                write_vertex_labels(p, &lines, &loaded.surface.mesh)
             }),
     }
 }

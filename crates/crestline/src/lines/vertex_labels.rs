@@ -40,9 +40,15 @@ pub const LABEL_FORMATS: [FileFormat; 2] = [FileFormat::GiftiLabel, FileFormat::
 /// The label of each vertex of the input surface of `mesh`, in its order (see
 /// the module documentation): [`UNLABELLED`], [`RIDGE`] or [`VALLEY`].
 ///
-/// Errors: a line of another kind than ridge or valley, or a line without the
-/// surface locations of its points (faired lines leave the surface).
+/// Errors ([`Error::Argument`]): a line of another kind than ridge or valley, or
+/// a line without the surface locations of its points (faired lines leave the
+/// surface).
 pub fn vertex_labels(lines: &FeatureLines, mesh: &Mesh) -> Result<Vec<i32>> {
+    labels_of(lines, mesh).map_err(Error::Argument)
+}
+
+/// [`vertex_labels`], its error a message.
+fn labels_of(lines: &FeatureLines, mesh: &Mesh) -> std::result::Result<Vec<i32>, String> {
     let mut labels = vec![UNLABELLED; mesh.vertex_count()];
     let mut nearest = vec![0.0f64; mesh.vertex_count()];
     for line in lines.iter() {
@@ -50,17 +56,17 @@ pub fn vertex_labels(lines: &FeatureLines, mesh: &Mesh) -> Result<Vec<i32>> {
             LineKind::Ridge => RIDGE,
             LineKind::Valley => VALLEY,
             other => {
-                return Err(Error::Argument(format!(
+                return Err(format!(
                     "vertex labels hold ridge and valley lines, not {other} lines"
-                )))
+                ))
             }
         };
         if line.locations.len() != line.points.len() {
-            return Err(Error::Argument(
-                "the lines do not say where their points lie on the surface (faired lines \
-                 leave it), so they cannot label its vertices"
+            return Err(
+                "the lines do not say where their points lie on the surface (faired \
+                        lines leave it), so they cannot label its vertices"
                     .into(),
-            ));
+            );
         }
         for location in &line.locations {
             let (v, weight) = nearest_corner(location, mesh)?;
@@ -74,17 +80,20 @@ pub fn vertex_labels(lines: &FeatureLines, mesh: &Mesh) -> Result<Vec<i32>> {
 }
 
 /// The corner of the element `location` lies on with the largest weight.
-fn nearest_corner(location: &SurfaceLocation, mesh: &Mesh) -> Result<(VertexId, f64)> {
+fn nearest_corner(
+    location: &SurfaceLocation,
+    mesh: &Mesh,
+) -> std::result::Result<(VertexId, f64), String> {
     let in_range = match *location {
         SurfaceLocation::Vertex { vertex } => (vertex as usize) < mesh.vertex_count(),
         SurfaceLocation::Edge { edge, .. } => (edge as usize) < mesh.edge_count(),
         SurfaceLocation::Face { face, .. } => (face as usize) < mesh.face_count(),
     };
     if !in_range {
-        return Err(Error::Argument(
+        return Err(
             "a line point lies on an element the mesh does not have (lines of another mesh?)"
                 .into(),
-        ));
+        );
     }
     Ok(location
         .weights(mesh)
@@ -120,9 +129,9 @@ fn label_table() -> Vec<GiftiLabel> {
 /// unsupported extension.
 pub fn write_vertex_labels(path: &Path, lines: &FeatureLines, mesh: &Mesh) -> Result<()> {
     let format = choose_format(path, "vertex labels", &LABEL_FORMATS)?;
-    let labels = vertex_labels(lines, mesh).map_err(|e| Error::File {
+    let labels = labels_of(lines, mesh).map_err(|message| Error::File {
         path: path.to_path_buf(),
-        message: e.to_string(),
+        message,
     })?;
     match format {
         FileFormat::FreeSurferLabel => write_label(path, &labelled_vertices(&labels, mesh)),
