@@ -134,7 +134,17 @@ fn parser_for(path: &Path) -> Result<Parser> {
                 .into(),
         });
     }
-    choose_format(path, "a mesh", &READERS).map(|(_, parse)| parse)
+    choose_format(path, "a mesh", &READERS)
+        .map(|(_, parse)| parse)
+        .map_err(|e| match e {
+            Error::File { path, message } => Error::File {
+                path,
+                message: format!(
+                    "{message}, or a FreeSurfer surface (told by its first bytes, FF FF FE)"
+                ),
+            },
+            other => other,
+        })
 }
 
 /// The first three bytes of the file at `path` (fewer in a shorter file).

@@ -37,8 +37,8 @@ pub const DEFAULT_STRUCTURE: &str = "Other";
 /// Write `soup` in the format given by the extension of `path`: `.ply` (binary,
 /// with every vertex scalar as a double property), `.obj`, `.vtk` (legacy ASCII
 /// `POLYDATA` with the vertex scalars as `POINT_DATA`) or `.surf.gii` (a GIfTI
-/// surface in RAS, of the structure [`DEFAULT_STRUCTURE`]; see
-/// [`write_soup_of_structure`]). Written atomically.
+/// surface in RAS, without the scalars, of the structure [`DEFAULT_STRUCTURE`];
+/// see [`write_soup_of_structure`]). Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`, before any file is created): an unknown
 /// extension ([`soup_format`]), a non-finite coordinate or scalar, an index out of

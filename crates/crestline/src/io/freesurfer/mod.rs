@@ -6,16 +6,16 @@
 //! and write, and nibabel's `nibabel/freesurfer/io.py` (FreeSurfer wiki,
 //! "FileFormats" and "SurfaceFormats"). Binary numbers are big-endian.
 //!
-//! - A triangle surface ([`surface`]) starts with the magic bytes `FF FF FE`, a
-//!   "created by" line and an empty line, then the vertex and face counts (i32),
-//!   the vertices (three f32 each, x y z) and the faces (three i32 each), and may
-//!   end with the volume geometry of the image the surface was made from
-//!   ([`VolumeGeometry`]).
-//! - A curv file ([`curv`], the "new" format) starts with `FF FF FF`, then the
-//!   vertex count, the face count and the values per vertex (i32, always 1 here),
-//!   then one f32 per vertex.
-//! - An ASCII label ([`label`]) is a `#!ascii label` comment line, the number of
-//!   vertices, and one `vertex x y z value` line per labelled vertex.
+//! - A triangle surface ([`write_surface`], read by [`crate::io::read_mesh`])
+//!   starts with the magic bytes `FF FF FE`, a "created by" line and an empty
+//!   line, then the vertex and face counts (i32), the vertices (three f32 each,
+//!   x y z) and the faces (three i32 each), and may end with the volume geometry
+//!   of the image the surface was made from ([`VolumeGeometry`]).
+//! - A curv file ([`read_curv`], [`write_curv`], the "new" format) starts with
+//!   `FF FF FF`, then the vertex count, the face count and the values per vertex
+//!   (i32, always 1 here), then one f32 per vertex.
+//! - An ASCII label ([`write_label`]) is a `#!ascii label` comment line, the
+//!   number of vertices, and one `vertex x y z value` line per labelled vertex.
 
 pub(crate) mod curv;
 mod geometry;
