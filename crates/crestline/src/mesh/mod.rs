@@ -9,6 +9,11 @@
 //! as given (for surfaces such as isosurfaces, whose orientation carries meaning). The result is always an oriented 2-manifold,
 //! possibly with boundary and several components.
 //!
+//! The repairs renumber vertices; [`Mesh::input_vertices`] keeps, for each vertex of
+//! the soup, the mesh vertex it became, and [`Mesh::to_input_order`] takes
+//! per-vertex results back to the file's order (FreeSurfer and GIfTI per-vertex
+//! files must match their surface vertex for vertex).
+//!
 //! Storage is a set of plain arrays indexed by u32 ids. Halfedges come in pairs:
 //! halfedge `2e` and `2e + 1` are the two sides of edge `e`, so the twin of `h` is
 //! `h ^ 1`. A boundary halfedge has no face ([`FaceId::INVALID`]); every boundary

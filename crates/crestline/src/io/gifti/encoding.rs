@@ -85,7 +85,7 @@ pub(crate) struct Layout {
     /// The `Encoding`: `ASCII`, `Base64Binary`, `GZipBase64Binary` (an
     /// `ExternalFileBinary` array is refused before decoding).
     pub encoding: Encoding,
-    /// `Endian="LittleEndian"` (else big-endian).
+    /// Little-endian unless `Endian="BigEndian"`.
     pub little_endian: bool,
     /// The product of the dimensions.
     pub count: usize,

@@ -124,7 +124,8 @@ fn data_array<'a, 'input>(index: usize, node: Node<'a, 'input>) -> Result<DataAr
     let layout = Layout {
         data_type: DataType::from_name(attribute("DataType")?).map_err(error)?,
         encoding: Encoding::from_name(attribute("Encoding")?).map_err(error)?,
-        little_endian: node.attribute("Endian") == Some("LittleEndian"),
+        // Without an `Endian`, the byte order of the machines that write GIfTI.
+        little_endian: node.attribute("Endian") != Some("BigEndian"),
         count,
     };
     let column_major = match node.attribute("ArrayIndexingOrder") {
