@@ -70,6 +70,6 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
     let soup = args.frame.soup(soup)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| {
-            write_soup_of_structure(p, &soup, &args.structure.structure)
+            write_soup_of_structure(p, &soup, args.structure.structure)
         })
 }

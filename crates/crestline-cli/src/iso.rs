@@ -90,6 +90,6 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
             Some(field) => write_curvature_ply(p, &mesh, field),
-            None => write_soup_of_structure(p, &mesh.to_soup(), &args.structure.structure),
+            None => write_soup_of_structure(p, &mesh.to_soup(), args.structure.structure),
         })
 }

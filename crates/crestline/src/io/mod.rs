@@ -42,6 +42,7 @@ pub(crate) mod ply_header;
 mod ply_records;
 mod soup;
 mod stl;
+mod structure;
 mod vertex_data;
 mod volume;
 pub(crate) mod vtk;
@@ -51,8 +52,9 @@ pub use format::{choose_format, FileFormat, FormatChoice};
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
-pub use soup::{soup_format, write_soup, write_soup_of_structure, DEFAULT_STRUCTURE};
+pub use soup::{soup_format, write_soup, write_soup_of_structure};
 pub use stl::read_stl;
+pub use structure::Structure;
 pub use vertex_data::{read_vertex_values, write_vertex_values, VERTEX_VALUE_FORMATS};
 pub use volume::{
     is_volume_path, read_raw_volume, read_volume, volume_files, SampleType,

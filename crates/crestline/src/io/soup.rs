@@ -16,11 +16,12 @@ use super::gifti::write_gifti_surface;
 use super::obj::write_triangles_obj;
 use super::ply::write_triangles_ply;
 use super::vtk::{self, Attachment, CellType};
+use super::Structure;
 use super::VertexAttribute;
 
 /// A writer of one format, given a soup already checked and the anatomical
 /// structure it is a surface of.
-type SoupWriter = fn(&Path, &TriangleSoup, &str) -> Result<()>;
+type SoupWriter = fn(&Path, &TriangleSoup, Structure) -> Result<()>;
 
 /// The formats of [`write_soup`], each with its writer, in the order listed in
 /// error messages.
@@ -31,27 +32,27 @@ const WRITERS: [(FileFormat, SoupWriter); 4] = [
     (FileFormat::GiftiSurface, write_soup_gifti),
 ];
 
-/// The anatomical structure [`write_soup`] records in a GIfTI surface.
-pub const DEFAULT_STRUCTURE: &str = "Other";
-
 /// Write `soup` in the format given by the extension of `path`: `.ply` (binary,
 /// with every vertex scalar as a double property), `.obj`, `.vtk` (legacy ASCII
 /// `POLYDATA` with the vertex scalars as `POINT_DATA`) or `.surf.gii` (a GIfTI
-/// surface in RAS, without the scalars, of the structure [`DEFAULT_STRUCTURE`];
+/// surface in RAS, without the scalars, of the default [`Structure`], `Other`;
 /// see [`write_soup_of_structure`]). Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`, before any file is created): an unknown
 /// extension ([`soup_format`]), a non-finite coordinate or scalar, an index out of
 /// range, or a scalar without one value per vertex.
 pub fn write_soup(path: &Path, soup: &TriangleSoup) -> Result<()> {
-    write_soup_of_structure(path, soup, DEFAULT_STRUCTURE)
+    write_soup_of_structure(path, soup, Structure::default())
 }
 
-/// [`write_soup`] of a surface of the anatomical `structure` (one of
-/// [`super::gifti::STRUCTURES`]), which a GIfTI surface records as Connectome
-/// Workbench reads it (`AnatomicalStructurePrimary`, with the `GeometricType`
-/// `Anatomical`); the other formats have no place for it.
-pub fn write_soup_of_structure(path: &Path, soup: &TriangleSoup, structure: &str) -> Result<()> {
+/// [`write_soup`] of a surface of the anatomical `structure`, which a GIfTI
+/// surface records as Connectome Workbench reads it (`AnatomicalStructurePrimary`,
+/// with the `GeometricType` `Anatomical`); the other formats have no place for it.
+pub fn write_soup_of_structure(
+    path: &Path,
+    soup: &TriangleSoup,
+    structure: Structure,
+) -> Result<()> {
     check_soup(soup).map_err(|message| Error::File {
         path: path.to_path_buf(),
         message,
@@ -114,7 +115,7 @@ fn check_soup(soup: &TriangleSoup) -> std::result::Result<(), String> {
 }
 
 /// Binary PLY with every vertex scalar as a double property.
-fn write_soup_ply(path: &Path, soup: &TriangleSoup, _: &str) -> Result<()> {
+fn write_soup_ply(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     let attributes: Vec<VertexAttribute<'_>> = soup
         .vertex_scalars
         .iter()
@@ -131,13 +132,13 @@ fn write_soup_ply(path: &Path, soup: &TriangleSoup, _: &str) -> Result<()> {
 }
 
 /// OBJ of the positions and triangles.
-fn write_soup_obj(path: &Path, soup: &TriangleSoup, _: &str) -> Result<()> {
+fn write_soup_obj(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     write_triangles_obj(path, &soup.positions, &soup.triangles, soup.space)
 }
 
 /// Legacy ASCII VTK: `POINTS`, `POLYGONS` of three corners, and `POINT_DATA` with
 /// one `SCALARS` array per vertex scalar.
-fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: &str) -> Result<()> {
+fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     let n = soup.positions.len();
     write_atomically(path, |w| {
         vtk::write_header(
@@ -160,11 +161,11 @@ fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: &str) -> Result<()> {
 
 /// A GIfTI surface: the positions in RAS (GIfTI's frame; converted from LPS, and
 /// taken to be RAS when the soup has no frame), the triangles, and the structure.
-fn write_soup_gifti(path: &Path, soup: &TriangleSoup, structure: &str) -> Result<()> {
+fn write_soup_gifti(path: &Path, soup: &TriangleSoup, structure: Structure) -> Result<()> {
     let mut positions = soup.positions.clone();
     crate::space::convert_all(soup.space, Space::Ras, &mut positions);
     let metadata = [
-        ("AnatomicalStructurePrimary", structure),
+        ("AnatomicalStructurePrimary", structure.gifti_name()),
         ("GeometricType", "Anatomical"),
     ];
     write_gifti_surface(path, &positions, &soup.triangles, &metadata)

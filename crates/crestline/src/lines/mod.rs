@@ -27,6 +27,7 @@
 //! ([`write_atomically`]).
 
 pub(crate) use crate::chain;
+mod border;
 mod extractor;
 pub(crate) mod fair;
 mod indexing;
@@ -55,6 +56,7 @@ use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Point, Result, Space};
 
 pub use crate::chain::{chain, Chain};
+pub use border::{write_border, BorderSurface};
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;
