@@ -156,7 +156,7 @@ fn labelled_vertices(labels: &[i32], mesh: &Mesh) -> Vec<LabelledVertex> {
         .filter_map(|(i, _)| Some((i, inputs[i]?)))
         .collect();
     let positions: Vec<_> = labelled.iter().map(|&(_, v)| mesh.position(v)).collect();
-    let tkr = crate::io::freesurfer::to_tkr(&positions, mesh.volume_geometry());
+    let tkr = crate::space::to_tkr(&positions, mesh.volume_geometry());
     labelled
         .iter()
         .zip(tkr)

@@ -33,7 +33,7 @@ pub use ids::{EdgeId, FaceId, HalfedgeId, VertexId};
 pub use soup::{ScalarProperty, TriangleSoup};
 pub use topology::ComponentInfo;
 
-use crate::io::freesurfer::VolumeGeometry;
+use crate::space::VolumeGeometry;
 use crate::{Point, Space};
 
 /// An oriented manifold triangle mesh with halfedge connectivity.

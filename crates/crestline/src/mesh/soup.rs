@@ -1,6 +1,6 @@
 //! The indexed triangle list that readers produce and [`crate::mesh::Mesh`] is built from.
 
-use crate::io::freesurfer::VolumeGeometry;
+use crate::space::VolumeGeometry;
 use crate::{Point, Space};
 
 /// A named per-vertex scalar, e.g. a PLY vertex property such as `quality` or a

@@ -18,15 +18,15 @@
 //!   number of vertices, and one `vertex x y z value` line per labelled vertex.
 
 pub(crate) mod curv;
-mod geometry;
+mod footer;
 pub(crate) mod label;
 pub(crate) mod surface;
 
 pub use curv::{read_curv, write_curv};
-pub(crate) use geometry::to_tkr;
-pub use geometry::VolumeGeometry;
 pub use label::{write_label, LabelledVertex};
 pub use surface::write_surface;
+
+pub use crate::space::VolumeGeometry;
 
 /// The magic bytes of a triangle surface file.
 pub(crate) const SURFACE_MAGIC: [u8; 3] = [0xFF, 0xFF, 0xFE];

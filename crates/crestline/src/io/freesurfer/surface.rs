@@ -16,6 +16,7 @@ use crate::io::{fits_f32, Input};
 use crate::mesh::TriangleSoup;
 use crate::{Error, Point, Result, Space};
 
+use super::footer::{footer_bytes, read_footer};
 use super::{count, VolumeGeometry, SURFACE_MAGIC};
 
 /// The "created by" line of the surfaces crestline writes.
@@ -52,7 +53,7 @@ pub(in crate::io) fn parse(input: &mut Input<'_>) -> Result<TriangleSoup> {
         .enumerate()
         .map(|(f, corners)| triangle(f, corners, vertex_count))
         .collect::<Result<Vec<_>>>()?;
-    let geometry = VolumeGeometry::from_footer(input.rest())?;
+    let geometry = read_footer(input.rest())?;
     if let Some(map) = geometry.as_ref().and_then(VolumeGeometry::tkr_to_scanner) {
         for p in &mut positions {
             *p = map.transform_point(p);
@@ -138,7 +139,7 @@ pub fn write_surface(
         path: path.to_path_buf(),
         message,
     };
-    let tkr = super::geometry::to_tkr(positions, geometry);
+    let tkr = crate::space::to_tkr(positions, geometry);
     if let Some(v) = tkr.iter().position(|p| !p.iter().all(|&c| fits_f32(c))) {
         return Err(fail(format!(
             "vertex {v} has a coordinate that is not a finite 32-bit float"
@@ -164,7 +165,7 @@ pub fn write_surface(
             }
         }
         if let Some(geometry) = geometry {
-            w.write_all(&geometry.to_bytes())?;
+            w.write_all(&footer_bytes(geometry))?;
         }
         Ok(())
     })
@@ -222,7 +223,7 @@ mod tests {
             z_ras: [0.0, 1.0, 0.0],
             c_ras: [10.0, -20.0, 30.0],
         };
-        let soup = read(&tetrahedron(&geometry.to_bytes())).unwrap();
+        let soup = read(&tetrahedron(&footer_bytes(&geometry))).unwrap();
         assert_eq!(soup.positions[3], Point::new(10.0, -20.0, 31.0));
         assert_eq!(soup.volume_geometry, Some(geometry));
     }
