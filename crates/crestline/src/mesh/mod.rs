@@ -102,6 +102,8 @@ impl Mesh {
     /// `missing` for the vertices the repairs dropped. This is how per-vertex
     /// results go back to a file that must match the input surface vertex for
     /// vertex (FreeSurfer curv and label files, GIfTI shape and label files).
+    ///
+    /// Panics if `values` has fewer values than the mesh has vertices.
     pub fn to_input_order<T: Copy>(&self, values: &[T], missing: T) -> Vec<T> {
         self.input_vertices
             .iter()
