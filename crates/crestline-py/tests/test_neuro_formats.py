@@ -204,3 +204,18 @@ def test_fsaverage_ridges_as_labels(tool, tmp_path):
         labelled = np.flatnonzero(labels == family)
         nearest = np.array([np.linalg.norm(points - positions[v], axis=1).min() for v in labelled])
         assert (nearest <= reach[labelled]).all(), nearest.max()
+
+
+def test_lines_save_labels_as_the_tool_does(tool, tmp_path):
+    pial = fsaverage_pial()
+    vertices, faces, _ = crestline.read_mesh(pial)
+    lines = crestline.ridges(vertices, faces)
+    mine, tools = tmp_path / "mine.label.gii", tmp_path / "tool.label.gii"
+    lines.save_labels(mine, vertices, faces)
+    lines.save_labels(tmp_path / "mine.label", vertices, faces)
+    run(tool, "ridges", pial, "-o", tools)
+    labels = nib.load(str(mine)).darrays[0].data
+    np.testing.assert_array_equal(labels, nib.load(str(tools)).darrays[0].data)
+    np.testing.assert_array_equal(nib.freesurfer.read_label(str(tmp_path / "mine.label")), np.flatnonzero(labels))
+    with pytest.raises(ValueError, match="location_vertices"):
+        crestline.Lines([crestline.Line(kind="ridge", closed=False, strength=1.0, points=np.zeros((2, 3)))]).save_labels(mine, vertices, faces)

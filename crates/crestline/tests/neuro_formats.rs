@@ -10,7 +10,9 @@ use crestline::io::freesurfer::{write_surface, VolumeGeometry};
 use crestline::io::gifti::write_gifti_surface;
 use crestline::io::{read_mesh, read_vertex_values};
 use crestline::jobs::{ridges, RidgesOptions, Surface};
-use crestline::lines::{write_vertex_labels, FeatureLines, LineKind, Polyline, SurfaceLocation};
+use crestline::lines::{
+    write_labels, write_vertex_labels, FeatureLines, LineKind, Polyline, SurfaceLocation,
+};
 use crestline::mesh::{Mesh, TriangleSoup, VertexId};
 use crestline::progress::Silent;
 use crestline::{Point, Space};
@@ -117,6 +119,17 @@ fn labels_follow_the_input_vertices_after_repairs() {
     assert_eq!(rows[0], "0 0.000 0.000 1.000 1.0000000000");
     assert_eq!(rows[2], "5 0.000 0.000 -1.000 -1.0000000000");
     assert!(rows[3].starts_with("6 "));
+
+    let bad_count = write_labels(&path, &[0; 6], &mesh).unwrap_err().to_string();
+    assert!(
+        bad_count.contains("6 labels for a surface of 8 vertices"),
+        "{bad_count}"
+    );
+    let bad_label = write_labels(&path, &[0, 0, 0, 7, 0, 0, 0, 0], &mesh).unwrap_err();
+    assert!(
+        bad_label.to_string().contains("vertex 3 has the label 7"),
+        "{bad_label}"
+    );
 
     let mut faired = lines.clone();
     faired.lines[0].locations.clear();

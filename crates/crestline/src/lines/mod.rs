@@ -64,7 +64,7 @@ pub use markups::{write_markups, SLICER_SCHEMA};
 pub use obj::write_obj;
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
-pub use vertex_labels::{vertex_labels, write_vertex_labels, LABEL_FORMATS};
+pub use vertex_labels::{vertex_labels, write_labels, write_vertex_labels, LABEL_FORMATS};
 pub use vtk::write_vtk;
 pub use vtk_xml::{write_vtp, write_vtu};
 pub use zero_set::{LinePoint, ZeroSet};

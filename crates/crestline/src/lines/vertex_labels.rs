@@ -49,18 +49,14 @@ pub fn vertex_labels(lines: &FeatureLines, mesh: &Mesh) -> Result<Vec<i32>> {
 
 /// [`vertex_labels`], its error a message.
 fn labels_of(lines: &FeatureLines, mesh: &Mesh) -> std::result::Result<Vec<i32>, String> {
-    let mut labels = vec![UNLABELLED; mesh.vertex_count()];
-    let mut nearest = vec![0.0f64; mesh.vertex_count()];
+    let mut points = Vec::new();
     for line in lines.iter() {
-        let label = match line.kind {
-            LineKind::Ridge => RIDGE,
-            LineKind::Valley => VALLEY,
-            other => {
-                return Err(format!(
-                    "vertex labels hold ridge and valley lines, not {other} lines"
-                ))
-            }
-        };
+        let label = family_label(line.kind).ok_or_else(|| {
+            format!(
+                "vertex labels hold ridge and valley lines, not {} lines",
+                line.kind
+            )
+        })?;
         if line.locations.len() != line.points.len() {
             return Err(
                 "the lines do not say where their points lie on the surface (faired \
@@ -69,21 +65,58 @@ fn labels_of(lines: &FeatureLines, mesh: &Mesh) -> std::result::Result<Vec<i32>,
             );
         }
         for location in &line.locations {
-            let (v, weight) = nearest_corner(location, mesh)?;
-            if weight > nearest[v.idx()] {
-                nearest[v.idx()] = weight;
-                labels[v.idx()] = label;
-            }
+            points.push((label, checked_weights(location, mesh)?));
         }
     }
-    Ok(mesh.to_input_order(&labels, UNLABELLED))
+    Ok(mesh.to_input_order(
+        &label_nearest_corners(mesh.vertex_count(), points),
+        UNLABELLED,
+    ))
 }
 
-/// The corner of the element `location` lies on with the largest weight.
-fn nearest_corner(
+/// The label of the lines of `kind`: [`RIDGE`], [`VALLEY`], or `None` for the
+/// kinds vertex labels do not hold.
+pub fn family_label(kind: LineKind) -> Option<i32> {
+    match kind {
+        LineKind::Ridge => Some(RIDGE),
+        LineKind::Valley => Some(VALLEY),
+        _ => None,
+    }
+}
+
+/// The label of each of `vertex_count` vertices from line points, each given as
+/// its family's label and the vertices it interpolates with their weights: a
+/// point labels its corner of largest weight, and of the points that label a
+/// vertex the one of largest weight there wins. Vertices no point labels are
+/// [`UNLABELLED`].
+pub fn label_nearest_corners(
+    vertex_count: usize,
+    points: impl IntoIterator<Item = (i32, Vec<(VertexId, f64)>)>,
+) -> Vec<i32> {
+    let mut labels = vec![UNLABELLED; vertex_count];
+    let mut nearest = vec![0.0f64; vertex_count];
+    for (label, corners) in points {
+        let best = corners
+            .into_iter()
+            .filter(|(v, _)| v.idx() < vertex_count)
+            .fold(None, |best: Option<(VertexId, f64)>, (v, w)| match best {
+                Some((_, b)) if b >= w => best,
+                _ => Some((v, w)),
+            });
+        if let Some((v, weight)) = best.filter(|&(v, w)| w > nearest[v.idx()]) {
+            nearest[v.idx()] = weight;
+            labels[v.idx()] = label;
+        }
+    }
+    labels
+}
+
+/// The vertices `location` interpolates, with their weights, once its element
+/// is known to be on `mesh`.
+fn checked_weights(
     location: &SurfaceLocation,
     mesh: &Mesh,
-) -> std::result::Result<(VertexId, f64), String> {
+) -> std::result::Result<Vec<(VertexId, f64)>, String> {
     let in_range = match *location {
         SurfaceLocation::Vertex { vertex } => (vertex as usize) < mesh.vertex_count(),
         SurfaceLocation::Edge { edge, .. } => (edge as usize) < mesh.edge_count(),
@@ -95,16 +128,7 @@ fn nearest_corner(
                 .into(),
         );
     }
-    Ok(location
-        .weights(mesh)
-        .into_iter()
-        .fold((VertexId(0), f64::NEG_INFINITY), |best, (v, w)| {
-            if w > best.1 {
-                (v, w)
-            } else {
-                best
-            }
-        }))
+    Ok(location.weights(mesh))
 }
 
 /// The GIfTI label table of the families.
@@ -128,16 +152,48 @@ fn label_table() -> Vec<GiftiLabel> {
 /// Errors: those of [`vertex_labels`], as [`Error::File`] naming `path`, and an
 /// unsupported extension.
 pub fn write_vertex_labels(path: &Path, lines: &FeatureLines, mesh: &Mesh) -> Result<()> {
-    let format = choose_format(path, "vertex labels", &LABEL_FORMATS)?;
+    choose_format(path, "vertex labels", &LABEL_FORMATS)?;
     let labels = labels_of(lines, mesh).map_err(|message| Error::File {
         path: path.to_path_buf(),
         message,
     })?;
+    write_labels(path, &labels, mesh)
+}
+
+/// Write `labels`, one per vertex of the input surface of `mesh` in its order
+/// ([`UNLABELLED`], [`RIDGE`] or [`VALLEY`], as [`vertex_labels`] gives them), in
+/// the format of the extension of `path`: `.label.gii` or `.label` (see the
+/// module documentation). Written atomically.
+///
+/// Errors ([`Error::File`] naming `path`): an unsupported extension, not one
+/// label per input vertex, or another label.
+pub fn write_labels(path: &Path, labels: &[i32], mesh: &Mesh) -> Result<()> {
+    let format = choose_format(path, "vertex labels", &LABEL_FORMATS)?;
+    let fail = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let count = mesh.input_vertices().len();
+    if labels.len() != count {
+        return Err(fail(format!(
+            "{} labels for a surface of {count} vertices",
+            labels.len()
+        )));
+    }
+    if let Some(v) = labels
+        .iter()
+        .position(|l| ![UNLABELLED, RIDGE, VALLEY].contains(l))
+    {
+        return Err(fail(format!(
+            "vertex {v} has the label {}, not {UNLABELLED}, {RIDGE} or {VALLEY}",
+            labels[v]
+        )));
+    }
     match format {
-        FileFormat::FreeSurferLabel => write_label(path, &labelled_vertices(&labels, mesh)),
+        FileFormat::FreeSurferLabel => write_label(path, &labelled_vertices(labels, mesh)),
         _ => write_gifti_labels(
             path,
-            &labels,
+            labels,
             &label_table(),
             &[("Name", "crest lines")],
             &[],
