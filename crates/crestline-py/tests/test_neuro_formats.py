@@ -89,7 +89,7 @@ def test_a_freesurfer_surface_with_footer_is_placed_in_scanner_ras_and_written_a
     np.testing.assert_array_equal(read_faces, faces)
 
     gifti = tmp_path / "lh.white.surf.gii"
-    crestline.write_mesh(gifti, read, read_faces)
+    crestline.write_mesh(gifti, read, read_faces, space="RAS")
     image = nib.load(str(gifti))
     coords = image.agg_data(NIFTI_INTENT_POINTSET)
     triangles = image.agg_data(NIFTI_INTENT_TRIANGLE)
@@ -99,6 +99,11 @@ def test_a_freesurfer_surface_with_footer_is_placed_in_scanner_ras_and_written_a
     pointset = image.get_arrays_from_intent(NIFTI_INTENT_POINTSET)[0]
     assert pointset.coordsys.dataspace == 1  # NIFTI_XFORM_SCANNER_ANAT
     assert pointset.meta["AnatomicalStructurePrimary"] == "Other"
+    # Without a frame the coordinates are written as they are, in an unknown space.
+    crestline.write_mesh(gifti, read, read_faces)
+    pointset = nib.load(str(gifti)).get_arrays_from_intent(NIFTI_INTENT_POINTSET)[0]
+    assert pointset.coordsys.dataspace == 0  # NIFTI_XFORM_UNKNOWN
+    np.testing.assert_array_equal(pointset.data, read.astype(np.float32))
 
 
 @pytest.mark.parametrize("encoding", ["ASCII", "B64BIN", "B64GZ"])

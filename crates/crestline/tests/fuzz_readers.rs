@@ -245,7 +245,8 @@ fn freesurfer_surface() -> Vec<u8> {
 fn gifti_gzip() -> Vec<u8> {
     let triangles: Vec<[u32; 3]> = cube_triangles().collect();
     written("cube.surf.gii", |path| {
-        crestline::io::gifti::write_gifti_surface(path, &cube_points(), &triangles, &[]).unwrap()
+        crestline::io::gifti::write_gifti_surface(path, (&cube_points(), None), &triangles, &[])
+            .unwrap()
     })
 }
 

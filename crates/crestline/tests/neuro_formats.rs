@@ -260,7 +260,8 @@ fn gifti_surfaces_read_back_in_ras() {
     let dir = tempfile::tempdir().unwrap();
     let soup = octahedron_with_repairs();
     let path = dir.path().join("lh.test.surf.gii");
-    write_gifti_surface(&path, &soup.positions, &soup.triangles, &[]).unwrap();
+    let frame = Some(Space::Ras);
+    write_gifti_surface(&path, (&soup.positions, frame), &soup.triangles, &[]).unwrap();
     let read = read_mesh(&path).unwrap();
     assert_eq!(read.positions, soup.positions);
     assert_eq!(read.triangles, soup.triangles);

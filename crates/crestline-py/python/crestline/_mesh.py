@@ -69,9 +69,11 @@ def write_mesh(
 ) -> None:
     """Write a triangle mesh in the format of the file's extension: ``.ply`` (with
     ``values``, one float per vertex each, as vertex properties), ``.obj``,
-    ``.vtk`` or ``.surf.gii`` (GIfTI, in RAS: LPS points are converted). ``space`` (``"RAS"`` or ``"LPS"``: for a surface of an image, the
-    image's :attr:`Volume.space`) is written as 3D Slicer's ``SPACE=`` mark, so
-    that Slicer places the surface on its image. The file is written under a
+    ``.vtk`` or ``.surf.gii`` (GIfTI). ``space`` (``"RAS"`` or ``"LPS"``: for a
+    surface of an image, the image's :attr:`Volume.space`) is written as 3D
+    Slicer's ``SPACE=`` mark, so that Slicer places the surface on its image; a
+    GIfTI surface is in RAS (LPS points are converted) in the scanner's space, or
+    without ``space`` as given, in an unknown space. The file is written under a
     temporary name and renamed."""
     v, f = mesh_arrays(vertices, faces)
     named = [(str(name), per_vertex(array, f"values[{name!r}]", len(v)).tolist()) for name, array in (values or {}).items()]

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use crate::atomic::write_atomically;
 use crate::mesh::TriangleSoup;
-use crate::{Error, Result, Space};
+use crate::{Error, Result};
 
 use super::format::{choose_format, FileFormat};
 use super::gifti::write_gifti_surface;
@@ -159,14 +159,18 @@ fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> 
     })
 }
 
-/// A GIfTI surface: the positions in RAS (GIfTI's frame; converted from LPS, and
-/// taken to be RAS when the soup has no frame), the triangles, and the structure.
+/// A GIfTI surface: the positions in RAS (GIfTI's frame; converted from LPS, in
+/// an unknown space when the soup has no frame), the triangles, and the
+/// structure.
 fn write_soup_gifti(path: &Path, soup: &TriangleSoup, structure: Structure) -> Result<()> {
-    let mut positions = soup.positions.clone();
-    crate::space::convert_all(soup.space, Space::Ras, &mut positions);
     let metadata = [
         ("AnatomicalStructurePrimary", structure.gifti_name()),
         ("GeometricType", "Anatomical"),
     ];
-    write_gifti_surface(path, &positions, &soup.triangles, &metadata)
+    write_gifti_surface(
+        path,
+        (&soup.positions, soup.space),
+        &soup.triangles,
+        &metadata,
+    )
 }

@@ -9,7 +9,7 @@ use super::encoding::{encode, DataType};
 use super::{POINTSET, TRIANGLE};
 use crate::atomic::write_atomically;
 use crate::io::fits_f32;
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Space};
 
 /// Metadata entries (`MD` elements): name and value.
 pub type Metadata<'a> = [(&'a str, &'a str)];
@@ -31,23 +31,26 @@ struct ArrayOut<'a> {
     data_type: DataType,
     dims: Vec<usize>,
     metadata: &'a Metadata<'a>,
-    /// Whether to state the scanner frame (`NIFTI_XFORM_SCANNER_ANAT`), for a
-    /// point set.
-    coordinates: bool,
+    /// The space of a point set's coordinates (`NIFTI_XFORM_SCANNER_ANAT`,
+    /// `NIFTI_XFORM_UNKNOWN`), stated as its coordinate system.
+    space: Option<&'a str>,
     /// The numbers, little-endian.
     bytes: Vec<u8>,
 }
 
-/// Write a surface: `positions` (RAS millimetres) as a `NIFTI_INTENT_POINTSET`
-/// array in the scanner frame, with `metadata` (Connectome Workbench reads
-/// `AnatomicalStructurePrimary` and `GeometricType` there), and `triangles` as a
-/// `NIFTI_INTENT_TRIANGLE` array. Written atomically.
+/// Write a surface: `positions` as a `NIFTI_INTENT_POINTSET` array with
+/// `metadata` (Connectome Workbench reads `AnatomicalStructurePrimary` and
+/// `GeometricType` there), and `triangles` as a `NIFTI_INTENT_TRIANGLE` array.
+/// Positions in a known `frame` are written in RAS (GIfTI's frame; LPS is
+/// converted) in the scanner's space (`NIFTI_XFORM_SCANNER_ANAT`); without one
+/// they are written as they are, in an unknown space (`NIFTI_XFORM_UNKNOWN`).
+/// Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`): a coordinate that is not a finite
 /// 32-bit float.
 pub fn write_gifti_surface(
     path: &Path,
-    positions: &[Point],
+    (positions, frame): (&[Point], Option<Space>),
     triangles: &[[u32; 3]],
     metadata: &Metadata<'_>,
 ) -> Result<()> {
@@ -60,20 +63,27 @@ pub fn write_gifti_surface(
             message: format!("vertex {v} has a coordinate that is not a finite 32-bit float"),
         });
     }
+    let ras = positions
+        .iter()
+        .map(|p| frame.map_or(*p, |frame| frame.to_ras(p)));
     let points = ArrayOut {
         intent: POINTSET,
         data_type: DataType::Float32,
         dims: vec![positions.len(), 3],
         metadata,
-        coordinates: true,
-        bytes: f32_bytes(positions.iter().flat_map(|p| p.iter().copied())),
+        space: Some(if frame.is_some() {
+            "NIFTI_XFORM_SCANNER_ANAT"
+        } else {
+            "NIFTI_XFORM_UNKNOWN"
+        }),
+        bytes: f32_bytes(ras.flat_map(|p| [p.x, p.y, p.z])),
     };
     let faces = ArrayOut {
         intent: TRIANGLE,
         data_type: DataType::Int32,
         dims: vec![triangles.len(), 3],
         metadata: &[],
-        coordinates: false,
+        space: None,
         bytes: triangles
             .iter()
             .flatten()
@@ -111,7 +121,7 @@ pub fn write_gifti_values(
         data_type: DataType::Float32,
         dims: vec![values.len()],
         metadata: array_metadata,
-        coordinates: false,
+        space: None,
         bytes: f32_bytes(values.iter().copied()),
     };
     write_gifti(path, file_metadata, None, &[array])
@@ -131,7 +141,7 @@ pub fn write_gifti_labels(
         data_type: DataType::Int32,
         dims: vec![labels.len()],
         metadata: array_metadata,
-        coordinates: false,
+        space: None,
         bytes: labels.iter().flat_map(|k| k.to_le_bytes()).collect(),
     };
     write_gifti(path, file_metadata, Some(table), &[array])
@@ -220,13 +230,10 @@ fn write_array(w: &mut impl Write, array: &ArrayOut<'_>) -> std::io::Result<()> 
         array.dims.len()
     )?;
     write_metadata(w, array.metadata, "    ")?;
-    if array.coordinates {
+    if let Some(space) = array.space {
         writeln!(w, "    <CoordinateSystemTransformMatrix>")?;
-        writeln!(w, "      <DataSpace>NIFTI_XFORM_SCANNER_ANAT</DataSpace>")?;
-        writeln!(
-            w,
-            "      <TransformedSpace>NIFTI_XFORM_SCANNER_ANAT</TransformedSpace>"
-        )?;
+        writeln!(w, "      <DataSpace>{space}</DataSpace>")?;
+        writeln!(w, "      <TransformedSpace>{space}</TransformedSpace>")?;
         writeln!(
             w,
             "      <MatrixData>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</MatrixData>"
@@ -260,18 +267,21 @@ mod tests {
             Point::new(1.5, 0.0, 0.0),
             Point::new(0.0, -2.25, 1.0),
         ];
-        write_gifti_surface(
-            &surface,
-            &positions,
-            &[[0, 1, 2]],
-            &[("AnatomicalStructurePrimary", "CortexLeft")],
-        )
-        .unwrap();
+        let metadata = [("AnatomicalStructurePrimary", "CortexLeft")];
+        write_gifti_surface(&surface, (&positions, None), &[[0, 1, 2]], &metadata).unwrap();
         let bytes = std::fs::read(&surface).unwrap();
         let soup = parse_surface(&mut Input::new(&bytes, None)).unwrap();
         assert_eq!(soup.positions, positions);
         assert_eq!(soup.triangles, vec![[0, 1, 2]]);
-        assert!(String::from_utf8_lossy(&bytes).contains("<Value>CortexLeft</Value>"));
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        assert!(text.contains("<Value>CortexLeft</Value>"));
+        assert!(text.contains("<DataSpace>NIFTI_XFORM_UNKNOWN</DataSpace>"));
+        // LPS positions are written in RAS, in the scanner's space.
+        write_gifti_surface(&surface, (&positions, Some(Space::Lps)), &[[0, 1, 2]], &[]).unwrap();
+        let bytes = std::fs::read(&surface).unwrap();
+        let soup = parse_surface(&mut Input::new(&bytes, None)).unwrap();
+        assert_eq!(soup.positions[2], Point::new(0.0, 2.25, 1.0));
+        assert!(String::from_utf8_lossy(&bytes).contains("NIFTI_XFORM_SCANNER_ANAT"));
 
         let shape = dir.path().join("s.shape.gii");
         write_gifti_values(
