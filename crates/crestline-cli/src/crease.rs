@@ -3,13 +3,14 @@
 
 use std::path::PathBuf;
 
-use crestline::io::write_soup;
+use crestline::io::write_soup_of_structure;
 use crestline::jobs::{crease, CreaseOptions};
 use crestline::Result;
 
 use super::frame::OutputSpaceArg;
 use super::load::report_with_progress;
 use super::outputs::check_paths;
+use super::structure::StructureArg;
 use super::surface::{naming, read_image, require_image, SeriesArg};
 use super::ReportArg;
 
@@ -22,7 +23,8 @@ pub struct CreaseArgs {
     #[command(flatten)]
     pub series: SeriesArg,
     /// Output surface: .ply (with the vertex properties strength = −λ3 and degenerate,
-    /// 1 on the degenerate lines where the surface ends), .obj or .vtk.
+    /// 1 on the degenerate lines where the surface ends), .obj, .vtk or .surf.gii
+    /// (GIfTI, RAS).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// Valley surfaces (ridges of −f) instead of ridge surfaces.
@@ -43,6 +45,8 @@ pub struct CreaseArgs {
     /// Drop connected pieces of fewer triangles than this.
     #[arg(long, default_value_t = CreaseOptions::default().min_component, value_name = "N")]
     pub min_component: usize,
+    #[command(flatten)]
+    pub structure: StructureArg,
     #[command(flatten)]
     pub frame: OutputSpaceArg,
     #[command(flatten)]
@@ -68,5 +72,7 @@ pub fn run(args: &CreaseArgs) -> Result<()> {
     let soup = crease(&volume, &options, &mut report).map_err(|e| naming(e, &args.volume))?;
     let soup = args.frame.soup(soup)?;
     args.report
-        .write_with_output(&mut report, &args.output, |p| write_soup(p, &soup))
+        .write_with_output(&mut report, &args.output, |p| {
+            write_soup_of_structure(p, &soup, args.structure.structure)
+        })
 }

@@ -1,8 +1,13 @@
-//! `crestline curvature`: principal curvatures per vertex, written as PLY properties.
+//! `crestline curvature`: principal curvatures per vertex, written as PLY
+//! properties, or one quantity per input vertex as a GIfTI `.shape.gii` or a
+//! FreeSurfer curv file.
 
 use std::path::PathBuf;
 
-use crestline::curvature::{write_curvature_ply_with_quality, Estimator, Quality};
+use crestline::curvature::{
+    write_curvature_ply_with_quality, write_curvature_values, Estimator, Quality,
+    PER_VERTEX_FORMATS,
+};
 use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, Surface};
 use crestline::Result;
@@ -15,12 +20,18 @@ use super::ReportArg;
 /// Arguments of `crestline curvature`.
 #[derive(clap::Args, Debug)]
 pub struct CurvatureArgs {
-    /// The mesh file (.obj, .ply, .off, .stl).
+    /// The mesh file (.obj, .ply, .off, .stl, .gii, or a FreeSurfer surface such
+    /// as lh.white).
     pub mesh: PathBuf,
-    /// Output PLY file: the mesh with double vertex properties k_max, k_min, mean,
-    /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable (1 on the boundary) and
-    /// quality (see --quality).
-    #[arg(short, long, value_name = "FILE.ply")]
+    /// Output: a PLY file, the mesh with double vertex properties k_max, k_min,
+    /// mean, gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable (1 on the boundary)
+    /// and quality (see --quality); or the --quality quantity alone, one value per
+    /// vertex of the input file in its order, as a GIfTI .shape.gii (crestline's
+    /// sign: positive where convex, on gyral crowns; NaN at vertices the repairs
+    /// dropped) or a FreeSurfer .curv (FreeSurfer's sign, as ?h.curv: mean
+    /// curvature positive in sulci, negative on gyral crowns; 0 at dropped
+    /// vertices).
+    #[arg(short, long, value_name = "FILE.ply|FILE.shape.gii|FILE.curv")]
     pub output: PathBuf,
     /// Curvature estimator: shape-operator is fast and best on regular meshes;
     /// jet-fit (a quartic least-squares fit over a ring neighbourhood) is slower and
@@ -29,7 +40,8 @@ pub struct CurvatureArgs {
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
     /// The curvature quantity also written as the vertex property `quality`, the
-    /// one MeshLab and pymeshlab colour and filter by.
+    /// one MeshLab and pymeshlab colour and filter by; the quantity of a .shape.gii
+    /// or .curv output.
     #[arg(long, default_value_t = CurvatureOptions::default().quality,
           value_parser = super::named::<Quality>(Quality::NAMES))]
     pub quality: Quality,
@@ -41,7 +53,10 @@ pub struct CurvatureArgs {
 
 /// Estimate curvature and write the annotated mesh.
 pub fn run(args: &CurvatureArgs) -> Result<()> {
-    choose_format(&args.output, "per-vertex curvature", &[FileFormat::Ply])?;
+    let formats: Vec<FileFormat> = std::iter::once(FileFormat::Ply)
+        .chain(PER_VERTEX_FORMATS)
+        .collect();
+    let format = choose_format(&args.output, "per-vertex curvature", &formats)?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();
@@ -57,8 +72,9 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let mesh = &surface.mesh;
     let mut files = OutputSet::default();
     report.stage("write", || {
-        files.write(&args.output, |p| {
-            write_curvature_ply_with_quality(p, mesh, &field, options.quality)
+        files.write(&args.output, |p| match format {
+            FileFormat::Ply => write_curvature_ply_with_quality(p, mesh, &field, options.quality),
+            _ => write_curvature_values(p, mesh, &field, options.quality),
         })
     })?;
     if let Some(path) = &args.report.report {

@@ -19,7 +19,7 @@ use super::ReportArg;
 /// Arguments of `crestline draw`.
 #[derive(clap::Args, Debug)]
 pub struct DrawArgs {
-    /// The mesh file (.obj, .ply, .off, .stl).
+    /// The mesh file (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface).
     pub mesh: PathBuf,
     /// Output drawing (.svg).
     #[arg(short, long, value_name = "FILE")]

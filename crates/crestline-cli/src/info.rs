@@ -16,8 +16,9 @@ use super::ReportArg;
 /// Arguments of `crestline info`.
 #[derive(clap::Args, Debug)]
 pub struct InfoArgs {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd, or a DICOM folder, DICOMDIR or .dcm file).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface) or 3D image
+    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, or a DICOM folder, DICOMDIR or .dcm
+    /// file).
     #[arg(value_name = "MESH|VOLUME")]
     pub input: PathBuf,
     #[command(flatten)]

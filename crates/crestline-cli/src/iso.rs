@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use crestline::curvature::{write_curvature_ply, Estimator};
-use crestline::io::{soup_format, write_soup, FileFormat};
+use crestline::io::{soup_format, write_soup_of_structure, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
 use crestline::Result;
 
@@ -12,6 +12,7 @@ use super::failure::explain;
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::check_paths;
+use super::structure::StructureArg;
 use super::surface::{load_surface, require_image, VolumeArgs};
 use super::ReportArg;
 
@@ -23,7 +24,8 @@ pub struct IsoArgs {
     pub volume: PathBuf,
     /// Output surface: .ply (with the double vertex properties k_max, k_min, mean,
     /// gauss, dmax_x/y/z, dmin_x/y/z, n_x/y/z, unreliable and quality, the mean
-    /// curvature again for MeshLab), .obj or .vtk (the surface alone).
+    /// curvature again for MeshLab), .obj, .vtk or .surf.gii (GIfTI, RAS; the
+    /// surface alone).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     #[command(flatten)]
@@ -38,6 +40,8 @@ pub struct IsoArgs {
     #[arg(long, value_name = "BOOL", default_value_t = IsoOptions::default().close,
           action = clap::ArgAction::Set)]
     pub close: bool,
+    #[command(flatten)]
+    pub structure: StructureArg,
     #[command(flatten)]
     pub frame: OutputSpaceArg,
     #[command(flatten)]
@@ -87,6 +91,6 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
             Some(field) => write_curvature_ply(p, &mesh, field),
-            None => write_soup(p, &mesh.to_soup()),
+            None => write_soup_of_structure(p, &mesh.to_soup(), args.structure.structure),
         })
 }

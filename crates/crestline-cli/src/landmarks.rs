@@ -21,9 +21,10 @@ use super::ReportArg;
 /// Arguments of `crestline landmarks`.
 #[derive(clap::Args, Debug)]
 pub struct LandmarksArgs {
-    /// The mesh (.obj, .ply, .off, .stl: ridges by extremality tracing) or 3D image
-    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM folder, DICOMDIR or .dcm
-    /// file, with --level: crest lines by Marching Lines).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface: ridges by
+    /// extremality tracing) or 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a
+    /// DICOM folder, DICOMDIR or .dcm file, with --level: crest lines by Marching
+    /// Lines).
     #[arg(value_name = "MESH|VOLUME")]
     pub input: PathBuf,
     /// Output: .mrk.json (3D Slicer markups), .json (every landmark and line with

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use crate::report::{Report, StageObserver};
-use crestline::io::read_mesh_with_progress;
+use crestline::io::{read_mesh_with_progress, read_vertex_values};
 use crestline::jobs::build_mesh;
 use crestline::mesh::{Mesh, RepairReport, ScalarProperty};
 use crestline::{Error, Result};
@@ -33,9 +33,10 @@ pub fn load_mesh(
     load_mesh_with_scalars(path, strict, report, &[])
 }
 
-/// [`load_mesh`], attaching per-vertex scalars `(name, file)` read from text files
-/// (one value per line, in the mesh file's vertex order) before the repairs, so the
-/// values follow welding and splitting of vertices.
+/// [`load_mesh`], attaching per-vertex scalars `(name, file)` read from files of
+/// one value per vertex in the mesh file's vertex order (text with one value per
+/// line, FreeSurfer curv such as `lh.sulc`, GIfTI `.shape.gii`/`.func.gii`) before
+/// the repairs, so the values follow welding and splitting of vertices.
 pub fn load_mesh_with_scalars(
     path: &Path,
     strict: StrictArg,
@@ -51,7 +52,7 @@ pub fn load_mesh_with_scalars(
     bar.finish_and_clear();
     let mut soup = soup?;
     for &(name, file) in scalars {
-        let values = read_values(file)?;
+        let values = read_vertex_values(file)?;
         if values.len() != soup.positions.len() {
             return Err(Error::File {
                 path: file.to_path_buf(),
@@ -69,21 +70,6 @@ pub fn load_mesh_with_scalars(
         });
     }
     build_mesh(soup, strict.strict, report).map_err(|e| e.in_file(path))
-}
-
-/// One number per non-empty line.
-fn read_values(file: &Path) -> Result<Vec<f64>> {
-    let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
-    text.lines()
-        .enumerate()
-        .filter(|(_, line)| !line.trim().is_empty())
-        .map(|(i, line)| {
-            line.trim().parse::<f64>().map_err(|_| Error::File {
-                path: file.to_path_buf(),
-                message: format!("line {}: '{}' is not a number", i + 1, line.trim()),
-            })
-        })
-        .collect()
 }
 
 fn progress_bar(path: &Path) -> ProgressBar {

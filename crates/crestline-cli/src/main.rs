@@ -19,6 +19,7 @@ mod register;
 mod report;
 mod ridges;
 mod signals;
+mod structure;
 mod surface;
 mod view;
 mod volume_info;

@@ -21,7 +21,9 @@ use crestline::jobs::{morse, IsoOptions, MorseOptions, Surface};
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MorseArgs {
-    /// Indicator: curvedness, kmax, kmin, or the name of a PLY vertex property.
+    /// Indicator: curvedness, kmax, kmin, the name of a PLY vertex property, or a
+    /// file of one value per vertex (text with one value per line, FreeSurfer curv
+    /// such as lh.sulc, GIfTI .shape.gii/.func.gii).
     #[arg(long, default_value_t = MorseOptions::default().indicator, value_name = "NAME")]
     pub indicator: Indicator,
     /// Cancellation criterion: feature (the paper's significance) or persistence.
@@ -51,6 +53,17 @@ pub struct MorseArgs {
 }
 
 impl MorseArgs {
+    /// `--indicator` when it names an existing file of per-vertex values, with
+    /// the property name its values are attached under (the name given).
+    pub fn indicator_file(&self) -> Option<(&str, &Path)> {
+        match &self.indicator {
+            Indicator::Property(name) if Path::new(name).is_file() => {
+                Some((name.as_str(), Path::new(name)))
+            }
+            _ => None,
+        }
+    }
+
     /// The job's options, with the curvature `estimator`.
     pub fn options(&self, estimator: Estimator) -> MorseOptions {
         MorseOptions {
@@ -69,8 +82,9 @@ impl MorseArgs {
 /// Arguments of `crestline morse`.
 #[derive(clap::Args, Debug)]
 pub struct MorseCommand {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd, a DICOM folder, DICOMDIR or .dcm file; with --level).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface) or 3D image
+    /// (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM folder, DICOMDIR or .dcm
+    /// file; with --level).
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
@@ -142,7 +156,15 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     .into_iter()
     .flatten()
     .collect();
-    check_paths(&[("the input mesh", &args.mesh)], &outputs)?;
+    let indicator_file: Vec<(&str, &Path)> = args.morse.indicator_file().into_iter().collect();
+    let inputs: Vec<Role<'_>> = std::iter::once(("the input mesh", args.mesh.as_path()))
+        .chain(
+            indicator_file
+                .iter()
+                .map(|&(_, f)| ("the --indicator file", f)),
+        )
+        .collect();
+    check_paths(&inputs, &outputs)?;
     let mut report = report_with_progress("morse", &args.mesh);
     let iso = IsoOptions {
         estimator: args.estimator,
@@ -151,7 +173,7 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     let loaded = load_surface(
         &args.mesh,
         (args.strict, &args.volume, iso),
-        &[],
+        &indicator_file,
         &mut report,
     )?;
     let surface = (&loaded.surface, args.estimator);

@@ -4,8 +4,9 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
+use crestline::io::{choose_format, is_volume_path, FileFormat, FormatChoice};
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
-use crestline::lines::{write_lines, FeatureLines, LineFormat};
+use crestline::lines::{write_vertex_labels, FeatureLines, LineFormat, LABEL_FORMATS};
 use crestline::mesh::Mesh;
 use crestline::ridges::Kinds;
 use crestline::ridges::Solver;
@@ -59,7 +60,8 @@ pub struct TracerArgs {
     #[arg(long)]
     pub all_extrema: bool,
     /// Per-vertex factors for inhomogeneous extremality smoothing: the name of a PLY
-    /// vertex property, or a text file with one value per vertex.
+    /// vertex property, or a file with one value per vertex (text with one value
+    /// per line, FreeSurfer curv such as lh.sulc, GIfTI .shape.gii/.func.gii).
     #[arg(long, value_name = "PROPERTY|FILE")]
     pub smoothing_weights: Option<String>,
     #[command(flatten)]
@@ -105,12 +107,16 @@ impl TracerArgs {
 /// Arguments of `crestline ridges`.
 #[derive(clap::Args, Debug)]
 pub struct RidgesArgs {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (.nii, .nii.gz, .nrrd, .nhdr,
-    /// .mha, .mhd, a DICOM folder, DICOMDIR or .dcm file; with --level).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface such as
+    /// lh.pial) or 3D image (.nii, .nii.gz, .nrrd, .nhdr, .mha, .mhd, a DICOM
+    /// folder, DICOMDIR or .dcm file; with --level).
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
-    /// or .mrk.json (3D Slicer markups).
+    /// or .mrk.json (3D Slicer markups); or labels of the mesh's vertices the
+    /// lines pass near, in the input file's vertex order (not with --fair): a
+    /// GIfTI .label.gii (0 none, 1 ridges, 2 valleys) or a FreeSurfer .label
+    /// (the labelled vertices, value 1 on ridges and -1 on valleys).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     #[command(flatten)]
@@ -188,9 +194,39 @@ pub fn trace_loaded(
     Ok(lines)
 }
 
-/// Trace the lines and write them.
+/// The format of the output `path`: a format of lines, or `None` for labels of
+/// the mesh's vertices ([`LABEL_FORMATS`]).
+fn output_format(path: &Path) -> Result<Option<LineFormat>> {
+    let lines = LineFormat::ALL.map(|format| (format.file_format(), Some(format)));
+    let labels = LABEL_FORMATS.map(|format| (format, None));
+    let choices: Vec<(FileFormat, Option<LineFormat>)> = lines.into_iter().chain(labels).collect();
+    choose_format(path, "ridge and valley lines", &choices).map(|(_, format)| format)
+}
+
+/// Refuse vertex labels where they cannot be made: on an isosurface of an
+/// image (no vertex order of a file to label) or with `--fair` (faired lines
+/// leave the surface).
+fn check_labels(args: &RidgesArgs) -> Result<()> {
+    let problem = if is_volume_path(&args.mesh) {
+        "vertex labels (.label.gii, .label) label the vertices of a mesh file; \
+         an isosurface of a 3D image has none"
+    } else if args.tracer.fair {
+        "vertex labels (.label.gii, .label) need the lines on the surface; --fair moves them off it"
+    } else {
+        return Ok(());
+    };
+    Err(Error::File {
+        path: args.output.clone(),
+        message: problem.into(),
+    })
+}
+
+/// Trace the lines and write them, or the labels of the vertices they pass near.
 pub fn run(args: &RidgesArgs) -> Result<()> {
-    LineFormat::from_path(&args.output)?;
+    let format = output_format(&args.output)?;
+    if format.is_none() {
+        check_labels(args)?;
+    }
     let outputs: Vec<Role<'_>> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
         .collect();
@@ -198,7 +234,16 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
     let mut report = report_with_progress("ridges", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, &args.tracer, &mut report)?;
     let lines = trace_loaded(&loaded.surface, &args.mesh, &args.tracer, &mut report)?;
-    let lines = args.frame.lines(lines)?;
-    args.report
-        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
+    match format {
+        Some(format) => {
+            let lines = args.frame.lines(lines)?;
+            args.report
+                .write_with_output(&mut report, &args.output, |p| format.write(p, &lines))
+        }
+        None => args
+            .report
+            .write_with_output(&mut report, &args.output, |p| {
+                write_vertex_labels(p, &lines, &loaded.surface.mesh)
+            }),
+    }
 }

@@ -20,7 +20,8 @@ use super::ReportArg;
 /// Arguments of `crestline view`.
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
-    /// The mesh (.obj, .ply, .off, .stl) or 3D image (with --level).
+    /// The mesh (.obj, .ply, .off, .stl, .gii, a FreeSurfer surface) or 3D image
+    /// (with --level).
     pub mesh: PathBuf,
     /// Output view (.html): one file that opens in a browser with no network.
     #[arg(short, long, value_name = "FILE")]

@@ -1589,3 +1589,44 @@ fn an_image_placed_beyond_the_representable_world_is_refused_naming_the_file() {
         assert_one_line_error(&refused, path, "spacing");
     }
 }
+
+#[test]
+fn neuroimaging_outputs_fit_the_input_surface_or_are_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    // fsaverage5's pial surface as FreeSurfer writes it: no extension.
+    let obj = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../meshes/fsaverage5_pial_left.obj"
+    );
+    let soup = crestline::io::read_mesh(obj.as_ref()).unwrap();
+    let pial = dir.path().join("lh.pial");
+    crestline::io::freesurfer::write_surface(&pial, &soup.positions, &soup.triangles, None)
+        .unwrap();
+    let pial = pial.to_str().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let (curv, shape, label) = (
+        path("lh.mean.curv"),
+        path("lh.mean.shape.gii"),
+        path("lh.r.label"),
+    );
+    succeeds(&["curvature", pial, "-o", &curv]);
+    succeeds(&["curvature", pial, "-o", &shape]);
+    succeeds(&["ridges", pial, "-o", &label]);
+    let curv = crestline::io::read_vertex_values(curv.as_ref()).unwrap();
+    let shape = crestline::io::read_vertex_values(shape.as_ref()).unwrap();
+    assert_eq!((curv.len(), shape.len()), (10_242, 10_242));
+    assert!(curv.iter().zip(&shape).all(|(c, s)| *c == -*s));
+    let text = std::fs::read_to_string(&label).unwrap();
+    let count: usize = text.lines().nth(1).unwrap().parse().unwrap();
+    assert!(count > 100 && count == text.lines().count() - 2, "{count}");
+
+    let (x, y, z) = (path("x.label.gii"), path("y.label"), path("z.func.gii"));
+    let refused = crestline(&["ridges", pial, "--fair", "-o", &x]);
+    assert_one_line_error(&refused, &x, "--fair");
+    let image = "volumes/mni152_wm_1mm.nii.gz";
+    let refused = crestline(&["ridges", image, "--level", "0.5", "-o", &y]);
+    assert_one_line_error(&refused, &y, "isosurface");
+    let refused = crestline(&["curvature", pial, "-o", &z]);
+    assert_one_line_error(&refused, &z, ".shape.gii, .curv");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 4);
+}

@@ -26,6 +26,7 @@ fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
         },
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     }
 }
 
@@ -125,5 +126,28 @@ pub fn write_mesh(
         .map(|(name, values)| crestline::mesh::ScalarProperty { name, values })
         .collect();
     py.detach(|| crestline::io::write_soup(&path, &soup))
+        .map_err(raised)
+}
+
+/// Read one value per vertex from a FreeSurfer curv, GIfTI or text file
+/// ([`crestline::io::read_vertex_values`]).
+#[pyfunction]
+pub fn read_vertex_values(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Vec<f64>> {
+    py.detach(|| crestline::io::read_vertex_values(&path))
+        .map_err(raised)
+}
+
+/// Write one value per vertex as a GIfTI `.shape.gii`/`.func.gii` (the array
+/// named `name`) or a FreeSurfer `.curv`, atomically
+/// ([`crestline::io::write_vertex_values`]).
+#[pyfunction]
+pub fn write_vertex_values(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    values: Vec<f64>,
+    name: Option<&str>,
+) -> PyResult<()> {
+    let metadata: Vec<(&str, &str)> = name.map(|name| ("Name", name)).into_iter().collect();
+    py.detach(|| crestline::io::write_vertex_values(&path, &values, &metadata, 0))
         .map_err(raised)
 }

@@ -25,6 +25,9 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     volume::register(m)?;
     jobs::register(m)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
+    m.add_function(wrap_pyfunction!(lines::write_line_labels, m)?)?;
     m.add_function(wrap_pyfunction!(arrays::write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(arrays::read_vertex_values, m)?)?;
+    m.add_function(wrap_pyfunction!(arrays::write_vertex_values, m)?)?;
     Ok(())
 }

@@ -3,8 +3,9 @@
 
 use std::path::PathBuf;
 
-use crestline::lines::{FeatureLines, LineKind, Polyline};
-use crestline::mesh::Mesh;
+use crestline::lines::vertex_labels::{family_label, label_nearest_corners};
+use crestline::lines::{write_labels, FeatureLines, LineKind, Polyline};
+use crestline::mesh::{Mesh, VertexId};
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
@@ -109,5 +110,64 @@ pub fn write_lines(
     let mut lines = feature_lines(lines)?;
     lines.space = crate::volume::frame(space)?;
     py.detach(|| crestline::lines::write_lines(&path, &lines))
+        .map_err(raised)
+}
+
+/// A line's kind and where its points lie: the three mesh vertices each point
+/// interpolates (k × 3) and their weights (k × 3).
+pub type LocatedLine<'py> = (
+    String,
+    PyReadonlyArray2<'py, i64>,
+    PyReadonlyArray2<'py, f64>,
+);
+
+/// Write the labels of the vertices of the mesh (`vertices`, `faces`, which
+/// must need no repairs) that ridge and valley `lines` pass near, as a
+/// `.label.gii` or `.label` ([`crestline::lines::write_labels`]), atomically.
+#[pyfunction]
+pub fn write_line_labels(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+    lines: Vec<LocatedLine<'_>>,
+) -> PyResult<()> {
+    let mesh = crate::arrays::mesh_of(vertices.as_array(), faces.as_array())?;
+    let n = mesh.vertex_count();
+    let mut points = Vec::new();
+    for (i, (kind, ids, weights)) in lines.iter().enumerate() {
+        let label = LineKind::ALL
+            .into_iter()
+            .find(|k| k.name() == kind)
+            .and_then(family_label)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "lines[{i}]: vertex labels hold ridge and valley lines, not {kind:?} lines"
+                ))
+            })?;
+        let (ids, weights) = (ids.as_array(), weights.as_array());
+        if ids.dim() != weights.dim() || ids.ncols() != 3 {
+            return Err(PyValueError::new_err(format!(
+                "lines[{i}]: location vertices {:?} and weights {:?} must both be k x 3",
+                ids.dim(),
+                weights.dim()
+            )));
+        }
+        for (row, w) in ids.rows().into_iter().zip(weights.rows()) {
+            let corners = row
+                .iter()
+                .zip(w.iter())
+                .map(|(&v, &w)| match u32::try_from(v) {
+                    Ok(v) if (v as usize) < n => Ok((VertexId(v), w)),
+                    _ => Err(PyValueError::new_err(format!(
+                        "lines[{i}]: location vertex {v} is not one of the {n} vertices"
+                    ))),
+                })
+                .collect::<PyResult<Vec<_>>>()?;
+            points.push((label, corners));
+        }
+    }
+    let labels = mesh.to_input_order(&label_nearest_corners(n, points), 0);
+    py.detach(|| write_labels(&path, &labels, &mesh))
         .map_err(raised)
 }

@@ -69,6 +69,7 @@ fn main() -> crestline::Result<()> {
         triangles,
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     };
     let (mesh, _repairs) = Mesh::from_soup(soup)?;
     let curvature = CurvatureField::from_fn(mesh.vertex_count(), |v| {

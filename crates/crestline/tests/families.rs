@@ -22,6 +22,7 @@ fn mesh(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
         triangles,
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }

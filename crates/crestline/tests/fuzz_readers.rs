@@ -1,7 +1,8 @@
 //! Mutation fuzzing of the mesh readers, on stable Rust and without extra crates.
 //!
 //! Small valid files of every format (a cube written as ASCII PLY, binary PLY in
-//! both byte orders, OBJ, OFF, ASCII and binary STL) are mutated with a seeded
+//! both byte orders, OBJ, OFF, ASCII and binary STL, a FreeSurfer surface with
+//! its volume geometry, GIfTI with ASCII and with gzipped base64 arrays) are mutated with a seeded
 //! generator (bit flips, interesting bytes, truncation, duplicated and deleted
 //! chunks, swapped numbers, huge numbers) and read back through
 //! [`read_mesh`] and [`Mesh::from_soup`]. No mutant may panic or hang, and every
@@ -200,7 +201,85 @@ fn seeds() -> Vec<Seed> {
         seed("OFF", "off", off()),
         seed("ASCII STL", "stl", ascii_stl()),
         seed("binary STL", "stl", binary_stl()),
+        seed("FreeSurfer surface", "pial", freesurfer_surface()),
+        seed("GIfTI (ASCII)", "gii", gifti_ascii()),
+        seed("GIfTI (gzip base64)", "gii", gifti_gzip()),
     ]
+}
+
+/// The cube as a file written by one of crestline's writers.
+fn written(name: &str, write: impl FnOnce(&Path)) -> Vec<u8> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    write(&path);
+    std::fs::read(path).unwrap()
+}
+
+fn cube_points() -> Vec<crestline::Point> {
+    CUBE_VERTICES
+        .iter()
+        .map(|v| crestline::Point::from(v.map(f64::from)))
+        .collect()
+}
+
+/// A FreeSurfer triangle surface with a volume geometry footer.
+fn freesurfer_surface() -> Vec<u8> {
+    let geometry = crestline::io::freesurfer::VolumeGeometry {
+        valid: "1  # volume info valid".into(),
+        filename: "orig.mgz".into(),
+        volume: [256, 256, 256],
+        voxel_size: [1.0, 1.0, 1.0],
+        x_ras: [-1.0, 0.0, 0.0],
+        y_ras: [0.0, 0.0, -1.0],
+        z_ras: [0.0, 1.0, 0.0],
+        c_ras: [2.0, -3.0, 4.5],
+    };
+    let triangles: Vec<[u32; 3]> = cube_triangles().collect();
+    written("lh.pial", |path| {
+        crestline::io::freesurfer::write_surface(path, &cube_points(), &triangles, Some(&geometry))
+            .unwrap()
+    })
+}
+
+/// A GIfTI surface with gzipped base64 arrays, as crestline writes it.
+fn gifti_gzip() -> Vec<u8> {
+    let triangles: Vec<[u32; 3]> = cube_triangles().collect();
+    written("cube.surf.gii", |path| {
+        crestline::io::gifti::write_gifti_surface(path, (&cube_points(), None), &triangles, &[])
+            .unwrap()
+    })
+}
+
+/// A GIfTI surface with ASCII arrays, the points column-major.
+fn gifti_ascii() -> Vec<u8> {
+    let array = |intent: &str, data_type: &str, order: &str, dim0: usize, data: String| {
+        format!(
+            "<DataArray Intent=\"{intent}\" DataType=\"{data_type}\" ArrayIndexingOrder=\"{order}\" \
+             Dimensionality=\"2\" Dim0=\"{dim0}\" Dim1=\"3\" Encoding=\"ASCII\" \
+             Endian=\"BigEndian\"><Data>{data}</Data></DataArray>\n"
+        )
+    };
+    let columns: Vec<String> = (0..3)
+        .flat_map(|axis| CUBE_VERTICES.iter().map(move |v| v[axis].to_string()))
+        .collect();
+    let corners: Vec<String> = cube_triangles().flatten().map(|v| v.to_string()).collect();
+    let text = String::from("<?xml version=\"1.0\"?>\n<GIFTI Version=\"1.0\">\n")
+        + &array(
+            "NIFTI_INTENT_POINTSET",
+            "NIFTI_TYPE_FLOAT32",
+            "ColumnMajorOrder",
+            8,
+            columns.join(" "),
+        )
+        + &array(
+            "NIFTI_INTENT_TRIANGLE",
+            "NIFTI_TYPE_INT32",
+            "RowMajorOrder",
+            12,
+            corners.join(" "),
+        )
+        + "</GIFTI>\n";
+    text.into_bytes()
 }
 
 // ---------------------------------------------------------------------------

@@ -25,6 +25,7 @@ fn mesh_from(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
         triangles,
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }
@@ -200,6 +201,7 @@ fn scaled_sphere(radius: f64) -> (Mesh, usize) {
         triangles: unit.triangles(),
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     };
     let (mesh, report) = Mesh::from_soup(soup).unwrap();
     assert!(report.is_clean(), "{radius}: {report}");
@@ -346,6 +348,7 @@ fn drawing_a_scrambled_mesh_returns() {
         triangles,
         vertex_scalars: Vec::new(),
         space: None,
+        volume_geometry: None,
     };
     let (mesh, _) = Mesh::from_soup(soup).unwrap();
     let mut lines = FeatureLines::new(String::new());

@@ -37,6 +37,7 @@ fn mobius(n: u32) -> TriangleSoup {
             values: u_values,
         }],
         space: None,
+        volume_geometry: None,
     }
 }
 

@@ -35,7 +35,19 @@ from ._crestline import __version__
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
 from ._view import View, view
-from ._mesh import Curvature, Estimator, Progress, curvature, draw, morse, read_mesh, ridges, write_mesh
+from ._mesh import (
+    Curvature,
+    Estimator,
+    Progress,
+    curvature,
+    draw,
+    morse,
+    read_mesh,
+    read_vertex_values,
+    ridges,
+    write_mesh,
+    write_vertex_values,
+)
 from ._jobs import DEFAULTS as _DEFAULTS
 from ._volume import (
     Image,
@@ -88,11 +100,13 @@ __all__ = [
     "landmarks",
     "morse",
     "read_mesh",
+    "read_vertex_values",
     "read_volume",
     "register",
     "ridges",
     "view",
     "write_landmarks",
     "write_mesh",
+    "write_vertex_values",
     "write_transform",
 ]

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional,
 import numpy as np
 import numpy.typing as npt
 
-from ._checks import file_path
+from ._checks import file_path, mesh_arrays
 
 if TYPE_CHECKING:
     from ._view import View
@@ -115,6 +115,31 @@ class Lines(Sequence[Line]):
         from . import _crestline
 
         _crestline.write_lines(file_path(path), self._parts(), self.space)
+
+    def save_labels(self, path: Union[str, "PathLike[str]"], vertices: Any, faces: Any = None) -> None:
+        """Write the vertices of the mesh these ridges and valleys were traced on
+        that they pass near, as the command-line tool does: each point labels the
+        corner of the edge or face it lies on with the largest weight. ``.label.gii``
+        (GIfTI: one int32 per vertex, 0 none, 1 ridges, 2 valleys, with the label
+        table) or ``.label`` (FreeSurfer: the labelled vertices, value 1 on ridges
+        and -1 on valleys). Every line needs its ``location_vertices`` (lines
+        traced on ``vertices`` without fairing). The file is written under a
+        temporary name and renamed."""
+        from . import _crestline
+
+        v, f = mesh_arrays(vertices, faces)
+        located = []
+        for i, line in enumerate(self._lines):
+            if line.location_vertices is None or line.location_weights is None:
+                raise ValueError(f"lines[{i}]: no location_vertices: the line does not say where it lies on the mesh")
+            located.append(
+                (
+                    line.kind,
+                    np.ascontiguousarray(line.location_vertices, dtype=np.int64).reshape(-1, 3),
+                    np.ascontiguousarray(line.location_weights, dtype=np.float64).reshape(-1, 3),
+                )
+            )
+        _crestline.write_line_labels(file_path(path), v, f, located)
 
     def show(
         self,

@@ -45,8 +45,12 @@ Progress = Optional[Callable[[str, Optional[float]], Any]]
 
 
 def read_mesh(path: Union[str, "PathLike[str]"]) -> Tuple[Vertices, Faces, Dict[str, Any]]:
-    """Read a mesh file (OBJ, PLY, OFF, STL) and repair it as the command-line tool
-    does (welding duplicate vertices, orienting faces consistently, ...).
+    """Read a mesh file (OBJ, PLY, OFF, STL, GIfTI ``.gii``, or a FreeSurfer
+    surface such as ``lh.pial``, told by its content whatever its name) and repair
+    it as the command-line tool does (welding duplicate vertices, orienting faces
+    consistently, ...). GIfTI and FreeSurfer surfaces are in RAS; a FreeSurfer
+    surface with a volume geometry footer is placed in scanner RAS (its tkr-RAS
+    coordinates plus the image's centre, in general through the image's matrices).
 
     Returns ``(vertices, faces, repairs)``: an (n, 3) float64 array, an (m, 3) int64
     array and a dict counting each repair made. Raises :class:`crestline.FileError`
@@ -64,14 +68,38 @@ def write_mesh(
     space: Optional[str] = None,
 ) -> None:
     """Write a triangle mesh in the format of the file's extension: ``.ply`` (with
-    ``values``, one float per vertex each, as vertex properties), ``.obj`` or
-    ``.vtk``. ``space`` (``"RAS"`` or ``"LPS"``: for a surface of an image, the
-    image's :attr:`Volume.space`) is written as 3D Slicer's ``SPACE=`` mark, so
-    that Slicer places the surface on its image. The file is written under a
+    ``values``, one float per vertex each, as vertex properties), ``.obj``,
+    ``.vtk`` or ``.surf.gii`` (GIfTI). ``space`` (``"RAS"`` or ``"LPS"``: for a
+    surface of an image, the image's :attr:`Volume.space`) is written as 3D
+    Slicer's ``SPACE=`` mark, so that Slicer places the surface on its image; a
+    GIfTI surface is in RAS (LPS points are converted) in the scanner's space, or
+    without ``space`` as given, in an unknown space. The file is written under a
     temporary name and renamed."""
     v, f = mesh_arrays(vertices, faces)
     named = [(str(name), per_vertex(array, f"values[{name!r}]", len(v)).tolist()) for name, array in (values or {}).items()]
     _crestline.write_mesh(file_path(path), v, f, named, space)
+
+
+def read_vertex_values(path: Union[str, "PathLike[str]"]) -> npt.NDArray[np.float64]:
+    """Read one value per vertex, in the order of the mesh file's vertices, from a
+    FreeSurfer curv file (``lh.curv``, ``lh.sulc``: told by its content), a GIfTI
+    file (``.shape.gii``, ``.func.gii``: its first array) or a text file of one
+    number per line. Raises :class:`crestline.FileError` naming the file."""
+    return np.asarray(_crestline.read_vertex_values(file_path(path)), dtype=np.float64)
+
+
+def write_vertex_values(path: Union[str, "PathLike[str]"], values: npt.ArrayLike, name: Optional[str] = None) -> None:
+    """Write one value per vertex as a GIfTI ``.shape.gii`` or ``.func.gii`` (the
+    array's ``Name`` metadata is ``name``) or a FreeSurfer ``.curv`` (32-bit
+    floats, no NaN), by the file's extension. The values are written as given,
+    signs included (FreeSurfer's ``?h.curv`` is positive in sulci, crestline's
+    curvature positive where convex: negate crestline's mean curvature for a
+    ``.curv`` that matches FreeSurfer's). The file is written under a temporary
+    name and renamed."""
+    array = np.asarray(values, dtype=np.float64)
+    if array.ndim != 1:
+        raise ValueError(f"values: expected one value per vertex (a 1-D array), got shape {array.shape}")
+    _crestline.write_vertex_values(file_path(path), array.tolist(), name)
 
 
 def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curvature:

@@ -19,6 +19,7 @@ mod field;
 mod image;
 mod jet;
 mod output;
+mod per_vertex;
 mod quality;
 mod robust;
 mod shape_operator;
@@ -29,6 +30,10 @@ pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature};
 pub use image::{image_isosurface, ImageCurvature};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply, write_curvature_ply_with_quality};
+pub use per_vertex::{
+    freesurfer_values, write_curvature_values, PER_VERTEX_FORMATS, SIGN_CONVENTION,
+    SIGN_CONVENTION_KEY,
+};
 pub use quality::Quality;
 pub use robust::{repair_outliers, OUTLIER_SCALES};
 pub use shape_operator::ShapeOperator;

@@ -246,6 +246,7 @@ mod tests {
             triangles: vec![[0, 1, 2]],
             vertex_scalars: Vec::new(),
             space: None,
+            volume_geometry: None,
         };
         let (mesh, _) = Mesh::from_soup(soup).unwrap();
         // f = 3x − 2y at the corners; its gradient (3, −2) along x is 3.

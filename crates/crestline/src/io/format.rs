@@ -59,11 +59,25 @@ pub enum FileFormat {
     MetaImageHeader,
     /// `.dcm`: DICOM files (a series is also read from a folder or a DICOMDIR).
     Dicom,
+    /// `.gii`: GIfTI files (surfaces, per-vertex values, labels).
+    Gifti,
+    /// `.surf.gii`: GIfTI surfaces.
+    GiftiSurface,
+    /// `.shape.gii`: GIfTI per-vertex shape measures (curvature, thickness).
+    GiftiShape,
+    /// `.func.gii`: GIfTI per-vertex functional data.
+    GiftiFunc,
+    /// `.label.gii`: GIfTI per-vertex labels.
+    GiftiLabel,
+    /// `.curv`: FreeSurfer per-vertex values (new curv format).
+    FreeSurferCurv,
+    /// `.label`: FreeSurfer ASCII labels.
+    FreeSurferLabel,
 }
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 21] = [
+    pub const ALL: [FileFormat; 28] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
@@ -85,6 +99,13 @@ impl FileFormat {
         FileFormat::MetaImage,
         FileFormat::MetaImageHeader,
         FileFormat::Dicom,
+        FileFormat::Gifti,
+        FileFormat::GiftiSurface,
+        FileFormat::GiftiShape,
+        FileFormat::GiftiFunc,
+        FileFormat::GiftiLabel,
+        FileFormat::FreeSurferCurv,
+        FileFormat::FreeSurferLabel,
     ];
 
     /// The extension, lowercase and without the leading dot (`"nii.gz"` for
@@ -112,6 +133,13 @@ impl FileFormat {
             FileFormat::MetaImage => "mha",
             FileFormat::MetaImageHeader => "mhd",
             FileFormat::Dicom => "dcm",
+            FileFormat::Gifti => "gii",
+            FileFormat::GiftiSurface => "surf.gii",
+            FileFormat::GiftiShape => "shape.gii",
+            FileFormat::GiftiFunc => "func.gii",
+            FileFormat::GiftiLabel => "label.gii",
+            FileFormat::FreeSurferCurv => "curv",
+            FileFormat::FreeSurferLabel => "label",
         }
     }
 

@@ -1,8 +1,10 @@
 //! Reading and writing triangle meshes.
 //!
-//! [`read_mesh`] reads OBJ, PLY (ASCII and binary), OFF and STL (ASCII and binary)
-//! files into a [`TriangleSoup`], choosing the format by the file extension; the
-//! per-format readers ([`read_obj`], [`read_ply`], [`read_off`], [`read_stl`]) parse
+//! [`read_mesh`] reads OBJ, PLY (ASCII and binary), OFF, STL (ASCII and binary) and
+//! GIfTI (`.gii`, see [`gifti`]) files into a [`TriangleSoup`], choosing the format
+//! by the file extension, and FreeSurfer surfaces (see [`freesurfer`]) by their
+//! magic bytes whatever their name (`lh.pial` has no extension); the per-format
+//! readers ([`read_obj`], [`read_ply`], [`read_off`], [`read_stl`]) parse
 //! bytes already in memory. Readers check the structure of a file (counts, indices,
 //! numbers) and fan polygons into triangles, but keep coordinates as written: a NaN
 //! or infinite coordinate is left to [`crate::mesh::Mesh::from_soup`] to reject.
@@ -14,8 +16,12 @@
 //! [`MAX_FACE_CORNERS`] corners is rejected before its indices are read.
 //!
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
-//! any triangles, orientable or not, as PLY, OBJ or VTK. Like every writer of the
+//! any triangles, orientable or not, as PLY, OBJ, VTK or GIfTI. Like every writer of the
 //! crate they go through [`crate::atomic::write_atomically`].
+//!
+//! Per-vertex values come from files of their own through [`read_vertex_values`]
+//! (FreeSurfer curv, GIfTI, text), and go to GIfTI and FreeSurfer curv files
+//! through [`write_vertex_values`].
 //!
 //! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage, DICOM series) into a
 //! [`crate::volume::Volume`], [`read_volume_with`] a chosen DICOM series,
@@ -28,6 +34,8 @@
 //! one legacy VTK writer, both in this module.
 
 mod format;
+pub mod freesurfer;
+pub mod gifti;
 mod obj;
 mod off;
 mod ply;
@@ -37,6 +45,7 @@ mod ply_records;
 mod soup;
 mod stl;
 mod structure;
+mod vertex_data;
 mod volume;
 pub(crate) mod vtk;
 
@@ -45,9 +54,10 @@ pub use format::{choose_format, FileFormat, FormatChoice};
 pub use obj::{read_obj, write_obj};
 pub use off::read_off;
 pub use ply::{read_ply, write_ply, VertexAttribute};
-pub use soup::{soup_format, write_soup};
+pub use soup::{soup_format, write_soup, write_soup_of_structure};
 pub use stl::read_stl;
 pub use structure::Structure;
+pub use vertex_data::{read_vertex_values, write_vertex_values, VERTEX_VALUE_FORMATS};
 pub use volume::{
     is_volume_path, read_dicom, read_raw_volume, read_volume, read_volume_with, volume_files,
     SampleType, VolumeReadOptions, SUPPORTED_VOLUME_EXTENSIONS,
@@ -66,11 +76,12 @@ pub(crate) fn fits_f32(value: f64) -> bool {
 
 /// The formats [`read_mesh`] reads, each with its parser, in the order listed in
 /// error messages.
-const READERS: [(FileFormat, Parser); 4] = [
+const READERS: [(FileFormat, Parser); 5] = [
     (FileFormat::Obj, obj::parse),
     (FileFormat::Ply, ply::parse),
     (FileFormat::Off, off::parse),
     (FileFormat::Stl, stl::parse),
+    (FileFormat::Gifti, gifti::parse_surface),
 ];
 
 /// The file extensions [`read_mesh`] understands (compared case-insensitively).
@@ -82,10 +93,16 @@ pub type Progress<'a> = &'a dyn Fn(u64, u64);
 
 /// Read a triangle mesh file, choosing the reader by the extension, in any letter
 /// case: `.obj`, `.ply` (ASCII, binary little and big endian), `.off` (also `COFF`,
-/// `NOFF`, `CNOFF`, `NCOFF`) or `.stl` (ASCII and binary).
+/// `NOFF`, `CNOFF`, `NCOFF`), `.stl` (ASCII and binary) or `.gii` (a GIfTI surface,
+/// `.surf.gii`); a FreeSurfer triangle surface (`lh.pial`, `lh.white`) is told by
+/// its magic bytes, whatever its name.
+///
+/// GIfTI and FreeSurfer surfaces are declared [`Space::Ras`]; a FreeSurfer
+/// surface with a valid volume geometry is placed in scanner RAS and keeps the
+/// geometry ([`TriangleSoup::volume_geometry`], see [`freesurfer`]).
 ///
 /// Errors are [`Error::File`] naming `path`: an unsupported extension, a missing
-/// file, a directory, or malformed content (with the line or element).
+/// file, a directory, or malformed content (with the line, element or array).
 pub fn read_mesh(path: &Path) -> Result<TriangleSoup> {
     read_mesh_impl(path, None)
 }
@@ -106,9 +123,42 @@ fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<Triangl
 /// A format's parser, working on an [`Input`].
 type Parser = fn(&mut Input<'_>) -> Result<TriangleSoup>;
 
-/// The parser for the extension of `path`.
+/// The parser of the file at `path`: a FreeSurfer surface by its magic bytes,
+/// whatever its name, else the parser of its extension.
 fn parser_for(path: &Path) -> Result<Parser> {
-    choose_format(path, "a mesh", &READERS).map(|(_, parse)| parse)
+    let magic = leading_bytes(path)?;
+    if magic == freesurfer::SURFACE_MAGIC {
+        return Ok(freesurfer::surface::parse);
+    }
+    if magic == freesurfer::CURV_MAGIC {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: "a FreeSurfer curv file (per-vertex values) or quad surface, \
+                      not a triangle surface"
+                .into(),
+        });
+    }
+    choose_format(path, "a mesh", &READERS)
+        .map(|(_, parse)| parse)
+        .map_err(|e| match e {
+            Error::File { path, message } => Error::File {
+                path,
+                message: format!(
+                    "{message}, or a FreeSurfer surface (told by its first bytes, FF FF FE)"
+                ),
+            },
+            other => other,
+        })
+}
+
+/// The first three bytes of the file at `path` (fewer in a shorter file).
+fn leading_bytes(path: &Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(3);
+    std::fs::File::open(path)
+        .and_then(|file| file.take(3).read_to_end(&mut head))
+        .map_err(|e| Error::io(path, e))?;
+    Ok(head)
 }
 
 /// Check that `path` names an existing file, with clear messages for a missing file
@@ -136,7 +186,7 @@ fn parse_bytes(
         return Err(Error::Parse("the file is empty".to_string()));
     }
     let mut soup = parse(&mut Input::new(bytes, progress))?;
-    soup.space = declared_space(bytes);
+    soup.space = soup.space.or_else(|| declared_space(bytes));
     if let Some(progress) = progress {
         progress(bytes.len() as u64, bytes.len() as u64);
     }

@@ -1,6 +1,9 @@
 //! Writing triangle soups: surfaces that need not be orientable or manifold (crease
 //! surfaces of images may be Möbius-like), saved as they are, without the repairs
 //! of [`crate::mesh::Mesh::from_soup`].
+//!
+//! A GIfTI surface says which anatomical structure it is for Connectome
+//! Workbench ([`write_soup_of_structure`]).
 
 use std::path::Path;
 
@@ -9,42 +12,59 @@ use crate::mesh::TriangleSoup;
 use crate::{Error, Result};
 
 use super::format::{choose_format, FileFormat};
+use super::gifti::write_gifti_surface;
 use super::obj::write_triangles_obj;
 use super::ply::write_triangles_ply;
 use super::vtk::{self, Attachment, CellType};
+use super::Structure;
 use super::VertexAttribute;
 
-/// A writer of one format, given a soup already checked.
-type SoupWriter = fn(&Path, &TriangleSoup) -> Result<()>;
+/// A writer of one format, given a soup already checked and the anatomical
+/// structure it is a surface of.
+type SoupWriter = fn(&Path, &TriangleSoup, Structure) -> Result<()>;
 
 /// The formats of [`write_soup`], each with its writer, in the order listed in
 /// error messages.
-const WRITERS: [(FileFormat, SoupWriter); 3] = [
+const WRITERS: [(FileFormat, SoupWriter); 4] = [
     (FileFormat::Ply, write_soup_ply),
     (FileFormat::Obj, write_soup_obj),
     (FileFormat::Vtk, write_soup_vtk),
+    (FileFormat::GiftiSurface, write_soup_gifti),
 ];
 
 /// Write `soup` in the format given by the extension of `path`: `.ply` (binary,
-/// with every vertex scalar as a double property), `.obj`, or `.vtk` (legacy ASCII
-/// `POLYDATA` with the vertex scalars as `POINT_DATA`). Written atomically.
+/// with every vertex scalar as a double property), `.obj`, `.vtk` (legacy ASCII
+/// `POLYDATA` with the vertex scalars as `POINT_DATA`) or `.surf.gii` (a GIfTI
+/// surface in RAS, without the scalars, of the default [`Structure`], `Other`;
+/// see [`write_soup_of_structure`]). Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`, before any file is created): an unknown
 /// extension ([`soup_format`]), a non-finite coordinate or scalar, an index out of
 /// range, or a scalar without one value per vertex.
 pub fn write_soup(path: &Path, soup: &TriangleSoup) -> Result<()> {
+    write_soup_of_structure(path, soup, Structure::default())
+}
+
+/// [`write_soup`] of a surface of the anatomical `structure`, which a GIfTI
+/// surface records as Connectome Workbench reads it (`AnatomicalStructurePrimary`,
+/// with the `GeometricType` `Anatomical`); the other formats have no place for it.
+pub fn write_soup_of_structure(
+    path: &Path,
+    soup: &TriangleSoup,
+    structure: Structure,
+) -> Result<()> {
     check_soup(soup).map_err(|message| Error::File {
         path: path.to_path_buf(),
         message,
     })?;
     let (_, write) = writer_for(path)?;
-    write(path, soup)
+    write(path, soup, structure)
 }
 
 /// The format [`write_soup`] writes `path` in: [`FileFormat::Ply`],
-/// [`FileFormat::Obj`] or [`FileFormat::Vtk`] by its extension, in any letter
-/// case; another extension is an [`Error::File`] listing these, so that a caller
-/// can check an output's name before the work.
+/// [`FileFormat::Obj`], [`FileFormat::Vtk`] or [`FileFormat::GiftiSurface`] by
+/// its extension, in any letter case; another extension is an [`Error::File`]
+/// listing these, so that a caller can check an output's name before the work.
 pub fn soup_format(path: &Path) -> Result<FileFormat> {
     writer_for(path).map(|(format, _)| format)
 }
@@ -95,7 +115,7 @@ fn check_soup(soup: &TriangleSoup) -> std::result::Result<(), String> {
 }
 
 /// Binary PLY with every vertex scalar as a double property.
-fn write_soup_ply(path: &Path, soup: &TriangleSoup) -> Result<()> {
+fn write_soup_ply(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     let attributes: Vec<VertexAttribute<'_>> = soup
         .vertex_scalars
         .iter()
@@ -112,13 +132,13 @@ fn write_soup_ply(path: &Path, soup: &TriangleSoup) -> Result<()> {
 }
 
 /// OBJ of the positions and triangles.
-fn write_soup_obj(path: &Path, soup: &TriangleSoup) -> Result<()> {
+fn write_soup_obj(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     write_triangles_obj(path, &soup.positions, &soup.triangles, soup.space)
 }
 
 /// Legacy ASCII VTK: `POINTS`, `POLYGONS` of three corners, and `POINT_DATA` with
 /// one `SCALARS` array per vertex scalar.
-fn write_soup_vtk(path: &Path, soup: &TriangleSoup) -> Result<()> {
+fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> {
     let n = soup.positions.len();
     write_atomically(path, |w| {
         vtk::write_header(
@@ -137,4 +157,20 @@ fn write_soup_vtk(path: &Path, soup: &TriangleSoup) -> Result<()> {
         }
         Ok(())
     })
+}
+
+/// A GIfTI surface: the positions in RAS (GIfTI's frame; converted from LPS, in
+/// an unknown space when the soup has no frame), the triangles, and the
+/// structure.
+fn write_soup_gifti(path: &Path, soup: &TriangleSoup, structure: Structure) -> Result<()> {
+    let metadata = [
+        ("AnatomicalStructurePrimary", structure.gifti_name()),
+        ("GeometricType", "Anatomical"),
+    ];
+    write_gifti_surface(
+        path,
+        (&soup.positions, soup.space),
+        &soup.triangles,
+        &metadata,
+    )
 }

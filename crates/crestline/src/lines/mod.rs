@@ -14,6 +14,10 @@
 //! | `.vtu` | VTK XML unstructured grid of segments (meshio, ParaView, 3D Slicer) | [`write_vtu`] |
 //! | `.mrk.json` | 3D Slicer markups, a curve per line | [`write_markups`] |
 //!
+//! Ridge and valley lines traced on a mesh can also be written as labels of its
+//! vertices ([`write_vertex_labels`]: GIfTI `.label.gii`, FreeSurfer `.label`),
+//! which needs the mesh besides the lines.
+//!
 //! Every format that can says the frame of the points ([`FeatureLines::space`]):
 //! the JSON's `space` key, 3D Slicer's `SPACE=` mark in the VTK title and in PLY
 //! and OBJ comments, LPS positions in markups.
@@ -35,6 +39,7 @@ pub(crate) mod oriented;
 mod pipeline;
 mod ply;
 pub(crate) mod surface_fair;
+pub mod vertex_labels;
 mod vtk;
 mod vtk_xml;
 pub(crate) mod zero_set;
@@ -59,6 +64,7 @@ pub use markups::{write_markups, SLICER_SCHEMA};
 pub use obj::write_obj;
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
+pub use vertex_labels::{vertex_labels, write_labels, write_vertex_labels, LABEL_FORMATS};
 pub use vtk::write_vtk;
 pub use vtk_xml::{write_vtp, write_vtu};
 pub use zero_set::{LinePoint, ZeroSet};

@@ -177,6 +177,7 @@ fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport
         triangles,
         vertex_scalars,
         space,
+        volume_geometry,
     } = soup;
     validate(&positions, &triangles, &vertex_scalars)?;
     let mut report = RepairReport::default();
@@ -214,10 +215,24 @@ fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport
         &mut scalars,
         &mut report,
     );
-    let referenced = compact_vertices(&mut tris, &mut positions, &mut scalars);
-    report.unreferenced_vertices = weld.distinct - (referenced - report.non_manifold_vertices);
+    let new_index = compact_vertices(&mut tris, &mut positions, &mut scalars);
+    report.unreferenced_vertices = weld.distinct - (positions.len() - report.non_manifold_vertices);
+    // An input vertex became its representative, which keeps its number through
+    // the splitting of fans (the first fan keeps it) until the compaction.
+    let input_vertices = weld
+        .representative
+        .iter()
+        .map(|&r| {
+            Some(new_index[r as usize])
+                .filter(|&v| v != NONE)
+                .map(VertexId)
+        })
+        .collect();
 
-    let mesh = connect(positions, &tris, &partner, scalars).with_space(space);
+    let mut mesh = connect(positions, &tris, &partner, scalars);
+    mesh.space = space;
+    mesh.volume_geometry = volume_geometry;
+    mesh.input_vertices = input_vertices;
     Ok((mesh, report))
 }
 
@@ -856,12 +871,12 @@ fn next_corner(c: usize) -> usize {
 }
 
 /// Drop vertices no face refers to, keeping the order of the others; returns the
-/// number of vertices kept.
+/// new number of each vertex ([`NONE`] for a dropped one).
 fn compact_vertices(
     tris: &mut [[u32; 3]],
     positions: &mut Vec<Point>,
     scalars: &mut [ScalarProperty],
-) -> usize {
+) -> Vec<u32> {
     let mut new_index = vec![NONE; positions.len()];
     for t in tris.iter() {
         for &v in t {
@@ -877,7 +892,7 @@ fn compact_vertices(
     }
     if kept as usize == positions.len() {
         // Every vertex is used: the numbering stays as it is.
-        return positions.len();
+        return new_index;
     }
     let keep = |values: &[f64]| -> Vec<f64> {
         values
@@ -897,7 +912,7 @@ fn compact_vertices(
     for t in tris.iter_mut() {
         *t = t.map(|v| new_index[v as usize]);
     }
-    kept as usize
+    new_index
 }
 
 /// Create the halfedge arrays. Each pair of partner corners becomes one edge; each
@@ -971,5 +986,7 @@ fn connect(
         halfedge_face: face,
         vertex_scalars: scalars,
         space: None,
+        volume_geometry: None,
+        input_vertices: Vec::new(),
     }
 }

@@ -9,6 +9,11 @@
 //! as given (for surfaces such as isosurfaces, whose orientation carries meaning). The result is always an oriented 2-manifold,
 //! possibly with boundary and several components.
 //!
+//! The repairs renumber vertices; [`Mesh::input_vertices`] keeps, for each vertex of
+//! the soup, the mesh vertex it became, and [`Mesh::to_input_order`] takes
+//! per-vertex results back to the file's order (FreeSurfer and GIfTI per-vertex
+//! files must match their surface vertex for vertex).
+//!
 //! Storage is a set of plain arrays indexed by u32 ids. Halfedges come in pairs:
 //! halfedge `2e` and `2e + 1` are the two sides of edge `e`, so the twin of `h` is
 //! `h ^ 1`. A boundary halfedge has no face ([`FaceId::INVALID`]); every boundary
@@ -28,6 +33,7 @@ pub use ids::{EdgeId, FaceId, HalfedgeId, VertexId};
 pub use soup::{ScalarProperty, TriangleSoup};
 pub use topology::ComponentInfo;
 
+use crate::space::VolumeGeometry;
 use crate::{Point, Space};
 
 /// An oriented manifold triangle mesh with halfedge connectivity.
@@ -47,6 +53,12 @@ pub struct Mesh {
     vertex_scalars: Vec<ScalarProperty>,
     /// The anatomical frame of the positions, from the soup ([`TriangleSoup::space`]).
     space: Option<Space>,
+    /// The image of a FreeSurfer surface, from the soup
+    /// ([`TriangleSoup::volume_geometry`]).
+    volume_geometry: Option<VolumeGeometry>,
+    /// For each vertex of the soup, the vertex it became (see
+    /// [`Mesh::input_vertices`]).
+    input_vertices: Vec<Option<VertexId>>,
 }
 
 impl Mesh {
@@ -68,6 +80,35 @@ impl Mesh {
         crate::space::convert_all(self.space, space, &mut moved.positions);
         moved.space = Some(space);
         moved
+    }
+
+    /// The image a FreeSurfer surface was made from, if the mesh was read from one
+    /// with a volume geometry footer ([`TriangleSoup::volume_geometry`]).
+    pub fn volume_geometry(&self) -> Option<&VolumeGeometry> {
+        self.volume_geometry.as_ref()
+    }
+
+    /// For each vertex of the soup the mesh was built from, in the soup's (the
+    /// file's) order, the mesh vertex it became: the repairs of
+    /// [`Mesh::from_soup`] weld duplicates into one vertex, give a vertex where
+    /// several fans of faces meet one copy per fan (the first keeps the input
+    /// vertex's place here) and drop unreferenced vertices (`None` here).
+    pub fn input_vertices(&self) -> &[Option<VertexId>] {
+        &self.input_vertices
+    }
+
+    /// `values`, one per mesh vertex, rearranged into one per vertex of the soup
+    /// the mesh was built from, in its order ([`Mesh::input_vertices`]):
+    /// `missing` for the vertices the repairs dropped. This is how per-vertex
+    /// results go back to a file that must match the input surface vertex for
+    /// vertex (FreeSurfer curv and label files, GIfTI shape and label files).
+    ///
+    /// Panics if `values` has fewer values than the mesh has vertices.
+    pub fn to_input_order<T: Copy>(&self, values: &[T], missing: T) -> Vec<T> {
+        self.input_vertices
+            .iter()
+            .map(|v| v.map_or(missing, |v| values[v.idx()]))
+            .collect()
     }
 
     /// Number of vertices.
@@ -257,6 +298,7 @@ impl Mesh {
             triangles: self.triangles(),
             vertex_scalars: self.vertex_scalars.clone(),
             space: self.space,
+            volume_geometry: self.volume_geometry.clone(),
         }
     }
 

@@ -1,5 +1,6 @@
 //! The indexed triangle list that readers produce and [`crate::mesh::Mesh`] is built from.
 
+use crate::space::VolumeGeometry;
 use crate::{Point, Space};
 
 /// A named per-vertex scalar, e.g. a PLY vertex property such as `quality` or a
@@ -26,6 +27,9 @@ pub struct TriangleSoup {
     /// The anatomical frame of the positions, if known: a surface of an image has
     /// the image's, a file that declares one (3D Slicer's `SPACE=` mark) has that.
     pub space: Option<Space>,
+    /// The image a FreeSurfer surface was made from (its file's footer), kept to
+    /// write the surface and its labels back in the file's tkr-RAS coordinates.
+    pub volume_geometry: Option<VolumeGeometry>,
 }
 
 impl TriangleSoup {

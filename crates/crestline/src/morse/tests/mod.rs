@@ -322,6 +322,7 @@ fn ridge_landscape(
             values: height,
         }],
         space: None,
+        volume_geometry: None,
     };
     Mesh::from_soup(soup).unwrap().0
 }

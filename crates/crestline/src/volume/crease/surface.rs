@@ -323,5 +323,6 @@ pub(super) fn compact(mesh: Mesh, space: Option<Space>) -> TriangleSoup {
         vertex_scalars: vec![scalar(STRENGTH, &strength), scalar(DEGENERATE, &degenerate)],
         triangles,
         space,
+        volume_geometry: None,
     }
 }

@@ -177,6 +177,7 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
             triangles: extraction.triangles,
             vertex_scalars: Vec::new(),
             space: volume.space(),
+            volume_geometry: None,
         },
         keys: extraction.keys,
         fractions: extraction.fractions,

@@ -13,6 +13,14 @@
 //! `SPACE=RAS` or `SPACE=LPS` anywhere in the legacy VTK header line, in a PLY
 //! comment, in the OBJ comment or in the STL header; [`Space::slicer_mark`] writes
 //! it and [`Space::from_header`] reads it.
+//!
+//! FreeSurfer surfaces hold tkr-RAS coordinates, placed in the scanner's RAS by
+//! the [`VolumeGeometry`] of their image.
+
+mod volume_geometry;
+
+pub(crate) use volume_geometry::to_tkr;
+pub use volume_geometry::VolumeGeometry;
 
 use std::fmt;
 use std::str::FromStr;
