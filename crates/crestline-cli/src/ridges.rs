@@ -6,7 +6,7 @@ use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::io::{choose_format, is_volume_path, FileFormat, FormatChoice};
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
-use crestline::lines::{write_vertex_labels, FeatureLines, LineFormat, LABEL_FORMATS};
+use crestline::lines::{write_on_surface, FeatureLines, LineFormat, SURFACE_FORMATS};
 use crestline::mesh::Mesh;
 use crestline::ridges::Kinds;
 use crestline::ridges::Solver;
@@ -16,6 +16,7 @@ use super::failure::explain;
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
 use super::outputs::{check_paths, Role};
+use super::structure::StructureArg;
 use super::surface::{load_surface, Loaded, VolumeArgs};
 use super::ReportArg;
 
@@ -116,9 +117,13 @@ pub struct RidgesArgs {
     /// or .mrk.json (3D Slicer markups); or labels of the mesh's vertices the
     /// lines pass near, in the input file's vertex order (not with --fair): a
     /// GIfTI .label.gii (0 none, 1 ridges, 2 valleys) or a FreeSurfer .label
-    /// (the labelled vertices, value 1 on ridges and -1 on valleys).
+    /// (the labelled vertices, value 1 on ridges and -1 on valleys); or the lines
+    /// as a Connectome Workbench .border file (triangles of the input file with
+    /// barycentric weights).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub structure: StructureArg,
     #[command(flatten)]
     pub tracer: TracerArgs,
     #[command(flatten)]
@@ -195,23 +200,24 @@ pub fn trace_loaded(
 }
 
 /// The format of the output `path`: a format of lines, or `None` for labels of
-/// the mesh's vertices ([`LABEL_FORMATS`]).
+/// the mesh's vertices or a border file ([`SURFACE_FORMATS`]).
 fn output_format(path: &Path) -> Result<Option<LineFormat>> {
     let lines = LineFormat::ALL.map(|format| (format.file_format(), Some(format)));
-    let labels = LABEL_FORMATS.map(|format| (format, None));
+    let labels = SURFACE_FORMATS.map(|format| (format, None));
     let choices: Vec<(FileFormat, Option<LineFormat>)> = lines.into_iter().chain(labels).collect();
     choose_format(path, "ridge and valley lines", &choices).map(|(_, format)| format)
 }
 
-/// Refuse vertex labels where they cannot be made: on an isosurface of an
-/// image (no vertex order of a file to label) or with `--fair` (faired lines
+/// Refuse vertex labels and borders where they cannot be made: on an isosurface
+/// of an image (no vertices of a file to refer to) or with `--fair` (faired lines
 /// leave the surface).
 fn check_labels(args: &RidgesArgs) -> Result<()> {
     let problem = if is_volume_path(&args.mesh) {
-        "vertex labels (.label.gii, .label) label the vertices of a mesh file; \
-         an isosurface of a 3D image has none"
+        "vertex labels and borders (.label.gii, .label, .border) refer to the vertices of a \
+         mesh file; an isosurface of a 3D image has none"
     } else if args.tracer.fair {
-        "vertex labels (.label.gii, .label) need the lines on the surface; --fair moves them off it"
+        "vertex labels and borders (.label.gii, .label, .border) need the lines on the surface; \
+         --fair moves them off it"
     } else {
         return Ok(());
     };
@@ -221,7 +227,8 @@ fn check_labels(args: &RidgesArgs) -> Result<()> {
     })
 }
 
-/// Trace the lines and write them, or the labels of the vertices they pass near.
+/// Trace the lines and write them, or the labels of the vertices they pass near,
+/// or a border file.
 pub fn run(args: &RidgesArgs) -> Result<()> {
     let format = output_format(&args.output)?;
     if format.is_none() {
@@ -243,7 +250,7 @@ pub fn run(args: &RidgesArgs) -> Result<()> {
         None => args
             .report
             .write_with_output(&mut report, &args.output, |p| {
-                write_vertex_labels(p, &lines, &loaded.surface.mesh)
+                write_on_surface(p, &lines, &loaded.surface.mesh, args.structure.structure)
             }),
     }
 }

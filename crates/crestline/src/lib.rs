@@ -86,6 +86,7 @@ pub mod space;
 #[cfg(feature = "view")]
 pub mod view;
 pub mod volume;
+mod xml;
 
 pub use error::{Error, Result};
 pub use space::Space;

@@ -18,6 +18,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("linalg", 0),
     ("named", 0),
     ("space", 0),
+    ("xml", 0),
     ("mesh", 1),
     ("chain", 2),
     ("volume", 3),

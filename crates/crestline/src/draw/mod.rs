@@ -57,9 +57,8 @@ pub use plot::{for_plotter, DUPLICATE_DISTANCE, JOIN_DISTANCE, SHORTEST_DUPLICAT
 pub use raster::{render_png, write_png};
 pub use silhouette::silhouettes;
 pub use simplify::{douglas_peucker, douglas_peucker_kept};
-pub use style::{check_taper, group_name, KindStyle, Style, MAX_TAPER};
+pub use style::{check_taper, KindStyle, Style, MAX_TAPER};
 pub use suggestive::{suggestive_contours, SuggestiveOptions};
-pub(crate) use svg::escape;
 pub use svg::{svg_document, write_svg};
 pub use visibility::visible_pieces;
 
@@ -129,11 +128,11 @@ impl Drawing {
         self.groups.iter().find(|g| g.kind == kind)
     }
 
-    /// Number of paths of each group, by [`group_name`].
+    /// Number of paths of each group, by [`LineKind::family`].
     pub fn path_counts(&self) -> Vec<(&'static str, usize)> {
         self.groups
             .iter()
-            .map(|g| (group_name(g.kind), g.paths.len()))
+            .map(|g| (g.kind.family(), g.paths.len()))
             .collect()
     }
 }
@@ -295,7 +294,7 @@ pub fn draw_observed(
 ) -> Result<Drawing> {
     options.check()?;
     let mut add = |kind: LineKind, trace: &dyn Fn() -> Result<FeatureLines>| -> Result<()> {
-        let traced = try_stage(observer, group_name(kind), trace)?;
+        let traced = try_stage(observer, kind.family(), trace)?;
         observer.count(&format!("{}_lines", kind.name()), traced.len());
         lines.lines.extend(traced.lines);
         Ok(())

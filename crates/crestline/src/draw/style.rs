@@ -12,7 +12,7 @@
 //!
 //! Every key is optional: what a file leaves out keeps its default. `background` is
 //! a colour or `null` (transparent). The kinds are named as the SVG groups
-//! ([`group_name`]). Colours are `#rgb`, `#rrggbb` or a CSS colour name; widths are
+//! ([`LineKind::family`]). Colours are `#rgb`, `#rrggbb` or a CSS colour name; widths are
 //! in pixels. With `width_by_strength`, a line's width is scaled by its strength
 //! relative to the median strength of its group, between half and twice the width.
 //! With `width_by_depth`, lines thin with depth, from the full width at the nearest
@@ -28,20 +28,6 @@ use serde::{Deserialize, Deserializer};
 
 use crate::lines::LineKind;
 use crate::{Error, Result};
-
-/// The SVG group of a kind of line: `ridges`, `valleys`, `ascending`,
-/// `descending`, `silhouettes`, `borders`, `creases`, `suggestive`, and for the
-/// other kinds their [`LineKind::name`].
-pub fn group_name(kind: LineKind) -> &'static str {
-    match kind {
-        LineKind::Ridge => "ridges",
-        LineKind::Valley => "valleys",
-        LineKind::Silhouette => "silhouettes",
-        LineKind::Border => "borders",
-        LineKind::Crease => "creases",
-        other => other.name(),
-    }
-}
 
 /// How the lines of one kind are stroked.
 #[derive(Clone, Debug, PartialEq)]
@@ -71,32 +57,27 @@ pub struct Style {
 }
 
 impl Default for Style {
-    /// White background; every family its own colour: ridges red, valleys blue,
-    /// ascending Morse-Smale lines orange, descending ones teal, silhouettes dark
-    /// grey and slightly wider, borders a little lighter and thinner than
-    /// silhouettes, creases dark brown, suggestive contours mid grey and thin.
+    /// White background; every family in its colour ([`LineKind::color`]),
+    /// silhouettes slightly wider, borders a little thinner than silhouettes,
+    /// suggestive contours thin.
     fn default() -> Self {
-        let stroke = |color: &str, width: f64| KindStyle {
-            color: color.to_string(),
+        let stroke = |kind: LineKind, width: f64| KindStyle {
+            color: kind.color_hex(),
             width,
             width_by_strength: false,
             width_by_depth: false,
             taper: 0.0,
             fade_by_view: false,
         };
-        let kinds = LineKind::ALL.map(|kind| match kind {
-            LineKind::Ridge => stroke("#c0392b", 1.2),
-            LineKind::Valley => stroke("#2471a3", 1.2),
-            LineKind::Ascending => stroke("#d35400", 1.2),
-            LineKind::Descending => stroke("#138d75", 1.2),
-            LineKind::Crest => stroke("#7d3c98", 1.2),
-            LineKind::Parabolic => stroke("#1e8449", 1.2),
-            LineKind::Silhouette => stroke("#333333", 1.5),
-            LineKind::Contour => stroke("#555555", 1.0),
-            LineKind::Border => stroke("#474747", 1.3),
-            LineKind::Crease => stroke("#5d4030", 1.2),
-            LineKind::Suggestive => stroke("#8c8c8c", 0.9),
-            LineKind::Gauss => stroke("#b9770e", 1.2),
+        let kinds = LineKind::ALL.map(|kind| {
+            let width = match kind {
+                LineKind::Silhouette => 1.5,
+                LineKind::Border => 1.3,
+                LineKind::Contour => 1.0,
+                LineKind::Suggestive => 0.9,
+                _ => 1.2,
+            };
+            stroke(kind, width)
         });
         Style {
             background: Some("#ffffff".to_string()),
@@ -174,9 +155,10 @@ impl Style {
         for (name, entry) in file.kinds {
             let kind = LineKind::ALL
                 .into_iter()
-                .find(|&k| group_name(k) == name)
+                .find(|&k| k.family() == name)
                 .ok_or_else(|| {
-                    let known: Vec<&str> = LineKind::ALL.into_iter().map(group_name).collect();
+                    let known: Vec<&str> =
+                        LineKind::ALL.into_iter().map(LineKind::family).collect();
                     format!(
                         "unknown kind \"{name}\" in \"kinds\"; known: {}",
                         known.join(", ")

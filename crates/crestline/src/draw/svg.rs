@@ -2,7 +2,7 @@
 //! browsers:
 //!
 //! - one `<g>` per kind of line, an Inkscape layer (`inkscape:groupmode="layer"`)
-//!   labelled with its plotting order and [`group_name`] (`1 silhouettes`,
+//!   labelled with its plotting order and [`LineKind::family`](crate::lines::LineKind::family) (`1 silhouettes`,
 //!   `2 ridges`), its `id` the name: Inkscape and the AxiDraw extension plot layers
 //!   in the order of that leading number, and vpype numbers its layers by it;
 //! - one `<path>` per visible piece, coordinates in canvas pixels with two
@@ -19,10 +19,11 @@ use std::io::Write as _;
 use std::path::Path;
 
 use crate::atomic::write_atomically;
+use crate::xml::escape;
 use crate::Result;
 
 use super::page::{Page, PIXELS_PER_MM};
-use super::style::{group_name, KindStyle, Style};
+use super::style::{KindStyle, Style};
 use super::{Drawing, Group, ScreenPath};
 
 /// The smallest and largest factor [`KindStyle::width_by_strength`] applies.
@@ -95,7 +96,7 @@ fn write_group(
     stroke: &KindStyle,
     depths: (f64, f64),
 ) {
-    let name = group_name(group.kind);
+    let name = group.kind.family();
     let _ = writeln!(
         svg,
         "<g id=\"{name}\" inkscape:groupmode=\"layer\" inkscape:label=\"{order} {name}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\" stroke-linecap=\"round\" stroke-linejoin=\"round\">",
@@ -266,21 +267,6 @@ fn median_strength(paths: &[ScreenPath]) -> f64 {
     let mut strengths: Vec<f64> = paths.iter().map(|p| p.strength).collect();
     strengths.sort_by(f64::total_cmp);
     strengths.get(strengths.len() / 2).copied().unwrap_or(0.0)
-}
-
-/// `text` with the XML special characters escaped (and control characters made
-/// spaces), for text and attributes of SVG and HTML.
-pub(crate) fn escape(text: &str) -> String {
-    text.chars()
-        .map(|c| match c {
-            '&' => "&amp;".to_string(),
-            '<' => "&lt;".to_string(),
-            '>' => "&gt;".to_string(),
-            '"' => "&quot;".to_string(),
-            c if c.is_control() => " ".to_string(),
-            c => c.to_string(),
-        })
-        .collect()
 }
 
 /// Write the SVG text `svg` to `path` (under a temporary name, renamed on success).

@@ -73,11 +73,13 @@ pub enum FileFormat {
     FreeSurferCurv,
     /// `.label`: FreeSurfer ASCII labels.
     FreeSurferLabel,
+    /// `.border`: Connectome Workbench border files (lines on a surface).
+    Border,
 }
 
 impl FileFormat {
     /// Every format.
-    pub const ALL: [FileFormat; 28] = [
+    pub const ALL: [FileFormat; 29] = [
         FileFormat::Obj,
         FileFormat::Ply,
         FileFormat::Off,
@@ -106,6 +108,7 @@ impl FileFormat {
         FileFormat::GiftiLabel,
         FileFormat::FreeSurferCurv,
         FileFormat::FreeSurferLabel,
+        FileFormat::Border,
     ];
 
     /// The extension, lowercase and without the leading dot (`"nii.gz"` for
@@ -140,6 +143,7 @@ impl FileFormat {
             FileFormat::GiftiLabel => "label.gii",
             FileFormat::FreeSurferCurv => "curv",
             FileFormat::FreeSurferLabel => "label",
+            FileFormat::Border => "border",
         }
     }
 

@@ -21,15 +21,16 @@
 //! ```
 //!
 //! Each family of lines is a class holding one border of the same name, each line
-//! one part of it (Workbench's multi-part borders), coloured as in the drawings.
+//! one part of it (Workbench's multi-part borders), in the family's colour
+//! ([`LineKind::color`]).
 
 use std::io::Write;
 use std::path::Path;
 
 use super::{write_checked, FeatureLines, LineKind, Polyline, SurfaceLocation};
-use crate::draw::{escape, group_name, Style};
 use crate::io::Structure;
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
+use crate::xml::escape;
 use crate::{Error, Result};
 
 /// The surface a border file refers to.
@@ -108,7 +109,6 @@ pub fn write_border(path: &Path, lines: &FeatureLines, surface: &BorderSurface<'
             surface.file_vertex_count
         )?;
         write_metadata(out, lines)?;
-        let style = Style::default();
         for kind in LineKind::ALL {
             let family: Vec<&String> = lines
                 .iter()
@@ -119,8 +119,9 @@ pub fn write_border(path: &Path, lines: &FeatureLines, surface: &BorderSurface<'
             if family.is_empty() {
                 continue;
             }
-            let name = group_name(kind);
-            let color = color_attributes(&style.kind(kind).color);
+            let name = kind.family();
+            let [red, green, blue] = kind.color_unit();
+            let color = format!(r#"Red="{red:.3}" Green="{green:.3}" Blue="{blue:.3}""#);
             writeln!(out, r#"  <Class Name="{name}" {color}>"#)?;
             writeln!(out, r#"    <Border Name="{name}" {color}>"#)?;
             for part in family {
@@ -226,24 +227,6 @@ fn in_line(err: Error, n: usize) -> Error {
         Error::Argument(message) => Error::Argument(format!("line {}: {message}", n + 1)),
         other => other,
     }
-}
-
-/// `Red="…" Green="…" Blue="…"` in [0, 1] for a `#rrggbb` colour (black for any
-/// other).
-fn color_attributes(color: &str) -> String {
-    let channel = |i: usize| {
-        color
-            .strip_prefix('#')
-            .filter(|hex| hex.len() == 6)
-            .and_then(|hex| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).ok())
-            .map_or(0.0, |c| f64::from(c) / 255.0)
-    };
-    format!(
-        r#"Red="{:.3}" Green="{:.3}" Blue="{:.3}""#,
-        channel(0),
-        channel(1),
-        channel(2)
-    )
 }
 
 #[cfg(test)]

@@ -35,6 +35,7 @@ mod json;
 mod location;
 pub(crate) mod markups;
 mod obj;
+mod on_surface;
 pub(crate) mod oriented;
 mod pipeline;
 mod ply;
@@ -62,6 +63,7 @@ pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;
 pub use markups::{write_markups, SLICER_SCHEMA};
 pub use obj::write_obj;
+pub use on_surface::{write_on_surface, SURFACE_FORMATS};
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
 pub use ply::write_ply;
 pub use vertex_labels::{vertex_labels, write_labels, write_vertex_labels, LABEL_FORMATS};
@@ -138,6 +140,55 @@ impl LineKind {
             LineKind::Suggestive => "suggestive",
             LineKind::Gauss => "gauss",
         }
+    }
+
+    /// The name of the family of lines of this kind, plural where it reads so:
+    /// `ridges`, `valleys`, `silhouettes`, `borders`, `creases`, and for the other
+    /// kinds their [`LineKind::name`]. Drawings name their layers by it, views
+    /// their toggles, label and border files their classes.
+    pub fn family(self) -> &'static str {
+        match self {
+            LineKind::Ridge => "ridges",
+            LineKind::Valley => "valleys",
+            LineKind::Silhouette => "silhouettes",
+            LineKind::Border => "borders",
+            LineKind::Crease => "creases",
+            other => other.name(),
+        }
+    }
+
+    /// The colour of the family, as red, green and blue: ridges red, valleys blue,
+    /// ascending Morse-Smale lines orange, descending ones teal, crest lines
+    /// purple, parabolic lines green, silhouettes dark grey, borders a little
+    /// lighter, creases dark brown, suggestive contours mid grey, iso-Gaussian
+    /// curves ochre. Drawings, views, label and border files use it.
+    pub fn color(self) -> [u8; 3] {
+        match self {
+            LineKind::Ridge => [0xc0, 0x39, 0x2b],
+            LineKind::Valley => [0x24, 0x71, 0xa3],
+            LineKind::Ascending => [0xd3, 0x54, 0x00],
+            LineKind::Descending => [0x13, 0x8d, 0x75],
+            LineKind::Crest => [0x7d, 0x3c, 0x98],
+            LineKind::Parabolic => [0x1e, 0x84, 0x49],
+            LineKind::Silhouette => [0x33, 0x33, 0x33],
+            LineKind::Contour => [0x55, 0x55, 0x55],
+            LineKind::Border => [0x47, 0x47, 0x47],
+            LineKind::Crease => [0x5d, 0x40, 0x30],
+            LineKind::Suggestive => [0x8c, 0x8c, 0x8c],
+            LineKind::Gauss => [0xb9, 0x77, 0x0e],
+        }
+    }
+
+    /// [`LineKind::color`] as CSS writes it, `#rrggbb`.
+    pub fn color_hex(self) -> String {
+        let [r, g, b] = self.color();
+        format!("#{r:02x}{g:02x}{b:02x}")
+    }
+
+    /// [`LineKind::color`] with each channel in [0, 1], as GIfTI label tables and
+    /// Workbench border files write colours.
+    pub fn color_unit(self) -> [f64; 3] {
+        self.color().map(|c| f64::from(c) / 255.0)
     }
 
     /// The integer code stored by the PLY and VTK writers (0 = ridge, 1 = valley, ...,

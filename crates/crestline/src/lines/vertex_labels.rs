@@ -131,17 +131,24 @@ fn checked_weights(
     Ok(location.weights(mesh))
 }
 
-/// The GIfTI label table of the families.
+/// The GIfTI label table of the families, in their colours ([`LineKind::color`]).
 fn label_table() -> Vec<GiftiLabel> {
-    let label = |key: i32, name: &str, rgba: [f32; 4]| GiftiLabel {
-        key,
-        name: name.to_string(),
-        rgba,
+    let family = |key: i32, kind: LineKind| {
+        let [r, g, b] = kind.color_unit().map(|c| c as f32);
+        GiftiLabel {
+            key,
+            name: kind.family().to_string(),
+            rgba: [r, g, b, 1.0],
+        }
     };
     vec![
-        label(UNLABELLED, "???", [0.0, 0.0, 0.0, 0.0]),
-        label(RIDGE, "ridges", [1.0, 0.0, 0.0, 1.0]),
-        label(VALLEY, "valleys", [0.0, 0.0, 1.0, 1.0]),
+        GiftiLabel {
+            key: UNLABELLED,
+            name: "???".to_string(),
+            rgba: [0.0; 4],
+        },
+        family(RIDGE, LineKind::Ridge),
+        family(VALLEY, LineKind::Valley),
     ]
 }
 

@@ -15,6 +15,7 @@ use std::path::Path;
 
 use super::indexing::{indexed, point_values, points, shared_value_names};
 use super::{one_line, write_checked, FeatureLines, FORMAT};
+use crate::xml::escape;
 use crate::{Result, Space};
 
 /// Write `lines` to `path` as VTK XML poly data (see the module documentation).
@@ -169,7 +170,7 @@ fn write_array<V: std::fmt::Display>(
     write!(
         w,
         r#"<DataArray type="{kind}" Name="{}" NumberOfComponents="{components}" format="ascii">"#,
-        attribute(name)
+        escape(name)
     )?;
     for (n, value) in values.enumerate() {
         if n > 0 {
@@ -178,14 +179,6 @@ fn write_array<V: std::fmt::Display>(
         write!(w, "{value}")?;
     }
     writeln!(w, "</DataArray>")
-}
-
-/// `text` as an XML attribute value.
-fn attribute(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// `text` inside an XML comment: on one line, without `--`.

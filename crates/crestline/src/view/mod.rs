@@ -23,9 +23,10 @@ use base64::Engine as _;
 use serde_json::json;
 
 use crate::curvature::CurvatureField;
-use crate::draw::{escape, group_name, Style};
+use crate::draw::Style;
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
+use crate::xml::escape;
 
 pub use decimate::{display_mesh, DisplayMesh};
 
@@ -175,7 +176,7 @@ fn family_json(lines: &FeatureLines, kind: LineKind, style: &Style) -> serde_jso
         }));
     }
     json!({
-        "name": group_name(kind),
+        "name": kind.family(),
         "color": style.kind(kind).color,
         "segments": floats(&segments),
         "line_of_segment": bytes_of_u32(&line_of_segment),

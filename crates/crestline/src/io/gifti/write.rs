@@ -9,6 +9,7 @@ use super::encoding::{encode, DataType};
 use super::{POINTSET, TRIANGLE};
 use crate::atomic::write_atomically;
 use crate::io::fits_f32;
+use crate::xml::escape;
 use crate::{Error, Point, Result, Space};
 
 /// Metadata entries (`MD` elements): name and value.
@@ -242,14 +243,6 @@ fn write_array(w: &mut impl Write, array: &ArrayOut<'_>) -> std::io::Result<()> 
     }
     writeln!(w, "    <Data>{}</Data>", encode(&array.bytes))?;
     writeln!(w, "  </DataArray>")
-}
-
-/// `text` with XML's special characters escaped.
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 #[cfg(test)]
