@@ -18,21 +18,14 @@ readonly DEST="$repo_root/data/fsaverage"
 # shellcheck source=tools/wheel_data.sh
 source "$repo_root/tools/wheel_data.sh"
 readonly FILES=(
-    pial_left
-    white_left
-    infl_left
-    sulc_left
-    curv_left
+    pial_left.gii
+    white_left.gii
+    infl_left.gii
+    sulc_left.gii
+    curv_left.gii
 )
 
-all_present() {
-    local file
-    for file in "${FILES[@]}"; do
-        [[ -s "$DEST/$file.gii" ]] || return 1
-    done
-}
-
-if all_present; then
+if all_files_present "$DEST" "${FILES[@]}"; then
     echo "fetch_fsaverage: all ${#FILES[@]} files are already in $DEST; nothing to do"
     exit 0
 fi
@@ -43,15 +36,15 @@ command -v gzip >/dev/null || {
 
 members=()
 for file in "${FILES[@]}"; do
-    members+=("nilearn/datasets/data/fsaverage5/$file.gii.gz" "$DEST/$file.gii.gz")
+    members+=("nilearn/datasets/data/fsaverage5/$file.gz" "$DEST/$file.gz")
 done
 unpack_from_wheel fetch_fsaverage nilearn 0.14.1 "${members[@]}"
 for file in "${FILES[@]}"; do
-    gzip -dc "$DEST/$file.gii.gz" >"$DEST/$file.gii.part"
-    mv "$DEST/$file.gii.part" "$DEST/$file.gii"
-    rm "$DEST/$file.gii.gz"
+    gzip -dc "$DEST/$file.gz" >"$DEST/$file.part"
+    mv "$DEST/$file.part" "$DEST/$file"
+    rm "$DEST/$file.gz"
 done
-all_present || {
+all_files_present "$DEST" "${FILES[@]}" || {
     echo "fetch_fsaverage: error: some files are empty after decompressing" >&2
     exit 1
 }

@@ -24,25 +24,4 @@ readonly FILES=(
     standard.nii.gz
 )
 
-all_present() {
-    local file
-    for file in "${FILES[@]}"; do
-        [[ -s "$DEST/$file" ]] || return 1
-    done
-}
-
-if all_present; then
-    echo "fetch_nibabel_data: all ${#FILES[@]} files are already in $DEST; nothing to do"
-    exit 0
-fi
-
-members=()
-for file in "${FILES[@]}"; do
-    members+=("nibabel/tests/data/$file" "$DEST/$file")
-done
-unpack_from_wheel fetch_nibabel_data nibabel 5.3.2 "${members[@]}"
-all_present || {
-    echo "fetch_nibabel_data: error: some files are empty after unpacking" >&2
-    exit 1
-}
-echo "fetch_nibabel_data: ${#FILES[@]} files written to $DEST"
+fetch_wheel_files fetch_nibabel_data nibabel 5.3.2 nibabel/tests/data "$DEST" "${FILES[@]}"

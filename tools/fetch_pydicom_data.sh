@@ -36,25 +36,4 @@ readonly FILES=(
     dicomdirtests/TINY_ALPHA/DICOMDIR
 )
 
-all_present() {
-    local file
-    for file in "${FILES[@]}"; do
-        [[ -s "$DEST/$file" ]] || return 1
-    done
-}
-
-if all_present; then
-    echo "fetch_pydicom_data: all ${#FILES[@]} files are already in $DEST; nothing to do"
-    exit 0
-fi
-
-members=()
-for file in "${FILES[@]}"; do
-    members+=("pydicom/data/test_files/$file" "$DEST/$file")
-done
-unpack_from_wheel fetch_pydicom_data pydicom 3.0.2 "${members[@]}"
-all_present || {
-    echo "fetch_pydicom_data: error: some files are empty after unpacking" >&2
-    exit 1
-}
-echo "fetch_pydicom_data: ${#FILES[@]} files written to $DEST"
+fetch_wheel_files fetch_pydicom_data pydicom 3.0.2 pydicom/data/test_files "$DEST" "${FILES[@]}"

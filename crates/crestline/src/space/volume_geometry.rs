@@ -37,6 +37,22 @@ pub struct VolumeGeometry {
 }
 
 impl VolumeGeometry {
+    /// The geometry of a FreeSurfer conformed image (`mri_convert --conform`, the
+    /// `orig.mgz` of a subject: 256³ voxels of 1 mm, LIA axes) named `filename`,
+    /// its centre at `c_ras` in the scanner's RAS.
+    pub fn conformed(filename: &str, c_ras: [f64; 3]) -> VolumeGeometry {
+        VolumeGeometry {
+            valid: "1  # volume info valid".into(),
+            filename: filename.into(),
+            volume: [256, 256, 256],
+            voxel_size: [1.0, 1.0, 1.0],
+            x_ras: [-1.0, 0.0, 0.0],
+            y_ras: [0.0, 0.0, -1.0],
+            z_ras: [0.0, 1.0, 0.0],
+            c_ras,
+        }
+    }
+
     /// Whether the footer declares itself valid (`valid = 1`).
     pub fn is_valid(&self) -> bool {
         self.valid.split_whitespace().next() == Some("1")
@@ -102,16 +118,7 @@ mod tests {
     use super::*;
 
     fn conformed(c_ras: [f64; 3]) -> VolumeGeometry {
-        VolumeGeometry {
-            valid: "1  # volume info valid".into(),
-            filename: "orig.mgz".into(),
-            volume: [256, 256, 256],
-            voxel_size: [1.0, 1.0, 1.0],
-            x_ras: [-1.0, 0.0, 0.0],
-            y_ras: [0.0, 0.0, -1.0],
-            z_ras: [0.0, 1.0, 0.0],
-            c_ras,
-        }
+        VolumeGeometry::conformed("orig.mgz", c_ras)
     }
 
     #[test]

@@ -115,16 +115,7 @@ mod tests {
     use super::*;
 
     fn conformed(c_ras: [f64; 3]) -> VolumeGeometry {
-        VolumeGeometry {
-            valid: "1  # volume info valid".into(),
-            filename: "orig.mgz".into(),
-            volume: [256, 256, 256],
-            voxel_size: [1.0, 1.0, 1.0],
-            x_ras: [-1.0, 0.0, 0.0],
-            y_ras: [0.0, 0.0, -1.0],
-            z_ras: [0.0, 1.0, 0.0],
-            c_ras,
-        }
+        VolumeGeometry::conformed("orig.mgz", c_ras)
     }
 
     #[test]
