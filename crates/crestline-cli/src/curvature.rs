@@ -15,6 +15,7 @@ use crestline::Result;
 use super::failure::explain;
 use super::load::{load_mesh, report_with_progress, StrictArg};
 use super::outputs::{check_paths, OutputSet};
+use super::structure::StructureArg;
 use super::ReportArg;
 
 /// Arguments of `crestline curvature`.
@@ -46,6 +47,8 @@ pub struct CurvatureArgs {
           value_parser = super::named::<Quality>(Quality::NAMES))]
     pub quality: Quality,
     #[command(flatten)]
+    pub structure: StructureArg,
+    #[command(flatten)]
     pub strict: StrictArg,
     #[command(flatten)]
     pub report: ReportArg,
@@ -74,7 +77,7 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     report.stage("write", || {
         files.write(&args.output, |p| match format {
             FileFormat::Ply => write_curvature_ply_with_quality(p, mesh, &field, options.quality),
-            _ => write_curvature_values(p, mesh, &field, options.quality),
+            _ => write_curvature_values(p, mesh, &field, options.quality, args.structure.structure),
         })
     })?;
     if let Some(path) = &args.report.report {

@@ -138,7 +138,8 @@ pub fn read_vertex_values(py: Python<'_>, path: std::path::PathBuf) -> PyResult<
 }
 
 /// Write one value per vertex as a GIfTI `.shape.gii`/`.func.gii` (the array
-/// named `name`) or a FreeSurfer `.curv`, atomically
+/// named `name`, the file of Workbench's `structure`) or a FreeSurfer `.curv`,
+/// atomically
 /// ([`crestline::io::write_vertex_values`]).
 #[pyfunction]
 pub fn write_vertex_values(
@@ -146,8 +147,10 @@ pub fn write_vertex_values(
     path: std::path::PathBuf,
     values: Vec<f64>,
     name: Option<&str>,
+    structure: &str,
 ) -> PyResult<()> {
     let metadata: Vec<(&str, &str)> = name.map(|name| ("Name", name)).into_iter().collect();
-    py.detach(|| crestline::io::write_vertex_values(&path, &values, &metadata, 0))
+    let structure = structure.parse().map_err(raised)?;
+    py.detach(|| crestline::io::write_vertex_values(&path, &values, (&metadata, structure), 0))
         .map_err(raised)
 }

@@ -123,7 +123,8 @@ pub type LocatedLine<'py> = (
 
 /// Write the labels of the vertices of the mesh (`vertices`, `faces`, which
 /// must need no repairs) that ridge and valley `lines` pass near, as a
-/// `.label.gii` or `.label` ([`crestline::lines::write_labels`]), atomically.
+/// `.label.gii` (of Workbench's `structure`) or `.label`
+/// ([`crestline::lines::write_labels`]), atomically.
 #[pyfunction]
 pub fn write_line_labels(
     py: Python<'_>,
@@ -131,7 +132,9 @@ pub fn write_line_labels(
     vertices: PyReadonlyArray2<'_, f64>,
     faces: PyReadonlyArray2<'_, i64>,
     lines: Vec<LocatedLine<'_>>,
+    structure: &str,
 ) -> PyResult<()> {
+    let structure = structure.parse().map_err(raised)?;
     let mesh = crate::arrays::mesh_of(vertices.as_array(), faces.as_array())?;
     let n = mesh.vertex_count();
     let mut points = Vec::new();
@@ -168,6 +171,6 @@ pub fn write_line_labels(
         }
     }
     let labels = mesh.to_input_order(&label_nearest_corners(n, points), 0);
-    py.detach(|| write_labels(&path, &labels, &mesh))
+    py.detach(|| write_labels(&path, &labels, &mesh, structure))
         .map_err(raised)
 }

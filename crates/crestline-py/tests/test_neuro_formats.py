@@ -140,12 +140,15 @@ def test_per_vertex_values_round_trip_bitwise(tmp_path):
     out_curv = tmp_path / "out.curv"
     out_shape = tmp_path / "out.shape.gii"
     crestline.write_vertex_values(out_curv, read)
-    crestline.write_vertex_values(out_shape, read, name="thickness")
+    crestline.write_vertex_values(out_shape, read, name="thickness", structure="CORTEX_RIGHT")
+    with pytest.raises(ValueError, match="CortexLeft"):
+        crestline.write_vertex_values(out_shape, read, structure="LeftCortex")
     back = nib.freesurfer.read_morph_data(str(out_curv))
     np.testing.assert_array_equal(back.astype(np.float32).view(np.uint32), values.view(np.uint32))
     image = nib.load(str(out_shape))
     np.testing.assert_array_equal(image.darrays[0].data.view(np.uint32), values.view(np.uint32))
     assert image.darrays[0].meta["Name"] == "thickness"
+    assert image.meta["AnatomicalStructurePrimary"] == "CortexRight"
     assert image.darrays[0].intent == nib.nifti1.intent_codes["NIFTI_INTENT_SHAPE"]
 
 
@@ -171,9 +174,12 @@ def test_curvature_files_match_the_mesh_and_freesurfer_sign(tool, tmp_path):
     pial = fsaverage_pial()
     run(tool, "curvature", pial, "-o", tmp_path / "c.ply")
     run(tool, "curvature", pial, "-o", tmp_path / "lh.mean.curv")
-    run(tool, "curvature", pial, "-o", tmp_path / "lh.mean.shape.gii")
+    run(tool, "curvature", pial, "-o", tmp_path / "lh.mean.shape.gii", "--structure", "cortex_left")
     curv = nib.freesurfer.read_morph_data(str(tmp_path / "lh.mean.curv"))
-    shape = nib.load(str(tmp_path / "lh.mean.shape.gii")).darrays[0]
+    image = nib.load(str(tmp_path / "lh.mean.shape.gii"))
+    # Workbench places a shape file by its file-level structure, in its spelling.
+    assert image.meta["AnatomicalStructurePrimary"] == "CortexLeft"
+    shape = image.darrays[0]
     assert curv.shape == shape.data.shape == (10242,)
     np.testing.assert_array_equal(curv, -shape.data)
     assert shape.meta["Name"] == "mean"
@@ -184,8 +190,9 @@ def test_fsaverage_ridges_as_labels(tool, tmp_path):
     pial = fsaverage_pial()
     gifti, label, lines = tmp_path / "lh.ridges.label.gii", tmp_path / "lh.ridges.label", tmp_path / "lines.json"
     for output in (gifti, label, lines):
-        run(tool, "ridges", pial, "-o", output)
+        run(tool, "ridges", pial, "-o", output, "--structure", "CortexLeft")
     image = nib.load(str(gifti))
+    assert image.meta["AnatomicalStructurePrimary"] == "CortexLeft"
     labels = image.darrays[0].data
     assert labels.shape == (10242,)
     assert set(np.unique(labels)) == {0, 1, 2}
@@ -216,9 +223,10 @@ def test_lines_save_labels_as_the_tool_does(tool, tmp_path):
     vertices, faces, _ = crestline.read_mesh(pial)
     lines = crestline.ridges(vertices, faces)
     mine, tools = tmp_path / "mine.label.gii", tmp_path / "tool.label.gii"
-    lines.save_labels(mine, vertices, faces)
+    lines.save_labels(mine, vertices, faces, structure="CortexLeft")
     lines.save_labels(tmp_path / "mine.label", vertices, faces)
-    run(tool, "ridges", pial, "-o", tools)
+    run(tool, "ridges", pial, "-o", tools, "--structure", "CortexLeft")
+    assert nib.load(str(mine)).meta["AnatomicalStructurePrimary"] == "CortexLeft"
     labels = nib.load(str(mine)).darrays[0].data
     np.testing.assert_array_equal(labels, nib.load(str(tools)).darrays[0].data)
     np.testing.assert_array_equal(nib.freesurfer.read_label(str(tmp_path / "mine.label")), np.flatnonzero(labels))

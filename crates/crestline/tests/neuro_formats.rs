@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use crestline::curvature::{estimate_curvature, write_curvature_values, Quality, ShapeOperator};
 use crestline::io::freesurfer::{write_surface, VolumeGeometry};
 use crestline::io::gifti::write_gifti_surface;
-use crestline::io::{read_mesh, read_vertex_values};
+use crestline::io::{read_mesh, read_vertex_values, Structure};
 use crestline::jobs::{ridges, RidgesOptions, Surface};
 use crestline::lines::{
     write_labels, write_vertex_labels, FeatureLines, LineKind, Polyline, SurfaceLocation,
@@ -71,8 +71,8 @@ fn per_vertex_outputs_follow_the_input_vertices_after_repairs() {
     let dir = tempfile::tempdir().unwrap();
     let shape = dir.path().join("lh.mean.shape.gii");
     let curv = dir.path().join("lh.mean.curv");
-    write_curvature_values(&shape, &mesh, &field, Quality::Mean).unwrap();
-    write_curvature_values(&curv, &mesh, &field, Quality::Mean).unwrap();
+    write_curvature_values(&shape, &mesh, &field, Quality::Mean, Structure::OTHER).unwrap();
+    write_curvature_values(&curv, &mesh, &field, Quality::Mean, Structure::OTHER).unwrap();
     let shape = read_vertex_values(&shape).unwrap();
     let curv = read_vertex_values(&curv).unwrap();
     assert_eq!((shape.len(), curv.len()), (8, 8));
@@ -107,12 +107,12 @@ fn labels_follow_the_input_vertices_after_repairs() {
     lines.push(line(LineKind::Valley, bottom, bottom));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("x.label.gii");
-    write_vertex_labels(&path, &lines, &mesh).unwrap();
+    write_vertex_labels(&path, &lines, &mesh, Structure::OTHER).unwrap();
     let labels = read_vertex_values(&path).unwrap();
     assert_eq!(labels, [1.0, 1.0, 0.0, 0.0, 0.0, 2.0, 1.0, 0.0]);
 
     let label = dir.path().join("lh.x.label");
-    write_vertex_labels(&label, &lines, &mesh).unwrap();
+    write_vertex_labels(&label, &lines, &mesh, Structure::OTHER).unwrap();
     let text = std::fs::read_to_string(&label).unwrap();
     let rows: Vec<&str> = text.lines().skip(2).collect();
     assert_eq!(text.lines().nth(1), Some("4"));
@@ -120,12 +120,15 @@ fn labels_follow_the_input_vertices_after_repairs() {
     assert_eq!(rows[2], "5 0.000 0.000 -1.000 -1.0000000000");
     assert!(rows[3].starts_with("6 "));
 
-    let bad_count = write_labels(&path, &[0; 6], &mesh).unwrap_err().to_string();
+    let bad_count = write_labels(&path, &[0; 6], &mesh, Structure::OTHER)
+        .unwrap_err()
+        .to_string();
     assert!(
         bad_count.contains("6 labels for a surface of 8 vertices"),
         "{bad_count}"
     );
-    let bad_label = write_labels(&path, &[0, 0, 0, 7, 0, 0, 0, 0], &mesh).unwrap_err();
+    let bad_label =
+        write_labels(&path, &[0, 0, 0, 7, 0, 0, 0, 0], &mesh, Structure::OTHER).unwrap_err();
     assert!(
         bad_label.to_string().contains("vertex 3 has the label 7"),
         "{bad_label}"
@@ -133,7 +136,7 @@ fn labels_follow_the_input_vertices_after_repairs() {
 
     let mut faired = lines.clone();
     faired.lines[0].locations.clear();
-    let error = write_vertex_labels(&path, &faired, &mesh)
+    let error = write_vertex_labels(&path, &faired, &mesh, Structure::OTHER)
         .unwrap_err()
         .to_string();
     assert!(
@@ -210,7 +213,7 @@ fn fsaverage_ridges_label_the_vertices_they_pass() {
     let mesh = &surface.mesh;
     let dir = tempfile::tempdir().unwrap();
     let labels_path = dir.path().join("lh.ridges.label.gii");
-    write_vertex_labels(&labels_path, &lines, mesh).unwrap();
+    write_vertex_labels(&labels_path, &lines, mesh, Structure::OTHER).unwrap();
     let labels = read_vertex_values(&labels_path).unwrap();
     assert_eq!(labels.len(), 10_242);
     assert!(labels.iter().all(|&l| l == 0.0 || l == 1.0 || l == 2.0));

@@ -116,13 +116,16 @@ class Lines(Sequence[Line]):
 
         _crestline.write_lines(file_path(path), self._parts(), self.space)
 
-    def save_labels(self, path: Union[str, "PathLike[str]"], vertices: Any, faces: Any = None) -> None:
+    def save_labels(
+        self, path: Union[str, "PathLike[str]"], vertices: Any, faces: Any = None, structure: str = "Other"
+    ) -> None:
         """Write the vertices of the mesh these ridges and valleys were traced on
         that they pass near, as the command-line tool does: each point labels the
         corner of the edge or face it lies on with the largest weight. ``.label.gii``
         (GIfTI: one int32 per vertex, 0 none, 1 ridges, 2 valleys, with the label
-        table) or ``.label`` (FreeSurfer: the labelled vertices, value 1 on ridges
-        and -1 on valleys). Every line needs its ``location_vertices`` (lines
+        table, the file's ``AnatomicalStructurePrimary`` ``structure``, one of
+        Connectome Workbench's names such as ``"CortexLeft"``) or ``.label``
+        (FreeSurfer: the labelled vertices, value 1 on ridges and -1 on valleys). Every line needs its ``location_vertices`` (lines
         traced on ``vertices`` without fairing). The file is written under a
         temporary name and renamed."""
         from . import _crestline
@@ -139,7 +142,7 @@ class Lines(Sequence[Line]):
                     np.ascontiguousarray(line.location_weights, dtype=np.float64).reshape(-1, 3),
                 )
             )
-        _crestline.write_line_labels(file_path(path), v, f, located)
+        _crestline.write_line_labels(file_path(path), v, f, located, structure)
 
     def show(
         self,

@@ -88,9 +88,13 @@ def read_vertex_values(path: Union[str, "PathLike[str]"]) -> npt.NDArray[np.floa
     return np.asarray(_crestline.read_vertex_values(file_path(path)), dtype=np.float64)
 
 
-def write_vertex_values(path: Union[str, "PathLike[str]"], values: npt.ArrayLike, name: Optional[str] = None) -> None:
+def write_vertex_values(
+    path: Union[str, "PathLike[str]"], values: npt.ArrayLike, name: Optional[str] = None, structure: str = "Other"
+) -> None:
     """Write one value per vertex as a GIfTI ``.shape.gii`` or ``.func.gii`` (the
-    array's ``Name`` metadata is ``name``) or a FreeSurfer ``.curv`` (32-bit
+    array's ``Name`` metadata is ``name``, the file's ``AnatomicalStructurePrimary``
+    ``structure``, one of Connectome Workbench's names such as ``"CortexLeft"``) or
+    a FreeSurfer ``.curv`` (32-bit
     floats, no NaN), by the file's extension. The values are written as given,
     signs included (FreeSurfer's ``?h.curv`` is positive in sulci, crestline's
     curvature positive where convex: negate crestline's mean curvature for a
@@ -99,7 +103,7 @@ def write_vertex_values(path: Union[str, "PathLike[str]"], values: npt.ArrayLike
     array = np.asarray(values, dtype=np.float64)
     if array.ndim != 1:
         raise ValueError(f"values: expected one value per vertex (a 1-D array), got shape {array.shape}")
-    _crestline.write_vertex_values(file_path(path), array.tolist(), name)
+    _crestline.write_vertex_values(file_path(path), array.tolist(), name, structure)
 
 
 def _custom_field(estimator: Callable[..., Any], v: Vertices, f: Faces) -> Curvature:

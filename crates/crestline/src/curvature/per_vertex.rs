@@ -17,7 +17,7 @@
 use std::path::Path;
 
 use super::{CurvatureField, Quality};
-use crate::io::{choose_format, write_vertex_values, FileFormat};
+use crate::io::{choose_format, write_vertex_values, FileFormat, Structure};
 use crate::mesh::Mesh;
 use crate::Result;
 
@@ -34,13 +34,15 @@ pub const PER_VERTEX_FORMATS: [FileFormat; 2] =
 
 /// Write the quantity `quality` of `field` (on `mesh`) per input vertex, in the
 /// format of the extension of `path`: `.shape.gii` (crestline's sign, the
-/// quantity's name as the array's `Name`) or `.curv` (FreeSurfer's sign). See
+/// quantity's name as the array's `Name`, `structure` as the file's) or `.curv`
+/// (FreeSurfer's sign). See
 /// the module documentation. Written atomically.
 pub fn write_curvature_values(
     path: &Path,
     mesh: &Mesh,
     field: &CurvatureField,
     quality: Quality,
+    structure: Structure,
 ) -> Result<()> {
     let format = choose_format(path, "per-vertex curvature", &PER_VERTEX_FORMATS)?;
     let values = match format {
@@ -51,7 +53,7 @@ pub fn write_curvature_values(
         ("Name", quality.name()),
         (SIGN_CONVENTION_KEY, SIGN_CONVENTION),
     ];
-    write_vertex_values(path, &values, &metadata, mesh.face_count())
+    write_vertex_values(path, &values, (&metadata, structure), mesh.face_count())
 }
 
 /// The quantity `quality` of `field` with FreeSurfer's sign: the curvatures with

@@ -163,10 +163,8 @@ fn write_soup_vtk(path: &Path, soup: &TriangleSoup, _: Structure) -> Result<()> 
 /// an unknown space when the soup has no frame), the triangles, and the
 /// structure.
 fn write_soup_gifti(path: &Path, soup: &TriangleSoup, structure: Structure) -> Result<()> {
-    let metadata = [
-        ("AnatomicalStructurePrimary", structure.gifti_name()),
-        ("GeometricType", "Anatomical"),
-    ];
+    let [named] = structure.gifti_metadata();
+    let metadata = [named, ("GeometricType", "Anatomical")];
     write_gifti_surface(
         path,
         (&soup.positions, soup.space),

@@ -80,6 +80,13 @@ impl Structure {
         STRUCTURES[self.0].0
     }
 
+    /// The GIfTI metadata entry that names the structure,
+    /// `AnatomicalStructurePrimary` (Workbench reads it from the point set's
+    /// metadata in a surface file and from the file's metadata in the others).
+    pub fn gifti_metadata(self) -> [(&'static str, &'static str); 1] {
+        [("AnatomicalStructurePrimary", self.gifti_name())]
+    }
+
     /// The name in a border file's `Structure` attribute, e.g. `CORTEX_LEFT`.
     pub fn border_name(self) -> &'static str {
         STRUCTURES[self.0].1

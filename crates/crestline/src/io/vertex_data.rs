@@ -8,6 +8,7 @@ use std::path::Path;
 use super::format::{choose_format, FileFormat};
 use super::freesurfer::{curv, CURV_MAGIC};
 use super::gifti::{self, Metadata};
+use super::Structure;
 use crate::{Error, Result};
 
 /// The formats [`write_vertex_values`] writes.
@@ -19,23 +20,26 @@ pub const VERTEX_VALUE_FORMATS: [FileFormat; 3] = [
 
 /// Write one value per vertex in the format of the extension of `path`: a GIfTI
 /// `.shape.gii` (`NIFTI_INTENT_SHAPE`) or `.func.gii` (`NIFTI_INTENT_NONE`), the
-/// array with `metadata` (e.g. its `Name`), or a FreeSurfer `.curv` of a surface
-/// of `face_count` faces (no metadata, and no NaN). Written atomically.
+/// array with `metadata` (e.g. its `Name`) and the file with `structure` (as
+/// Workbench's `AnatomicalStructurePrimary`, which it reads from the file's
+/// metadata to place the values), or a FreeSurfer `.curv` of a surface of
+/// `face_count` faces (no metadata, and no NaN). Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`): an unsupported extension, a value too
 /// large for a 32-bit float, a NaN in a curv file.
 pub fn write_vertex_values(
     path: &Path,
     values: &[f64],
-    metadata: &Metadata<'_>,
+    (metadata, structure): (&Metadata<'_>, Structure),
     face_count: usize,
 ) -> Result<()> {
+    let file_metadata = structure.gifti_metadata();
     match choose_format(path, "per-vertex values", &VERTEX_VALUE_FORMATS)? {
         FileFormat::FreeSurferCurv => curv::write_curv(path, values, face_count),
         FileFormat::GiftiShape => {
-            gifti::write_gifti_values(path, values, "NIFTI_INTENT_SHAPE", metadata, &[])
+            gifti::write_gifti_values(path, values, "NIFTI_INTENT_SHAPE", metadata, &file_metadata)
         }
-        _ => gifti::write_gifti_values(path, values, "NIFTI_INTENT_NONE", metadata, &[]),
+        _ => gifti::write_gifti_values(path, values, "NIFTI_INTENT_NONE", metadata, &file_metadata),
     }
 }
 

@@ -19,7 +19,7 @@ pub const SURFACE_FORMATS: [FileFormat; 3] =
 /// ([`SURFACE_FORMATS`]): labels of the vertices they pass near
 /// ([`write_vertex_labels`]) or a border file ([`write_border`]) whose triangles
 /// are numbered as in the file the mesh was read from. `structure` is the border
-/// file's.
+/// file's and a GIfTI label file's.
 pub fn write_on_surface(
     path: &Path,
     lines: &FeatureLines,
@@ -27,7 +27,7 @@ pub fn write_on_surface(
     structure: Structure,
 ) -> Result<()> {
     if choose_format(path, "lines on a surface", &SURFACE_FORMATS)? != FileFormat::Border {
-        return write_vertex_labels(path, lines, mesh);
+        return write_vertex_labels(path, lines, mesh, structure);
     }
     let numbers = FileNumbers::of(mesh);
     let surface = BorderSurface {

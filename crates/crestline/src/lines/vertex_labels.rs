@@ -21,7 +21,7 @@ use std::path::Path;
 
 use crate::io::freesurfer::{write_label, LabelledVertex};
 use crate::io::gifti::{write_gifti_labels, GiftiLabel};
-use crate::io::{choose_format, FileFormat};
+use crate::io::{choose_format, FileFormat, Structure};
 use crate::mesh::{Mesh, VertexId};
 use crate::{Error, Result};
 
@@ -158,23 +158,29 @@ fn label_table() -> Vec<GiftiLabel> {
 ///
 /// Errors: those of [`vertex_labels`], as [`Error::File`] naming `path`, and an
 /// unsupported extension.
-pub fn write_vertex_labels(path: &Path, lines: &FeatureLines, mesh: &Mesh) -> Result<()> {
+pub fn write_vertex_labels(
+    path: &Path,
+    lines: &FeatureLines,
+    mesh: &Mesh,
+    structure: Structure,
+) -> Result<()> {
     choose_format(path, "vertex labels", &LABEL_FORMATS)?;
     let labels = labels_of(lines, mesh).map_err(|message| Error::File {
         path: path.to_path_buf(),
         message,
     })?;
-    write_labels(path, &labels, mesh)
+    write_labels(path, &labels, mesh, structure)
 }
 
 /// Write `labels`, one per vertex of the input surface of `mesh` in its order
 /// ([`UNLABELLED`], [`RIDGE`] or [`VALLEY`], as [`vertex_labels`] gives them), in
 /// the format of the extension of `path`: `.label.gii` or `.label` (see the
-/// module documentation). Written atomically.
+/// module documentation), a GIfTI file naming `structure` as Workbench reads it.
+/// Written atomically.
 ///
 /// Errors ([`Error::File`] naming `path`): an unsupported extension, not one
 /// label per input vertex, or another label.
-pub fn write_labels(path: &Path, labels: &[i32], mesh: &Mesh) -> Result<()> {
+pub fn write_labels(path: &Path, labels: &[i32], mesh: &Mesh, structure: Structure) -> Result<()> {
     let format = choose_format(path, "vertex labels", &LABEL_FORMATS)?;
     let fail = |message: String| Error::File {
         path: path.to_path_buf(),
@@ -203,7 +209,7 @@ pub fn write_labels(path: &Path, labels: &[i32], mesh: &Mesh) -> Result<()> {
             labels,
             &label_table(),
             &[("Name", "crest lines")],
-            &[],
+            &structure.gifti_metadata(),
         ),
     }
 }
