@@ -13,6 +13,7 @@ mod iso;
 mod landmarks;
 mod load;
 mod morse;
+mod on_surface;
 mod outputs;
 mod plot;
 mod register;

@@ -5,15 +5,18 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
-use crestline::lines::{write_lines, FeatureLines, LineFormat};
+use crestline::io::FileFormat;
+use crestline::lines::{write_on_surface, FeatureLines};
 use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
 use crestline::Result;
 
 use super::failure::explain;
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
+use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
+use super::structure::StructureArg;
 use super::surface::{load_surface, VolumeArgs};
 use super::ReportArg;
 use crestline::jobs::{morse, IsoOptions, MorseOptions, Surface};
@@ -88,9 +91,12 @@ pub struct MorseCommand {
     #[arg(value_name = "MESH|VOLUME")]
     pub mesh: PathBuf,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
-    /// or .mrk.json (3D Slicer markups).
+    /// or .mrk.json (3D Slicer markups); or, of a mesh, a Connectome Workbench
+    /// .border file (triangles of the input file with barycentric weights).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
+    #[command(flatten)]
+    pub structure: StructureArg,
     /// Curvature estimator for curvature indicators (jet-fit is steadier on
     /// irregular meshes, where the shape operator's spikes become long-lived maxima).
     #[arg(long, default_value_t = MorseOptions::default().estimator,
@@ -144,7 +150,10 @@ pub fn extract(
 
 /// Extract and write the lines (and the hierarchy).
 pub fn run(args: &MorseCommand) -> Result<()> {
-    LineFormat::from_path(&args.output)?;
+    let format = line_output(&args.output, "Morse-Smale lines", &[FileFormat::Border])?;
+    if format.is_none() {
+        check_on_surface(&args.mesh, &args.output, false)?;
+    }
     let outputs: Vec<Role<'_>> = [
         Some(("-o", args.output.as_path())),
         args.hierarchy.as_deref().map(|h| ("--hierarchy", h)),
@@ -178,11 +187,20 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     )?;
     let surface = (&loaded.surface, args.estimator);
     let (lines, summary) = extract(surface, &args.mesh, &args.morse, &mut report)?;
-    let lines = args.frame.lines(lines)?;
     let mut files = OutputSet::default();
-    report.stage("write", || {
-        files.write(&args.output, |p| write_lines(p, &lines))
-    })?;
+    match format {
+        Some(format) => {
+            let lines = args.frame.lines(lines)?;
+            report.stage("write", || {
+                files.write(&args.output, |p| format.write(p, &lines))
+            })?;
+        }
+        None => report.stage("write", || {
+            files.write(&args.output, |p| {
+                write_on_surface(p, &lines, &loaded.surface.mesh, args.structure.structure)
+            })
+        })?,
+    }
     if let Some(path) = &args.hierarchy {
         files.write(path, |p| write_hierarchy(p, &summary))?;
     }

@@ -4,9 +4,8 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::Estimator;
-use crestline::io::{choose_format, is_volume_path, FileFormat, FormatChoice};
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
-use crestline::lines::{write_on_surface, FeatureLines, LineFormat, SURFACE_FORMATS};
+use crestline::lines::{write_on_surface, FeatureLines, SURFACE_FORMATS};
 use crestline::mesh::Mesh;
 use crestline::ridges::Kinds;
 use crestline::ridges::Solver;
@@ -15,6 +14,7 @@ use crestline::{Error, Result};
 use super::failure::explain;
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, StrictArg};
+use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, Role};
 use super::structure::StructureArg;
 use super::surface::{load_surface, Loaded, VolumeArgs};
@@ -199,40 +199,12 @@ pub fn trace_loaded(
     Ok(lines)
 }
 
-/// The format of the output `path`: a format of lines, or `None` for labels of
-/// the mesh's vertices or a border file ([`SURFACE_FORMATS`]).
-fn output_format(path: &Path) -> Result<Option<LineFormat>> {
-    let lines = LineFormat::ALL.map(|format| (format.file_format(), Some(format)));
-    let labels = SURFACE_FORMATS.map(|format| (format, None));
-    let choices: Vec<(FileFormat, Option<LineFormat>)> = lines.into_iter().chain(labels).collect();
-    choose_format(path, "ridge and valley lines", &choices).map(|(_, format)| format)
-}
-
-/// Refuse vertex labels and borders where they cannot be made: on an isosurface
-/// of an image (no vertices of a file to refer to) or with `--fair` (faired lines
-/// leave the surface).
-fn check_labels(args: &RidgesArgs) -> Result<()> {
-    let problem = if is_volume_path(&args.mesh) {
-        "vertex labels and borders (.label.gii, .label, .border) refer to the vertices of a \
-         mesh file; an isosurface of a 3D image has none"
-    } else if args.tracer.fair {
-        "vertex labels and borders (.label.gii, .label, .border) need the lines on the surface; \
-         --fair moves them off it"
-    } else {
-        return Ok(());
-    };
-    Err(Error::File {
-        path: args.output.clone(),
-        message: problem.into(),
-    })
-}
-
 /// Trace the lines and write them, or the labels of the vertices they pass near,
 /// or a border file.
 pub fn run(args: &RidgesArgs) -> Result<()> {
-    let format = output_format(&args.output)?;
+    let format = line_output(&args.output, "ridge and valley lines", &SURFACE_FORMATS)?;
     if format.is_none() {
-        check_labels(args)?;
+        check_on_surface(&args.mesh, &args.output, args.tracer.fair)?;
     }
     let outputs: Vec<Role<'_>> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())

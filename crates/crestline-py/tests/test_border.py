@@ -89,15 +89,19 @@ def read_obj_vertices(path):
     return np.array(rows, dtype=float)
 
 
-def check_border_against_lines(tool, surface, vertices, tmp_path):
-    """Trace the ridges of ``surface`` into a border file and a lines JSON; the
-    border passes Workbench's checks, has a class per family and a part per line,
-    and its points, unprojected on ``vertices`` (the surface file's, in its
-    order), are the lines' points."""
-    border, lines_json = tmp_path / "lh.ridges.border", tmp_path / "lh.ridges.json"
+# The border class of each kind of line: its family's name.
+FAMILIES = {"ridge": "ridges", "valley": "valleys", "ascending": "ascending", "descending": "descending"}
+
+
+def check_border_against_lines(tool, surface, vertices, tmp_path, command="ridges"):
+    """Trace the lines of ``command`` on ``surface`` into a border file and a
+    lines JSON; the border passes Workbench's checks, has a class per family and a
+    part per line, and its points, unprojected on ``vertices`` (the surface
+    file's, in its order), are the lines' points."""
+    border, lines_json = tmp_path / "lh.lines.border", tmp_path / "lh.lines.json"
     for output in (border, lines_json):
         subprocess.run(
-            [tool, "ridges", surface, "-o", output, "--structure", "CortexLeft"],
+            [tool, command, surface, "-o", output, "--structure", "CortexLeft"],
             check=True,
             capture_output=True,
         )
@@ -106,11 +110,10 @@ def check_border_against_lines(tool, surface, vertices, tmp_path):
     assert ET.parse(border).getroot().get("Structure") == "CORTEX_LEFT"
     lines = json.loads(lines_json.read_text())["lines"]
     by_kind = {
-        "ridges": [line for line in lines if line["kind"] == "ridge"],
-        "valleys": [line for line in lines if line["kind"] == "valley"],
+        family: [line for line in lines if line["kind"] == kind] for kind, family in FAMILIES.items()
     }
-    assert set(classes) == {kind for kind, found in by_kind.items() if found}
-    assert len(by_kind["ridges"]) > 20
+    assert set(classes) == {family for family, found in by_kind.items() if found}
+    assert sum(map(len, by_kind.values())) > 20
     worst = 0.0
     for name, parts in classes.items():
         assert len(parts) == len(by_kind[name])
@@ -142,3 +145,9 @@ def test_border_of_fsaverage5_fits_the_gifti_surface_as_nibabel_reads_it(tool, t
     nibabel = pytest.importorskip("nibabel")
     vertices = nibabel.load(gifti).agg_data("NIFTI_INTENT_POINTSET").astype(float)
     check_border_against_lines(tool, gifti, vertices, tmp_path)
+
+
+def test_morse_lines_as_a_border_file_lie_where_the_lines_are(tool, tmp_path):
+    # Morse-Smale lines are faired on the surface: every point keeps its place on
+    # the mesh, so the border holds them as they are.
+    check_border_against_lines(tool, PIAL, read_obj_vertices(PIAL), tmp_path, command="morse")
