@@ -181,17 +181,17 @@ fn border_part(line: &Polyline, surface: &BorderSurface<'_>) -> Result<String> {
 /// in it. A point on a vertex or an edge is given in a face around it, its weight
 /// on the face's other corners zero, as Workbench has every point in a triangle.
 fn triangle_weights(mesh: &Mesh, location: &SurfaceLocation) -> Result<([VertexId; 3], [f64; 3])> {
+    if let Some(missing) = location.missing_on(mesh) {
+        return Err(Error::Argument(format!(
+            "a line point lies on {missing} (lines traced on another mesh?)"
+        )));
+    }
     let face = match *location {
         SurfaceLocation::Face { face, barycentric } => {
-            check_id(face, mesh.face_count(), "face")?;
             return Ok((mesh.face_vertices(FaceId(face)), barycentric));
         }
-        SurfaceLocation::Vertex { vertex } => {
-            check_id(vertex, mesh.vertex_count(), "vertex")?;
-            mesh.vertex_faces(VertexId(vertex)).next()
-        }
+        SurfaceLocation::Vertex { vertex } => mesh.vertex_faces(VertexId(vertex)).next(),
         SurfaceLocation::Edge { edge, .. } => {
-            check_id(edge, mesh.edge_count(), "edge")?;
             let sides = [0, 1].map(|side| mesh.edge_halfedge(EdgeId(edge), side));
             sides
                 .into_iter()
@@ -208,17 +208,6 @@ fn triangle_weights(mesh: &Mesh, location: &SurfaceLocation) -> Result<([VertexI
         }
     }
     Ok((corners, weights))
-}
-
-/// An error unless `id` numbers one of `count` elements of the mesh.
-fn check_id(id: u32, count: usize, what: &str) -> Result<()> {
-    if (id as usize) < count {
-        Ok(())
-    } else {
-        Err(Error::Argument(format!(
-            "a line point lies on {what} {id}, but the mesh has {count} (lines traced on another mesh?)"
-        )))
-    }
 }
 
 /// `err` said of line `n` (counted from 1).

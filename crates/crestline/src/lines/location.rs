@@ -34,6 +34,18 @@ pub enum SurfaceLocation {
 }
 
 impl SurfaceLocation {
+    /// Why the location cannot be on `mesh`, if it cannot: its element is beyond
+    /// the mesh's (lines traced on another mesh), e.g. `edge 12, but the mesh has
+    /// 10 edges`.
+    pub fn missing_on(&self, mesh: &Mesh) -> Option<String> {
+        let (what, id, count) = match *self {
+            SurfaceLocation::Vertex { vertex } => ("vertex", vertex, mesh.vertex_count()),
+            SurfaceLocation::Edge { edge, .. } => ("edge", edge, mesh.edge_count()),
+            SurfaceLocation::Face { face, .. } => ("face", face, mesh.face_count()),
+        };
+        ((id as usize) >= count).then(|| format!("{what} {id}, but the mesh has {count}"))
+    }
+
     /// The vertices the location interpolates, with their weights.
     pub fn weights(&self, mesh: &Mesh) -> Vec<(VertexId, f64)> {
         match *self {

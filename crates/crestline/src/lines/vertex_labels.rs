@@ -117,16 +117,10 @@ fn checked_weights(
     location: &SurfaceLocation,
     mesh: &Mesh,
 ) -> std::result::Result<Vec<(VertexId, f64)>, String> {
-    let in_range = match *location {
-        SurfaceLocation::Vertex { vertex } => (vertex as usize) < mesh.vertex_count(),
-        SurfaceLocation::Edge { edge, .. } => (edge as usize) < mesh.edge_count(),
-        SurfaceLocation::Face { face, .. } => (face as usize) < mesh.face_count(),
-    };
-    if !in_range {
-        return Err(
-            "a line point lies on an element the mesh does not have (lines of another mesh?)"
-                .into(),
-        );
+    if let Some(missing) = location.missing_on(mesh) {
+        return Err(format!(
+            "a line point lies on {missing} (lines of another mesh?)"
+        ));
     }
     Ok(location.weights(mesh))
 }

@@ -384,10 +384,7 @@ fn read_samples(
     sample_type: SampleType,
     little_endian: bool,
 ) -> Result<Vec<f32>> {
-    let mut samples = Vec::new();
-    samples
-        .try_reserve_exact(count)
-        .map_err(|_| out_of_memory(count))?;
+    let mut samples = reserve_samples(count)?;
     let size = sample_type.size();
     let total = count as u64 * size as u64;
     let mut chunk = vec![0u8; CHUNK_SAMPLES * size];
@@ -415,6 +412,16 @@ fn fill(reader: &mut impl Read, buffer: &mut [u8]) -> Result<usize> {
         }
     }
     Ok(filled)
+}
+
+/// An empty buffer with room for `count` samples, reserved fallibly: a header
+/// claiming more than can be allocated is an error saying how much, not an abort.
+fn reserve_samples(count: usize) -> Result<Vec<f32>> {
+    let mut samples = Vec::new();
+    samples
+        .try_reserve_exact(count)
+        .map_err(|_| out_of_memory(count))?;
+    Ok(samples)
 }
 
 /// The error for samples that do not fit in the memory this process may allocate.

@@ -187,10 +187,7 @@ fn decode(
     use std::collections::BTreeMap;
 
     let count = crate::volume::voxel_count(stack.dims)?;
-    let mut samples = Vec::new();
-    samples
-        .try_reserve_exact(count)
-        .map_err(|_| super::out_of_memory(count))?;
+    let mut samples = super::reserve_samples(count)?;
     samples.resize(count, 0.0);
     let slice = stack.dims[0] * stack.dims[1];
     let mut by_file: BTreeMap<&Path, Vec<pixels::Target>> = BTreeMap::new();
