@@ -113,9 +113,12 @@ pub(super) fn read(input: Input<'_>, series: Option<&str>) -> Result<Volume> {
     let name = input.name();
     let in_input = |e: Error| super::in_file(e, &name);
     let files = input_series_files(input)?;
-    let headers: Vec<header::Header> = files
-        .par_iter()
-        .map(|file| header::read(file))
+    // Read in parallel, but report the first failing file in the listed order, so
+    // that the error does not depend on which thread failed first.
+    let read: Vec<Result<Option<header::Header>>> =
+        files.par_iter().map(|file| header::read(file)).collect();
+    let headers: Vec<header::Header> = read
+        .into_iter()
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .flatten()
@@ -198,8 +201,10 @@ fn decode(
             .or_default()
             .push((frame.number, frame.rescale, out));
     }
-    by_file
+    let decoded: Vec<Result<()>> = by_file
         .into_par_iter()
-        .try_for_each(|(path, targets)| pixels::decode(path, targets))?;
+        .map(|(path, targets)| pixels::decode(path, targets))
+        .collect();
+    decoded.into_iter().collect::<Result<()>>()?;
     Ok(samples)
 }
