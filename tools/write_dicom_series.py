@@ -11,7 +11,9 @@ Positions and orientations are the NIfTI affine's, converted from RAS to LPS (th
 DICOM patient frame: x and y change sign). Samples are stored as signed 16-bit
 values with Rescale Slope 0.5 and Intercept -100 (stored = 2 · value + 200), so
 that reading them back needs the modality LUT and gives the NIfTI's values
-exactly (for integer samples from -100 to 16000).
+exactly (for integer samples from -100 to 16000). Positions, orientations and
+spacings are decimal strings of the 16 characters DICOM allows (12 to 15
+significant digits).
 
 --rotate DEG turns the whole grid by DEG degrees about the oblique axis
 (1, 2, 3)/√14 through the centre of the volume: positions and orientations are
@@ -47,6 +49,7 @@ import nibabel as nib
 import numpy as np
 from pydicom.dataset import Dataset, FileDataset, FileMetaDataset
 from pydicom.filewriter import dcmwrite
+from pydicom.valuerep import format_number_as_ds
 from pydicom.uid import (
     CTImageStorage,
     DeflatedExplicitVRLittleEndian,
@@ -70,6 +73,11 @@ SYNTAXES = {
 RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0, 1.0])
 AXIS = np.array([1.0, 2.0, 3.0]) / math.sqrt(14.0)
 
+
+
+def decimal(value: float) -> str:
+    """``value`` as a DICOM decimal string, as precise as its 16 characters allow."""
+    return format_number_as_ds(float(value))
 
 def rotation(degrees: float) -> np.ndarray:
     """The 3 × 3 rotation by ``degrees`` about :data:`AXIS` (Rodrigues)."""
@@ -119,10 +127,10 @@ def slice_dataset(
     ds.AccessionNumber = ""
     ds.SeriesNumber = 1
     ds.InstanceNumber = instance
-    ds.ImagePositionPatient = [f"{v:.10g}" for v in position]
-    ds.ImageOrientationPatient = [f"{v:.10g}" for v in orientation]
-    ds.PixelSpacing = [f"{spacing[1]:.10g}", f"{spacing[0]:.10g}"]
-    ds.SliceThickness = f"{spacing[2]:.10g}"
+    ds.ImagePositionPatient = [decimal(v) for v in position]
+    ds.ImageOrientationPatient = [decimal(v) for v in orientation]
+    ds.PixelSpacing = [decimal(spacing[1]), decimal(spacing[0])]
+    ds.SliceThickness = decimal(spacing[2])
     ds.RescaleSlope = f"{SLOPE:g}"
     ds.RescaleIntercept = f"{INTERCEPT:g}"
     ds.SamplesPerPixel = 1
@@ -161,10 +169,10 @@ def enhanced_dataset(
     ds.NumberOfFrames = len(order)
     shared = Dataset()
     shared.PlaneOrientationSequence = [Dataset()]
-    shared.PlaneOrientationSequence[0].ImageOrientationPatient = [f"{v:.10g}" for v in orientation]
+    shared.PlaneOrientationSequence[0].ImageOrientationPatient = [decimal(v) for v in orientation]
     shared.PixelMeasuresSequence = [Dataset()]
-    shared.PixelMeasuresSequence[0].PixelSpacing = [f"{spacing[1]:.10g}", f"{spacing[0]:.10g}"]
-    shared.PixelMeasuresSequence[0].SliceThickness = f"{spacing[2]:.10g}"
+    shared.PixelMeasuresSequence[0].PixelSpacing = [decimal(spacing[1]), decimal(spacing[0])]
+    shared.PixelMeasuresSequence[0].SliceThickness = decimal(spacing[2])
     shared.PixelValueTransformationSequence = [Dataset()]
     shared.PixelValueTransformationSequence[0].RescaleSlope = f"{SLOPE:g}"
     shared.PixelValueTransformationSequence[0].RescaleIntercept = f"{INTERCEPT:g}"
@@ -174,7 +182,7 @@ def enhanced_dataset(
     for k in order:
         frame = Dataset()
         frame.PlanePositionSequence = [Dataset()]
-        frame.PlanePositionSequence[0].ImagePositionPatient = [f"{v:.10g}" for v in positions[k]]
+        frame.PlanePositionSequence[0].ImagePositionPatient = [decimal(v) for v in positions[k]]
         frames.append(frame)
     ds.PerFrameFunctionalGroupsSequence = frames
     stored = np.rint((data[:, :, order].transpose(2, 1, 0) - INTERCEPT) / SLOPE).astype(np.int16)

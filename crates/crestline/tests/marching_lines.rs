@@ -629,3 +629,64 @@ fn the_tip_of_the_nose_is_on_a_ridge_of_the_skin() {
         "{ridges} ridge and {valleys} valley points within 10 mm of the nose tip"
     );
 }
+
+#[test]
+fn crest_lines_do_not_depend_on_the_world_frame() {
+    // One image (an ellipsoid, symmetric about the grid plane z = 0 where its
+    // extremalities are exactly zero, made bumpy so that it has many lines, open
+    // and closed), placed in the world three ways: as sampled, in LPS (x and y
+    // negated, as a DICOM series states what its NIfTI conversion states in RAS),
+    // and turned 10° about an oblique axis. The lines are the same in index
+    // coordinates, point for point, in the same order and direction.
+    let (a, b, c) = (16.0, 11.0, 7.0);
+    let image = move |p: Point| {
+        let bumps = 0.08 * (0.7 * p.x).sin() * (0.5 * p.y).sin() * (0.6 * p.z).cos();
+        -((p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2)) + bumps
+    };
+    let sampled = centred([49, 39, 31], image);
+    let placed = |direction: Matrix3<f64>| {
+        let origin = direction * nalgebra::Vector3::from(sampled.origin());
+        let volume = Volume::new(
+            sampled.dims(),
+            sampled.spacing(),
+            origin.into(),
+            direction,
+            sampled.samples().to_vec(),
+        );
+        volume.unwrap()
+    };
+    let axis = nalgebra::Unit::new_normalize(nalgebra::Vector3::new(1.0, 2.0, 3.0));
+    let turned = nalgebra::Rotation3::from_axis_angle(&axis, 10f64.to_radians());
+    let lps = placed(Matrix3::from_diagonal(&nalgebra::Vector3::new(
+        -1.0, -1.0, 1.0,
+    )));
+    let oblique = placed(*turned.matrix());
+    let in_index = |volume: &Volume| -> Vec<(LineKind, bool, Vec<[f64; 3]>)> {
+        let lines = crest_lines(volume, -1.0, 1.5).unwrap();
+        let index = |p: &Point| volume.world_to_index(p);
+        let line = |l: &crestline::lines::Polyline| {
+            (l.kind, l.closed, l.points.iter().map(index).collect())
+        };
+        lines.iter().map(line).collect()
+    };
+    let expected = in_index(&sampled);
+    assert!(expected.len() >= 10, "{} lines", expected.len());
+    assert!(expected.iter().any(|l| !l.1) && expected.iter().any(|l| l.1));
+    for (name, volume) in [("LPS", &lps), ("oblique", &oblique)] {
+        let found = in_index(volume);
+        assert_eq!(found.len(), expected.len(), "{name}: line count");
+        for (n, (f, e)) in found.iter().zip(&expected).enumerate() {
+            assert_eq!(
+                (f.0, f.1, f.2.len()),
+                (e.0, e.1, e.2.len()),
+                "{name}: line {n}"
+            );
+            let worst =
+                f.2.iter()
+                    .zip(&e.2)
+                    .flat_map(|(p, q)| (0..3).map(move |i| (p[i] - q[i]).abs()));
+            let worst = worst.fold(0.0, f64::max);
+            assert!(worst < 1e-9, "{name}: line {n} is {worst} voxels off");
+        }
+    }
+}

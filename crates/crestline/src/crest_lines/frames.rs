@@ -11,6 +11,15 @@
 //! the block is dropped. The frames live in one array numbered by a [`VoxelSet`]
 //! of the corners: a few words per corner, against twenty derivative volumes for
 //! the whole image.
+//!
+//! The frames are computed in the frame of the grid's index axes
+//! ([`Derivatives::axis_jet`]), not in world coordinates: curvatures and
+//! extremalities do not change under the rotation between the two, and every
+//! decision of the Marching Lines (the sign of an extremality, a segment kept)
+//! then depends on the samples and the spacing alone. A DICOM series (LPS) and its
+//! NIfTI conversion (RAS), or an image and the same image declared rotated, give
+//! the same lines, not lines that differ wherever rounding in the two world
+//! frames falls on either side of a tie.
 
 use rayon::prelude::*;
 
@@ -27,7 +36,7 @@ pub(super) struct Frame {
     pub k: [f32; 2],
     /// `e_max`, `e_min`.
     pub e: [f32; 2],
-    /// `t_max`, `t_min`.
+    /// `t_max`, `t_min`, in the frame of the grid's axes.
     t: [[f32; 3]; 2],
 }
 
@@ -46,7 +55,7 @@ impl Frame {
         finite.then_some(frame)
     }
 
-    /// Direction `which` (0: `t_max`, 1: `t_min`).
+    /// Direction `which` (0: `t_max`, 1: `t_min`), in the frame of the grid's axes.
     pub fn direction(&self, which: usize) -> Vector {
         Vector::from(self.t[which].map(f64::from))
     }
@@ -59,8 +68,9 @@ pub(super) struct Curvatures {
     /// The corners that have a frame, numbering `frames`.
     corners: VoxelSet,
     frames: Vec<Option<Frame>>,
-    /// `∂index/∂world`, turning gradients along index axes into world gradients.
-    pub world_to_grid: nalgebra::Matrix3<f64>,
+    /// `∂index/∂axis`, from lengths along the grid's axes in world units to
+    /// indices: turns gradients along index axes into the frames' gradients.
+    pub axis_to_grid: nalgebra::Matrix3<f64>,
 }
 
 impl Curvatures {
@@ -80,13 +90,15 @@ impl Curvatures {
     ) -> Result<Curvatures> {
         let corners = isosurface_corners(smoothed, level);
         let frames = Derivatives::at_voxels(volume, sigma, &Partial::ALL, &corners, |d, index| {
-            Frame::new(&d.jet(index)?.isosurface_curvature()?)
+            Frame::new(&d.axis_jet(index)?.isosurface_curvature()?)
         })?;
         Ok(Curvatures {
             grid: volume.grid(),
             corners,
             frames,
-            world_to_grid: *volume.world_to_grid(),
+            axis_to_grid: nalgebra::Matrix3::from_diagonal(&Vector::from(
+                volume.spacing().map(|s| 1.0 / s),
+            )),
         })
     }
 

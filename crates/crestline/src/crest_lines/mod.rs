@@ -23,7 +23,11 @@
 //!   (`∇e_max · t_max < 0` for a maximum, `> 0` for a minimum) and the curvature
 //!   condition holds there.
 //! - The lines are chained by point key without regard to direction
-//!   ([`crate::volume::marching_lines()`]) and are unoriented. Their strength is the
+//!   ([`crate::volume::marching_lines()`]) and are unoriented: each runs in the
+//!   direction of its grid keys ([`BiIsoLine::in_key_order`]). The curvature is
+//!   computed in the frame of the grid's axes and ties of an extremality at exactly
+//!   0 are broken there, so that the lines do not depend on the world frame the
+//!   image declares (module `frames`). Their strength is the
 //!   integral of the curvature magnitude along them (dimensionless).
 //! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
 //!   curvature `K = k_max k_min` at 0, a field with a global sign; iso-Gaussian
@@ -71,14 +75,18 @@ impl Extremality<'_> {
     }
 }
 
-/// A fixed direction with no zero component, to break ties (see [`untied`]).
+/// A fixed direction in the frame of the grid's axes with no zero component, to
+/// break ties (see [`untied`]).
 const TIE_BREAK: Vector = Vector::new(0.36, 0.48, 0.8);
 
 /// The extremality `e` along principal direction `direction`, moved off an exact
 /// zero (which symmetric images produce on whole grid planes) by the smallest
-/// amount, with the sign of `direction · TIE_BREAK`: like a nonzero `e`, the result
-/// changes sign with the direction, so once oriented per cell the labels of the two
-/// cells of a face stay opposite (an exact zero would be `+` in both).
+/// amount, with the sign of `grid_direction · TIE_BREAK`: like a nonzero `e`, the
+/// result changes sign with the direction, so once oriented per cell the labels of
+/// the two cells of a face stay opposite (an exact zero would be `+` in both).
+///
+/// `direction` is in the frame of the grid's axes (as every frame here), so that
+/// the tie falls the same way whatever world frame the image declares.
 fn untied(e: f64, direction: &Vector) -> f64 {
     if e == 0.0 {
         f64::MIN_POSITIVE.copysign(direction.dot(&TIE_BREAK))
@@ -102,7 +110,7 @@ impl SecondField for Extremality<'_> {
         };
         let (weights, slopes) = (weights(local), weight_derivatives(local));
         let along_index = Vector::from(slopes.map(|s| (0..8).map(|c| s[c] * corners[c]).sum()));
-        let gradient = self.curvatures.world_to_grid.transpose() * along_index;
+        let gradient = self.curvatures.axis_to_grid.transpose() * along_index;
         let direction: Vector = (0..8)
             .map(|c| frames[c].direction(self.which()) * (signs[c] * weights[c]))
             .sum();
@@ -293,6 +301,7 @@ pub fn trace_observed(
                 let lines = try_stage(observer, stage, || {
                     sweep.lines(&smoothed, level, &field, 0.0)
                 })?;
+                let lines = lines.into_iter().map(BiIsoLine::in_key_order).collect();
                 crests.extend(polylines(lines, kind));
             }
             return Ok(crests);

@@ -379,8 +379,19 @@ impl Derivatives {
     /// Value and world-space derivatives up to order 3 at voxel `index`, or `None`
     /// outside the grid or unless all 20 partials were computed.
     pub fn jet(&self, index: [usize; 3]) -> Option<Jet> {
-        let local = Jet::from_partials(&self.components::<20>(0, index)?);
-        Some(local.pulled_back(&self.direction.transpose()))
+        Some(
+            self.axis_jet(index)?
+                .pulled_back(&self.direction.transpose()),
+        )
+    }
+
+    /// [`Derivatives::jet`] in the frame of the grid's index axes (lengths in world
+    /// units): the world frame turned by the direction matrix, which is orthonormal.
+    /// Quantities that do not change under rotation (curvatures, extremalities)
+    /// computed in it depend on the samples and the spacing only, not on how the
+    /// image is placed in the world.
+    pub fn axis_jet(&self, index: [usize; 3]) -> Option<Jet> {
+        Some(Jet::from_partials(&self.components::<20>(0, index)?))
     }
 
     /// The values at voxel `index` of the `N` partials of [`Partial::ALL`] from

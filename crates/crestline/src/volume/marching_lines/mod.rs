@@ -122,6 +122,35 @@ pub struct BiIsoLine {
     pub closed: bool,
 }
 
+impl BiIsoLine {
+    /// The line in the direction its point keys give, which depends on the grid
+    /// alone: an open line from its end of smaller key, a loop from its point of
+    /// smallest key towards the smaller of that point's neighbours. For lines whose
+    /// second field has no global sign (crest lines: the sign of an extremality
+    /// follows a principal direction's sign, which an eigensolver picks in world
+    /// coordinates), the segments' majority direction would depend on the world
+    /// frame the image declares; this direction does not.
+    pub fn in_key_order(mut self) -> BiIsoLine {
+        let n = self.keys.len();
+        if n < 2 {
+            return self;
+        }
+        if self.closed {
+            let lowest = (0..n).min_by_key(|&i| self.keys[i]).unwrap_or(0);
+            self.keys.rotate_left(lowest);
+            self.points.rotate_left(lowest);
+            if self.keys[n - 1] < self.keys[1] {
+                self.keys[1..].reverse();
+                self.points[1..].reverse();
+            }
+        } else if self.keys[n - 1] < self.keys[0] {
+            self.keys.reverse();
+            self.points.reverse();
+        }
+        self
+    }
+}
+
 /// A segment of a bi-iso-line inside one cell, from its first end to its second.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Segment {

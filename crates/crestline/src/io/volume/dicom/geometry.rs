@@ -5,8 +5,12 @@
 //! Number (which scanners number in acquisition order, in either direction). The
 //! grid's index axes are the row direction (increasing column index), the column
 //! direction and that normal, so an oblique series keeps its orientation as the
-//! direction matrix; its slice spacing is the step between positions, never Slice
-//! Thickness (slices may overlap or leave gaps between them).
+//! direction matrix; its slice spacing is the step between positions, not Slice
+//! Thickness (slices may overlap or leave gaps between them), unless the two agree
+//! to [`NOMINAL_AGREEMENT`]: then the step is the thickness, the exact number of
+//! which the positions' decimal strings are a rounding. A series of 1 mm slices so
+//! has a spacing of exactly 1 mm, as its NIfTI conversion has, not 1 mm and a
+//! rounding error that the Gaussian smoothing and every later decision carry.
 //!
 //! Refused, since the frames would not be samples of one regular grid:
 //! frames of different sizes, pixel spacings or orientations; positions offset
@@ -28,6 +32,13 @@ use crate::{Error, Point, Result, Vector};
 
 /// The relative tolerance on positions, steps, spacings and direction cosines.
 pub(super) const TOLERANCE: f64 = 1e-3;
+
+/// How closely, relatively, the step between positions must match Slice Thickness
+/// for the thickness to be taken as the step: positions written with 8
+/// significant digits or more over two slices or more agree this well with the
+/// thickness they were made with, while slices that overlap or leave gaps differ
+/// by far more.
+const NOMINAL_AGREEMENT: f64 = 1e-6;
 
 /// The grid a series makes.
 #[derive(Clone, Debug, PartialEq)]
@@ -62,8 +73,8 @@ pub(super) fn stack(planes: &[&Plane], name: &dyn Fn(usize) -> String) -> Result
         let positions = positions(planes, name)?;
         let order = sorted_along(&positions, &normal);
         check_tilt(&positions, &order, &normal, column_spacing.min(row_spacing))?;
-        let spacing = check_steps(&positions, &order, &normal, name)?;
-        (order, spacing)
+        let step = check_steps(&positions, &order, &normal, name)?;
+        (order, nominal(step, first.thickness))
     };
     let origin = planes[order[0]].position.unwrap_or(Point::origin());
     Ok(Stack {
@@ -190,6 +201,15 @@ fn check_tilt(positions: &[Point], order: &[usize], normal: &Vector, pixel: f64)
     )))
 }
 
+/// The slice spacing of a series whose positions are `step` apart: its Slice
+/// Thickness if the two agree to [`NOMINAL_AGREEMENT`], else `step`.
+fn nominal(step: f64, thickness: Option<f64>) -> f64 {
+    match thickness {
+        Some(t) if (t - step).abs() <= NOMINAL_AGREEMENT * step => t,
+        _ => step,
+    }
+}
+
 /// The slice spacing: the usual (median) step between consecutive positions
 /// along `normal`, after checking that every position is where that step puts it
 /// within [`TOLERANCE`] of it. Errors name the two slices around the first
@@ -263,6 +283,26 @@ mod tests {
         assert_eq!(stack.spacing, [0.25, 0.5, 2.0]);
         assert_eq!(stack.origin, [1.0, 2.0, 0.0]);
         assert_eq!(stack.direction, Matrix3::identity());
+    }
+
+    #[test]
+    fn the_thickness_is_the_spacing_only_where_the_positions_round_it() {
+        // Positions of 1.5 mm slices, each off by the rounding of a decimal
+        // string: the spacing is the thickness, exactly.
+        let rounded = [0.0, 1.500_000_000_1, 2.999_999_999_8];
+        let with_thickness = |z: &[f64], t: f64| -> Vec<Plane> {
+            z.iter()
+                .map(|&z| Plane {
+                    thickness: Some(t),
+                    ..slice([0.0, 0.0, z])
+                })
+                .collect()
+        };
+        let stack = stack_of(&with_thickness(&rounded, 1.5)).unwrap();
+        assert_eq!(stack.spacing[2], 1.5);
+        // Slices 1.5 mm apart but 1.5001 mm thick (overlapping): the positions.
+        let stack = stack_of(&with_thickness(&rounded, 1.5001)).unwrap();
+        assert!((stack.spacing[2] - 1.5).abs() < 1e-9 && stack.spacing[2] != 1.5);
     }
 
     #[test]
