@@ -32,13 +32,14 @@ pub struct TracerArgs {
     #[arg(long, default_value_t = RidgesOptions::default().estimator,
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
-    /// Implicit smoothing steps of the extremalities [default: 3]. With jet-fit the
-    /// extremalities come from the fitted jets and are smoothed only where the
+    /// Implicit smoothing steps of the extremalities [default: 3; 1 on an image's
+    /// isosurface, whose extremalities come from the smoothed image]. With jet-fit
+    /// the extremalities come from the fitted jets and are smoothed only where the
     /// vertices deviate from them (noise), not on clean meshes.
     #[arg(long, value_name = "N")]
     pub smooth_steps: Option<usize>,
     /// Smoothing time step, in units of the mean edge length squared [default: 2
-    /// with shape-operator, 3 with jet-fit].
+    /// with shape-operator, 3 with jet-fit, 0.25 on an image's isosurface].
     #[arg(long, value_name = "TAU")]
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,

@@ -418,3 +418,113 @@ fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------
+// Ridges of an image's isosurface (`ridges <volume> --level …`) with the
+// extremalities of the image's third derivatives.
+
+mod image_ridges {
+    use std::sync::Arc;
+
+    use crestline::curvature::{CurvatureEstimator, CurvatureField};
+    use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
+    use crestline::lines::LineKind;
+    use crestline::mesh::Mesh;
+    use crestline::progress::Silent;
+    use crestline::ridges::Kinds;
+    use crestline::volume::Volume;
+    use crestline::{Point, Vector};
+    use nalgebra::{Matrix3, Rotation3, Unit};
+
+    const AXES: [f64; 3] = [24.0, 17.0, 11.0];
+
+    /// The image's curvature with its extremalities dropped: the tracer then
+    /// differentiates the curvature across the triangles.
+    struct CurvatureOnly(Arc<dyn CurvatureEstimator + Send + Sync>);
+
+    impl CurvatureEstimator for CurvatureOnly {
+        fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
+            let mut field = self.0.estimate(mesh)?;
+            field.extremality = None;
+            Ok(field)
+        }
+    }
+
+    /// The ellipsoid's axes turned off the grid's and its centre off the grid.
+    fn frame() -> (Rotation3<f64>, Point) {
+        let axis = Unit::new_normalize(Vector::new(0.3, -0.5, 0.8));
+        (
+            Rotation3::from_axis_angle(&axis, 0.6),
+            Point::new(32.3, 31.7, 30.45),
+        )
+    }
+
+    fn ellipsoid() -> Volume {
+        let dims = [65, 64, 62];
+        let (turn, centre) = frame();
+        let mut samples = Vec::new();
+        for k in 0..dims[2] {
+            for j in 0..dims[1] {
+                for i in 0..dims[0] {
+                    let p = turn.inverse() * (Point::new(i as f64, j as f64, k as f64) - centre);
+                    let r = (0..3).map(|a| (p[a] / AXES[a]).powi(2)).sum::<f64>();
+                    samples.push(-r as f32);
+                }
+            }
+        }
+        Volume::new(dims, [1.0; 3], [0.0; 3], Matrix3::identity(), samples).unwrap()
+    }
+
+    /// The ridge points' mean distance (voxels) from the plane of the two longer
+    /// axes, where the true ridge lies, and how many ridge lines there are.
+    fn ridge_offset(surface: &Surface, smooth_steps: Option<usize>) -> (f64, usize) {
+        let options = RidgesOptions {
+            kind: Kinds::Ridges,
+            smooth_steps,
+            ..RidgesOptions::default()
+        };
+        let lines = options
+            .tracer(surface)
+            .trace(&surface.mesh, &mut Silent)
+            .unwrap();
+        let (turn, centre) = frame();
+        let ridges: Vec<_> = lines.iter().filter(|l| l.kind == LineKind::Ridge).collect();
+        let offsets: Vec<f64> = ridges
+            .iter()
+            .flat_map(|l| &l.points)
+            .map(|p| (turn.inverse() * (p - centre)).z.abs())
+            .collect();
+        assert!(offsets.len() > 100, "{} ridge points", offsets.len());
+        (
+            offsets.iter().sum::<f64>() / offsets.len() as f64,
+            ridges.len(),
+        )
+    }
+
+    #[test]
+    fn the_images_extremalities_put_the_ridge_closer_than_discrete_differences() {
+        let surface = isosurface(&ellipsoid(), -1.0, &IsoOptions::default(), &mut Silent).unwrap();
+        let image = surface.curvature.clone().expect("the image's curvature");
+        // The same surface and curvature as a mesh with given curvature: the
+        // discrete extremalities, with their default smoothing.
+        let discrete = Surface {
+            mesh: surface.mesh.clone(),
+            curvature: Some(Arc::new(CurvatureOnly(image))),
+            image: None,
+        };
+        let (by_image, lines) = ridge_offset(&surface, None);
+        let (unsmoothed, _) = ridge_offset(&surface, Some(0));
+        let (by_differences, _) = ridge_offset(&discrete, None);
+        println!(
+            "ridge from the true plane: {by_image:.4} voxel with the image's extremalities \
+             ({unsmoothed:.4} unsmoothed), {by_differences:.4} with discrete differences"
+        );
+        // Measured: 0.022, 0.0021 and 0.093 voxel.
+        assert_eq!(lines, 1, "the ridge is one closed line");
+        assert!(
+            by_image * 3.0 <= by_differences,
+            "{by_image} against {by_differences}"
+        );
+        assert!(unsmoothed <= 0.01, "{unsmoothed} voxel unsmoothed");
+    }
+}

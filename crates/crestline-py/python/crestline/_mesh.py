@@ -177,7 +177,8 @@ def ridges(
     ``Estimator``). The extremalities are smoothed in ``smooth_steps`` steps of
     time ``smooth_time`` (in mean edge lengths squared; by default those the
     library sets for the estimator's extremalities, discrete or fitted, the fitted
-    ones smoothed only where the fit's residual shows noise), with optional
+    ones smoothed only where the fit's residual shows noise, and one light step
+    for an image's isosurface, whose extremalities come from the image), with optional
     per-vertex ``smoothing_weights``. Lines weaker than ``threshold`` (default
     {threshold}) are dropped. ``kind`` (default {kind}), ``presmooth`` (surface
     smoothing steps; default {presmooth}), ``solver`` (default {solver}), ``fair``

@@ -11,21 +11,31 @@
 //! trilinearly; at every grid point, or only at the corners of the cells that hold
 //! given points, [`ImageCurvature::at_points`]) or by the cubic B-spline through
 //! the samples ([`BSpline`]).
+//!
+//! The third derivatives give the extremalities too (`e = ∇k · t`, Thirion &
+//! Gourdon's extremality; [`isosurface_curvature`]), which the estimate hands to the
+//! ridge tracer ([`CurvatureField::extremality`]) in place of differences of the
+//! curvature across the triangles.
 
 use std::borrow::Cow;
 
 use nalgebra::Matrix3;
+use rayon::prelude::*;
 
-use super::{implicit_curvature, CurvatureEstimator, CurvatureField, PrincipalCurvatures};
+use super::PrincipalCurvatures;
+use super::{isosurface_curvature, CurvatureEstimator, CurvatureField, IsoCurvature};
 use crate::mesh::Mesh;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
-use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Partial, Volume};
+use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Jet, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 
-/// The first and second partials along the index axes (fx fy fz; fxx fxy fxz fyy
-/// fyz fzz), in the order of [`Partial::ALL`] from position 1.
-const FIRST_AND_SECOND: std::ops::Range<usize> = 1..10;
+/// The partials of order 1 to 3 along the index axes (fx fy fz; fxx fxy fxz fyy
+/// fyz fzz; fxxx … fzzz), in the order of [`Partial::ALL`] from position 1.
+const FIRST_TO_THIRD: std::ops::Range<usize> = 1..20;
+
+/// How many partials [`FIRST_TO_THIRD`] holds.
+const PARTIALS: usize = FIRST_TO_THIRD.end - FIRST_TO_THIRD.start;
 
 /// Image-based curvature: a [`CurvatureEstimator`] that gives every vertex of a
 /// surface in the image's world the curvature of the isosurface of the image
@@ -50,8 +60,8 @@ enum Reconstruction {
     Spline(BSpline),
 }
 
-/// The first and second partials of the smoothed image (along the index axes, in
-/// the order of [`FIRST_AND_SECOND`]) at grid points.
+/// The partials of order 1 to 3 of the smoothed image (along the index axes, in
+/// the order of [`FIRST_TO_THIRD`]) at grid points.
 #[derive(Clone, Debug)]
 enum GridPartials {
     /// At every grid point, with the smoothed values.
@@ -60,7 +70,7 @@ enum GridPartials {
     Some {
         dims: [usize; 3],
         voxels: VoxelSet,
-        values: Vec<[f32; 9]>,
+        values: Vec<[f32; PARTIALS]>,
     },
 }
 
@@ -73,12 +83,12 @@ impl GridPartials {
         }
     }
 
-    /// The nine partials at the sample of linear index `at`, `None` where not held.
-    fn at(&self, at: usize) -> Option<[f32; 9]> {
+    /// The partials at the sample of linear index `at`, `None` where not held.
+    fn at(&self, at: usize) -> Option<[f32; PARTIALS]> {
         match self {
             GridPartials::Whole(derivatives) => {
-                let mut values = [0.0; 9];
-                for (value, partial) in values.iter_mut().zip(&Partial::ALL[FIRST_AND_SECOND]) {
+                let mut values = [0.0; PARTIALS];
+                for (value, partial) in values.iter_mut().zip(&Partial::ALL[FIRST_TO_THIRD]) {
                     *value = derivatives.grid(*partial)?[at];
                 }
                 Some(values)
@@ -138,10 +148,10 @@ impl ImageCurvature {
             }
         }
         let voxels = voxels.build();
-        let partials = &Partial::ALL[FIRST_AND_SECOND];
+        let partials = &Partial::ALL[FIRST_TO_THIRD];
         let values = Derivatives::at_voxels(volume, sigma, partials, &voxels, |d, index| {
-            let values = d.components::<9>(FIRST_AND_SECOND.start, index);
-            values.map_or([f32::NAN; 9], |v| v.map(|x| x as f32))
+            let values = d.components::<PARTIALS>(FIRST_TO_THIRD.start, index);
+            values.map_or([f32::NAN; PARTIALS], |v| v.map(|x| x as f32))
         })?;
         Ok(ImageCurvature {
             reconstruction: Reconstruction::Gaussian {
@@ -175,15 +185,16 @@ impl ImageCurvature {
     }
 
     /// Curvature of the image smoothed by a Gaussian of standard deviation `sigma`
-    /// (world units): its first and second derivatives are computed on the grid
-    /// (with the smoothed values, [`ImageCurvature::smoothed`]).
+    /// (world units): its derivatives of order 1 to 3 are computed on the grid
+    /// (with the smoothed values, [`ImageCurvature::smoothed`]): twenty volumes of
+    /// the image's size; [`ImageCurvature::at_points`] keeps them only where asked.
     ///
     /// Errors as [`Derivatives::new`] (σ not finite and positive, or absurd for
     /// the grid; a direction matrix that is not orthonormal).
     pub fn gaussian(volume: &Volume, sigma: f64) -> Result<ImageCurvature> {
         Ok(ImageCurvature {
             reconstruction: Reconstruction::Gaussian {
-                partials: GridPartials::Whole(Derivatives::new(volume, sigma, 2)?),
+                partials: GridPartials::Whole(Derivatives::new(volume, sigma, 3)?),
                 origin: Point::from(volume.origin()),
                 world_to_grid: *volume.world_to_grid(),
                 direction: *volume.direction(),
@@ -216,6 +227,13 @@ impl ImageCurvature {
     /// The gradient and Hessian of the image at world position `point`, or `None`
     /// outside the grid.
     pub fn derivatives_at(&self, point: &Point) -> Option<(Vector, Matrix3<f64>)> {
+        let jet = self.jet_at(point)?;
+        Some((jet.gradient, jet.hessian))
+    }
+
+    /// The derivatives of order 1 to 3 of the image at world position `point`, in
+    /// world coordinates (the value is not kept: 0), or `None` outside the grid.
+    pub fn jet_at(&self, point: &Point) -> Option<Jet> {
         match &self.reconstruction {
             Reconstruction::Gaussian {
                 partials,
@@ -224,51 +242,51 @@ impl ImageCurvature {
                 direction,
             } => {
                 let index = world_to_grid * (point - origin);
-                let [gx, gy, gz, xx, xy, xz, yy, yz, zz] =
-                    trilinear(partials, [index.x, index.y, index.z])?;
+                let p = trilinear(partials, [index.x, index.y, index.z])?;
+                let mut all = [0.0; 20];
+                all[FIRST_TO_THIRD].copy_from_slice(&p);
                 // The partials are along the index axes in world lengths; the
                 // direction R is orthonormal (Derivatives checks it): g = R g_axes,
-                // H = R H_axes Rᵀ.
-                let g = direction * Vector::new(gx, gy, gz);
-                let h = Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
-                Some((g, direction * h * direction.transpose()))
+                // H = R H_axes Rᵀ, and so on.
+                Some(Jet::from_partials(&all).pulled_back(&direction.transpose()))
             }
-            Reconstruction::Spline(spline) => {
-                let jet = spline.jet_at_world(point)?;
-                Some((jet.gradient, jet.hessian))
-            }
+            Reconstruction::Spline(spline) => spline.jet_at_world(point),
         }
     }
 
-    /// Principal curvatures and the outward normal n = −∇f/|∇f| of the isosurface
-    /// through `point`, or `None` outside the grid or where the gradient vanishes.
-    pub fn at(&self, point: &Point) -> Option<(PrincipalCurvatures, Vector)> {
-        let (g, h) = self.derivatives_at(point)?;
-        let norm = g.norm();
-        if !(norm > 0.0 && norm.is_finite() && h.iter().all(|v| v.is_finite())) {
-            return None;
-        }
-        Some(implicit_curvature(&-g, &-h))
+    /// Principal curvatures, the outward normal n = −∇f/|∇f| and the
+    /// extremalities of the isosurface through `point`, or `None` outside the grid
+    /// or where the gradient vanishes.
+    pub fn at(&self, point: &Point) -> Option<IsoCurvature> {
+        let jet = self.jet_at(point)?;
+        isosurface_curvature(&jet.gradient, &jet.hessian, &jet.third)
     }
 }
 
 impl CurvatureEstimator for ImageCurvature {
-    /// The image's curvature at every vertex position. Vertices outside the grid or
-    /// where the image gradient vanishes are marked unreliable and get zero
-    /// curvature about the mesh's vertex normal.
+    /// The image's curvature and extremalities at every vertex position
+    /// ([`CurvatureField::extremality`]). Vertices outside the grid or where the
+    /// image gradient vanishes are marked unreliable and get zero curvature and
+    /// extremality about the mesh's vertex normal.
     fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
         let normals = mesh.vertex_normals();
-        Ok(CurvatureField::from_fn(
-            mesh.vertex_count(),
-            |v| match self.at(&mesh.position(v)) {
-                Some((k, n)) => (k, n, false),
-                None => {
-                    let n = normals[v.idx()];
-                    let flat = PrincipalCurvatures::from_tangent_operator(&Matrix3::zeros(), &n);
-                    (flat, n, true)
-                }
-            },
-        ))
+        let at: Vec<Option<IsoCurvature>> = mesh
+            .par_vertices()
+            .map(|v| self.at(&mesh.position(v)))
+            .collect();
+        let mut field = CurvatureField::from_fn(mesh.vertex_count(), |v| match &at[v.idx()] {
+            Some(c) => (c.principal, c.normal, false),
+            None => {
+                let n = normals[v.idx()];
+                let flat = PrincipalCurvatures::from_tangent_operator(&Matrix3::zeros(), &n);
+                (flat, n, true)
+            }
+        });
+        let extremality = |e: fn(&IsoCurvature) -> f64| -> Vec<f64> {
+            at.iter().map(|c| c.as_ref().map_or(0.0, e)).collect()
+        };
+        field.extremality = Some([extremality(|c| c.e_max), extremality(|c| c.e_min)]);
+        Ok(field)
     }
 }
 
@@ -289,12 +307,12 @@ pub fn image_isosurface(
     Ok((surface, curvature))
 }
 
-/// The nine first and second partials at the fractional index `index`,
-/// interpolated trilinearly; `None` outside the grid (beyond a small tolerance) or
-/// next to a grid point whose partials are not held.
-fn trilinear(partials: &GridPartials, index: [f64; 3]) -> Option<[f64; 9]> {
+/// The partials of order 1 to 3 at the fractional index `index`, interpolated
+/// trilinearly; `None` outside the grid (beyond a small tolerance) or next to a
+/// grid point whose partials are not held.
+fn trilinear(partials: &GridPartials, index: [f64; 3]) -> Option<[f64; PARTIALS]> {
     let (corners, weights) = corners_and_weights(partials.dims(), index)?;
-    let mut values = [[0.0; 9]; 8];
+    let mut values = [[0.0; PARTIALS]; 8];
     for (value, &at) in values.iter_mut().zip(&corners) {
         *value = partials.at(at)?;
     }

@@ -136,6 +136,12 @@ impl Surface {
         self.curvature.clone().unwrap_or_else(|| choice.build())
     }
 
+    /// Whether the surface is an isosurface carrying its image's curvature and
+    /// extremalities ([`ImageCurvature`]), rather than one a mesh estimator finds.
+    pub fn has_image_curvature(&self) -> bool {
+        self.image.is_some() && self.curvature.is_some()
+    }
+
     /// The unit of the relative [`Length`]s on this surface: one voxel for an
     /// isosurface, the mean edge length for a mesh.
     pub fn unit(&self) -> f64 {

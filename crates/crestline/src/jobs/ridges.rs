@@ -22,10 +22,14 @@ pub struct RidgesOptions {
     /// curvature instead). Default: the shape operator.
     pub estimator: Estimator,
     /// Implicit smoothing steps of the extremalities. Default (`None`): the
-    /// estimator's ([`ExtremalityTracer::smoothing_defaults`]).
+    /// estimator's ([`ExtremalityTracer::smoothing_defaults`]), or one light step
+    /// on an isosurface with its image's curvature, whose extremalities come from
+    /// the smoothed image ([`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS`]).
     pub smooth_steps: Option<usize>,
     /// Smoothing time step, in units of the mean edge length squared. Default
-    /// (`None`): the estimator's.
+    /// (`None`): the estimator's, or
+    /// [`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME`] on an isosurface with its
+    /// image's curvature.
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
     /// ∫ |k_min| ds for valleys) is at least this. Default:
@@ -67,7 +71,14 @@ impl Default for RidgesOptions {
 impl RidgesOptions {
     /// The tracer these options describe, on `surface`.
     pub fn tracer(&self, surface: &Surface) -> ExtremalityTracer {
-        let (smooth_steps, smooth_time) = ExtremalityTracer::smoothing_defaults(self.estimator);
+        let (smooth_steps, smooth_time) = if surface.has_image_curvature() {
+            (
+                ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS,
+                ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME,
+            )
+        } else {
+            ExtremalityTracer::smoothing_defaults(self.estimator)
+        };
         ExtremalityTracer {
             estimator: surface.estimator(self.estimator),
             kinds: self.kind,

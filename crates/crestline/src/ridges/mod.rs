@@ -166,6 +166,19 @@ impl ExtremalityTracer {
     /// 0.17% with τ = 3, 0.15% with τ = 4 (the discrete path: 0.21% with τ = 2);
     /// more smoothing also removes more of the weaker lines of scans.
     pub const DEFAULT_FITTED_SMOOTH_TIME: f64 = 3.0;
+    /// Default number of smoothing steps of the extremalities of an image's
+    /// isosurface taken from the image's third derivatives
+    /// ([`crate::curvature::ImageCurvature`]), which the Gaussian σ of the image
+    /// has smoothed already: one light step ([`Self::DEFAULT_IMAGE_SMOOTH_TIME`])
+    /// only clears the saw-tooth their zero set draws across the isosurface's
+    /// uneven triangles. Measured on an ellipsoid image turned off the grid axes
+    /// (example `image_extremality`, σ = 1 voxel): the ridge lies 0.028 voxel from
+    /// the true plane (0.0017 unsmoothed; 0.11 after the 3 steps of τ = 2 of
+    /// discrete extremalities, which smooth any extremality that far).
+    pub const DEFAULT_IMAGE_SMOOTH_STEPS: usize = 1;
+    /// Default smoothing time τ of an image's extremalities, in units of the mean
+    /// edge length squared.
+    pub const DEFAULT_IMAGE_SMOOTH_TIME: f64 = 0.25;
     /// Default strength threshold (dimensionless).
     pub const DEFAULT_THRESHOLD: f64 = 2.0;
     /// The most smoothing steps (of the surface or of the extremalities) accepted.
