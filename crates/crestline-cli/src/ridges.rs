@@ -28,7 +28,9 @@ pub struct TracerArgs {
     #[arg(long, default_value_t = RidgesOptions::default().kind,
           value_parser = super::named::<Kinds>(Kinds::NAMES))]
     pub kind: Kinds,
-    /// Curvature estimator: shape-operator (fast) or jet-fit (accurate on irregular meshes).
+    /// Curvature estimator: auto (the jet fit on a clean mesh, the shape operator on
+    /// a noisy one, told apart by the fit's residual), shape-operator (fast) or
+    /// jet-fit (accurate on irregular meshes).
     #[arg(long, default_value_t = RidgesOptions::default().estimator,
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
@@ -39,7 +41,8 @@ pub struct TracerArgs {
     #[arg(long, value_name = "N")]
     pub smooth_steps: Option<usize>,
     /// Smoothing time step, in units of the mean edge length squared [default: 2
-    /// with shape-operator, 3 with jet-fit, 0.25 on an image's isosurface].
+    /// with shape-operator or auto, 3 with jet-fit or with --presmooth, 0.25 on an
+    /// image's isosurface].
     #[arg(long, value_name = "TAU")]
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,

@@ -13,6 +13,10 @@
 //! `cargo run --release -p crestline --example jet_extremality [-- --sweep]`
 //! (`--sweep`: also the smoothing steps and times of the jet path).
 //!
+//! `-- --noise-table`: instead, the default estimator (`auto`) against the shape
+//! operator and the jet fit with isotropic Gaussian noise of 0 to 0.5 mean edge
+//! lengths, three seeds each.
+//!
 //! With mesh files as arguments (`-- meshes/bunny.obj …`), prints instead the
 //! defaults against the jet path on each: time of the extraction (the mesh
 //! loaded), number of lines and their total length.
@@ -20,12 +24,15 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};
-use crestline::lines::{LineExtractor, LineKind};
+use crestline::curvature::{
+    AutoEstimator, CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator,
+};
+use crestline::jobs::{RidgesOptions, Surface};
+use crestline::lines::{FeatureLines, LineExtractor, LineKind};
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::progress::Silent;
-use crestline::ridges::ExtremalityTracer;
+use crestline::ridges::{ExtremalityTracer, Kinds};
 use crestline::{Point, Vector};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
@@ -77,10 +84,10 @@ fn coverage(points: &[Point], radius: f64) -> f64 {
     covered as f64 / samples.len() as f64
 }
 
-fn measure(name: &str, mesh: &Mesh, tracer: &ExtremalityTracer) {
-    let start = Instant::now();
+/// The mean distance of the lines' points from the nearest principal plane as a
+/// share of the diagonal, the coverage of the ridge ellipse and the lines.
+fn fidelity(mesh: &Mesh, tracer: &ExtremalityTracer) -> (f64, f64, FeatureLines) {
     let lines = tracer.extract(mesh, &mut Silent).unwrap();
-    let seconds = start.elapsed().as_secs_f64();
     let motion = motion();
     let points: Vec<Point> = lines
         .iter()
@@ -94,14 +101,105 @@ fn measure(name: &str, mesh: &Mesh, tracer: &ExtremalityTracer) {
         .sum::<f64>()
         / points.len().max(1) as f64;
     let h = mesh.mean_edge_length();
+    (distance / diagonal, coverage(&points, 2.0 * h), lines)
+}
+
+fn measure(name: &str, mesh: &Mesh, tracer: &ExtremalityTracer) {
+    let start = Instant::now();
+    let (distance, coverage, lines) = fidelity(mesh, tracer);
+    let seconds = start.elapsed().as_secs_f64();
     println!(
         "| {name:<44} | {:>9.4}% | {:>7.1}% | {:>5} | {:>5} | {:>6.2} s |",
-        100.0 * distance / diagonal,
-        100.0 * coverage(&points, 2.0 * h),
+        100.0 * distance,
+        100.0 * coverage,
         lines.len(),
         lines.of_kind(LineKind::Ridge).count(),
         seconds
     );
+}
+
+/// `mesh` with every vertex moved by isotropic Gaussian noise of standard
+/// deviation `sigma` mean edge lengths along each axis, reproducibly from `seed`.
+fn with_isotropic_noise(mesh: &Mesh, sigma: f64, seed: u64) -> Mesh {
+    use rand::{Rng, SeedableRng};
+    let h = mesh.mean_edge_length();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let mut normal = || {
+        let (u, v): (f64, f64) = (rng.random_range(f64::EPSILON..1.0), rng.random());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    };
+    let positions = mesh
+        .positions()
+        .iter()
+        .map(|p| p + Vector::new(normal(), normal(), normal()) * (sigma * h))
+        .collect();
+    let soup = TriangleSoup {
+        positions,
+        triangles: mesh.triangles(),
+        ..TriangleSoup::default()
+    };
+    Mesh::from_soup(soup).unwrap().0
+}
+
+/// The default estimator against the shape operator and the jet fit over noise
+/// levels and seeds, each with the other defaults of `ridges`: clean as they are,
+/// noisy with `--presmooth 3 --smooth-steps 5 --kind ridges`. Prints, per level, the mean over the seeds of
+/// the distance (share of the diagonal) and of the coverage, and the least
+/// coverage.
+fn noise_table(clean: &Mesh) {
+    println!("| noise (h̄) | estimator | distance / diagonal | coverage (mean, least) | clean by the residual |");
+    println!("|---|---|---|---|---|");
+    for noise in [0.0, 0.05, 0.1, 0.2, 0.3, 0.5] {
+        let seeds: &[u64] = if noise == 0.0 { &[1] } else { &[1, 2, 3] };
+        let meshes: Vec<Mesh> = seeds
+            .iter()
+            .map(|&seed| with_isotropic_noise(clean, noise, seed))
+            .collect();
+        for estimator in [Estimator::ShapeOperator, Estimator::JetFit, Estimator::Auto] {
+            // The tracer `ridges` makes of these options.
+            let noisy = noise > 0.0;
+            let options = RidgesOptions {
+                estimator,
+                presmooth: if noisy { 3 } else { 0 },
+                smooth_steps: noisy.then_some(5),
+                kind: if noisy { Kinds::Ridges } else { Kinds::Both },
+                ..RidgesOptions::default()
+            };
+            let tracer = options.tracer(&Surface::of_mesh(clean.clone()));
+            let runs: Vec<(f64, f64)> = meshes
+                .iter()
+                .map(|mesh| {
+                    let (distance, coverage, _) = fidelity(mesh, &tracer);
+                    (distance, coverage)
+                })
+                .collect();
+            let count = runs.len() as f64;
+            let distance = runs.iter().map(|r| r.0).sum::<f64>() / count;
+            let mean_coverage = runs.iter().map(|r| r.1).sum::<f64>() / count;
+            let least = runs.iter().map(|r| r.1).fold(1.0, f64::min);
+            let clean_count = if estimator == Estimator::Auto {
+                let judged = meshes.iter().map(|m| presmoothed(m, &tracer));
+                format!(
+                    "{} of {}",
+                    judged.filter(AutoEstimator::is_clean).count(),
+                    meshes.len()
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "| {noise} | {estimator} | {:.4}% | {:.1}%, {:.1}% | {clean_count} |",
+                100.0 * distance,
+                100.0 * mean_coverage,
+                100.0 * least
+            );
+        }
+    }
+}
+
+/// The mesh the tracer estimates curvature on: `mesh` after its presmoothing.
+fn presmoothed(mesh: &Mesh, tracer: &ExtremalityTracer) -> Mesh {
+    crestline::ridges::presmooth_surface(mesh, tracer.presmooth_steps).unwrap()
 }
 
 fn tracer(
@@ -172,6 +270,10 @@ fn main() {
         ..TriangleSoup::default()
     };
     let clean = Mesh::from_soup(soup).unwrap().0;
+    if std::env::args().any(|a| a == "--noise-table") {
+        noise_table(&clean);
+        return;
+    }
     let noisy = generate::with_normal_noise(&clean, 0.2, 5).unwrap();
     let shape: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(ShapeOperator);
     let jet: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(JetFit::default());

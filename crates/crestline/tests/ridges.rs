@@ -527,3 +527,48 @@ fn jet_path_scaling_by_1000_gives_the_same_lines() {
         }
     }
 }
+
+/// The default of line extraction (`auto`, through the options `ridges` uses)
+/// takes the jet fit on the clean ellipsoid, with its precision, and the shape
+/// operator, with the same lines, on the noisy one and on a scan.
+#[test]
+fn the_default_estimator_takes_the_jet_fit_only_on_clean_meshes() {
+    use crestline::curvature::AutoEstimator;
+    use crestline::jobs::{ridges, RidgesOptions, Surface};
+
+    let (mesh, back) = big_rotated_ellipsoid();
+    assert!(AutoEstimator::is_clean(&mesh));
+    let defaults = RidgesOptions::default();
+    let lines = ridges(&Surface::of_mesh(mesh.clone()), &defaults, &mut Silent).unwrap();
+    let (mean, covered) = ridge_accuracy("default, clean", &lines, &mesh, &back);
+    assert!(mean < 0.00002, "{mean}");
+    assert!(covered >= 0.98, "{covered}");
+
+    // Noise of a twentieth of the mean edge, presmoothed: the shape operator's
+    // lines, point for point.
+    let noisy = generate::with_normal_noise(&mesh, 0.05, 3).unwrap();
+    let noisy_options = |estimator| RidgesOptions {
+        estimator,
+        presmooth: 3,
+        smooth_steps: Some(5),
+        ..RidgesOptions::default()
+    };
+    let surface = Surface::of_mesh(noisy);
+    let by_default = ridges(&surface, &noisy_options(Estimator::Auto), &mut Silent).unwrap();
+    let by_shape = ridges(
+        &surface,
+        &noisy_options(Estimator::ShapeOperator),
+        &mut Silent,
+    )
+    .unwrap();
+    assert_same_lines(&by_default, &by_shape);
+    let (mean, _) = ridge_accuracy("default, noise 0.05 h", &by_default, &mesh, &back);
+    assert!(mean < 0.001, "{mean}");
+
+    let bunny = crestline::io::read_mesh(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../meshes/bunny.obj"
+    )))
+    .unwrap();
+    assert!(!AutoEstimator::is_clean(&Mesh::from_soup(bunny).unwrap().0));
+}

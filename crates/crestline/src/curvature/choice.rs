@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use super::{CurvatureEstimator, JetFit, ShapeOperator};
+use super::{AutoEstimator, CurvatureEstimator, JetFit, ShapeOperator};
 
 /// One of the crate's curvature estimators, named as on the command line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -12,11 +12,16 @@ pub enum Estimator {
     ShapeOperator,
     /// [`JetFit`] (`jet-fit`): slower, accurate on irregular meshes.
     JetFit,
+    /// [`AutoEstimator`] (`auto`): the jet fit on a clean mesh, the shape operator
+    /// on a noisy one, told apart by the fit's residual. The default of line
+    /// extraction.
+    Auto,
 }
 
 crate::named::named!(Estimator, "estimator", {
     ShapeOperator => "shape-operator",
     JetFit => "jet-fit",
+    Auto => "auto",
 });
 
 impl Estimator {
@@ -25,6 +30,7 @@ impl Estimator {
         match self {
             Estimator::ShapeOperator => Arc::new(ShapeOperator),
             Estimator::JetFit => Arc::new(JetFit::default()),
+            Estimator::Auto => Arc::new(AutoEstimator),
         }
     }
 }

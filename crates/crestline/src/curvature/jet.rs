@@ -107,6 +107,34 @@ impl JetFit {
         field
     }
 
+    /// The median fit residual ([`CurvatureField::fit_residual`]) over at most
+    /// `count` vertices of `mesh` spread evenly through its numbering: a cheap
+    /// reading of whether the mesh is clean (near 0) or noisy, from a few fits.
+    /// `None` if no vertex could be fitted. The residual is relative to the fit's
+    /// radius, so the mesh's scale does not matter.
+    pub fn median_residual(&self, mesh: &Mesh, count: usize) -> Option<f64> {
+        let n = mesh.vertex_count();
+        let step = n.div_ceil(count.max(1)).max(1);
+        let normals = area_weighted_normals(mesh);
+        let mut residuals: Vec<f64> = (0..n)
+            .into_par_iter()
+            .step_by(step)
+            .filter_map(|v| {
+                let v = VertexId(v as u32);
+                GATHERER.with_borrow_mut(|gatherer| {
+                    let points = gatherer.gather(self, mesh, v);
+                    let fit = LOCAL.with_borrow_mut(|local| {
+                        fit_vertex(mesh, v, &normals[v.idx()], points, local)
+                    });
+                    fit.fitted.then_some(fit.residual)
+                })
+            })
+            .filter(|r| r.is_finite())
+            .collect();
+        residuals.sort_by(f64::total_cmp);
+        residuals.get(residuals.len() / 2).copied()
+    }
+
     /// The vertices the fit at `v` uses, `v` first: the smallest ring neighbourhood
     /// with at least `min_points` vertices (or `max_rings` rings), its last ring
     /// thinned so that at most `max_points` (or `min_points`) remain.

@@ -12,8 +12,11 @@
 //!   Cazals and Pouget) over an adaptive neighbourhood of rings. Accurate on irregular
 //!   meshes; use it where the mesh has many 3- and 4-valent vertices or strongly
 //!   varying triangle sizes.
+//! - [`AutoEstimator`]: the jet fit on clean meshes, the shape operator on noisy ones
+//!   (by the fit's residual); the default of line extraction.
 
 mod accuracy;
+mod auto;
 mod choice;
 mod field;
 mod image;
@@ -25,6 +28,7 @@ mod robust;
 mod shape_operator;
 
 pub use accuracy::relative_rms_error;
+pub use auto::{AutoEstimator, CLEAN_FIT_RESIDUAL};
 pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature};
 pub use image::{image_isosurface, ImageCurvature};

@@ -19,7 +19,8 @@ pub struct RidgesOptions {
     /// k_min: concave creases) or both. Default: both.
     pub kind: Kinds,
     /// Curvature estimator of a mesh (an isosurface may carry its image's
-    /// curvature instead). Default: the shape operator.
+    /// curvature instead). Default: [`Estimator::Auto`], the jet fit on a clean
+    /// mesh and the shape operator on a noisy one.
     pub estimator: Estimator,
     /// Implicit smoothing steps of the extremalities. Default (`None`): the
     /// estimator's ([`ExtremalityTracer::smoothing_defaults`]), or one light step
@@ -27,9 +28,10 @@ pub struct RidgesOptions {
     /// the smoothed image ([`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS`]).
     pub smooth_steps: Option<usize>,
     /// Smoothing time step, in units of the mean edge length squared. Default
-    /// (`None`): the estimator's, or
-    /// [`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME`] on an isosurface with its
-    /// image's curvature.
+    /// (`None`): the estimator's, at least
+    /// [`ExtremalityTracer::DEFAULT_PRESMOOTHED_SMOOTH_TIME`] on a presmoothed
+    /// surface, or [`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME`] on an
+    /// isosurface with its image's curvature.
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
     /// ∫ |k_min| ds for valleys) is at least this. Default:
@@ -55,7 +57,7 @@ impl Default for RidgesOptions {
     fn default() -> Self {
         RidgesOptions {
             kind: Kinds::default(),
-            estimator: Estimator::default(),
+            estimator: Estimator::Auto,
             smooth_steps: None,
             smooth_time: None,
             threshold: ExtremalityTracer::DEFAULT_THRESHOLD,
@@ -77,7 +79,15 @@ impl RidgesOptions {
                 ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME,
             )
         } else {
-            ExtremalityTracer::smoothing_defaults(self.estimator)
+            let (steps, time) = ExtremalityTracer::smoothing_defaults(self.estimator);
+            if self.presmooth > 0 {
+                (
+                    steps,
+                    time.max(ExtremalityTracer::DEFAULT_PRESMOOTHED_SMOOTH_TIME),
+                )
+            } else {
+                (steps, time)
+            }
         };
         ExtremalityTracer {
             estimator: surface.estimator(self.estimator),

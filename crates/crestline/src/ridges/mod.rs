@@ -166,6 +166,17 @@ impl ExtremalityTracer {
     /// 0.17% with τ = 3, 0.15% with τ = 4 (the discrete path: 0.21% with τ = 2);
     /// more smoothing also removes more of the weaker lines of scans.
     pub const DEFAULT_FITTED_SMOOTH_TIME: f64 = 3.0;
+    /// Default smoothing time τ of the extremalities of a presmoothed surface
+    /// (presmoothing is what one asks for on noisy scans), unless the estimator's
+    /// is longer: the noise presmoothing leaves calls for more than the 2 of clean
+    /// meshes. Measured on a rotated, jittered 30k-vertex ellipsoid with isotropic
+    /// Gaussian noise, 3 presmoothing and 5 smoothing steps, shape operator, mean
+    /// over 3 seeds (example `jet_extremality -- --noise-table`): the ridge lies
+    /// 0.052%, 0.21% and 0.43% of the diagonal from the true plane with τ = 2 at
+    /// noise 0.05, 0.2 and 0.5 mean edge lengths, 0.033%, 0.14% and 0.33% with
+    /// τ = 3 (0.025%, 0.11%, 0.33% with τ = 4, which removes more of the weaker
+    /// lines of scans). It is the fitted extremalities' default time as well.
+    pub const DEFAULT_PRESMOOTHED_SMOOTH_TIME: f64 = 3.0;
     /// Default number of smoothing steps of the extremalities of an image's
     /// isosurface taken from the image's third derivatives
     /// ([`crate::curvature::ImageCurvature`]), which the Gaussian σ of the image
@@ -205,7 +216,12 @@ impl ExtremalityTracer {
     /// gives or leads to (see [`Self::with_estimator`]).
     pub fn smoothing_defaults(estimator: Estimator) -> (usize, f64) {
         match estimator {
-            Estimator::ShapeOperator => (Self::DEFAULT_SMOOTH_STEPS, Self::DEFAULT_SMOOTH_TIME),
+            // The jet fit chosen on a clean mesh smooths its extremalities by the
+            // residual weights, which vanish there; a noisy mesh gets the shape
+            // operator and its smoothing.
+            Estimator::ShapeOperator | Estimator::Auto => {
+                (Self::DEFAULT_SMOOTH_STEPS, Self::DEFAULT_SMOOTH_TIME)
+            }
             Estimator::JetFit => (
                 Self::DEFAULT_FITTED_SMOOTH_STEPS,
                 Self::DEFAULT_FITTED_SMOOTH_TIME,
@@ -549,11 +565,9 @@ fn with_extremalities(
 }
 
 /// The fit residual ([`CurvatureField::fit_residual`]) at and above which fitted
-/// extremalities are smoothed fully. Measured with the jet fit (median over the
-/// vertices): about 4·10⁻⁸ on a clean irregular 30k-vertex ellipsoid, 2.5·10⁻⁴ on
-/// the same with normal noise of 0.2 h̄ after 3 presmoothing steps, 0.08 without
-/// them, and 1.5·10⁻³ to 3·10⁻² on the bundled meshes and the dragon scans.
-pub const FULL_SMOOTHING_RESIDUAL: f64 = 1e-5;
+/// extremalities are smoothed fully: the residual that tells a clean mesh from a
+/// noisy one ([`crate::curvature::CLEAN_FIT_RESIDUAL`], with the measured values).
+pub const FULL_SMOOTHING_RESIDUAL: f64 = crate::curvature::CLEAN_FIT_RESIDUAL;
 
 /// Per-vertex factors of the extremality smoothing where the field's
 /// extremalities come from a fit ([`CurvatureField::extremality`] with
