@@ -53,7 +53,8 @@ pub struct TracerArgs {
     #[arg(long, default_value_t = RidgesOptions::default().presmooth, value_name = "N")]
     pub presmooth: usize,
     /// Solver of the implicit smoothing systems: auto (a multigrid-preconditioned
-    /// conjugate gradient from 2M vertices on, else sparse Cholesky), direct or iterative.
+    /// conjugate gradient from 2M vertices on or for a smoothing time of at most 0.5,
+    /// else sparse Cholesky), direct or iterative.
     #[arg(long, default_value_t = RidgesOptions::default().solver,
           value_parser = super::named::<Solver>(Solver::NAMES))]
     pub solver: Solver,
