@@ -18,10 +18,9 @@
 
 use std::sync::Arc;
 
-use crestline::curvature::{CurvatureEstimator, CurvatureField};
+use crestline::curvature::WithoutExtremality;
 use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
 use crestline::lines::LineKind;
-use crestline::mesh::Mesh;
 use crestline::progress::Silent;
 use crestline::ridges::Kinds;
 use crestline::volume::Volume;
@@ -29,18 +28,6 @@ use crestline::{Point, Vector};
 use nalgebra::{Matrix3, Rotation3, Unit};
 
 const AXES: [f64; 3] = [30.0, 21.0, 13.5];
-
-/// The image's curvature without its extremalities: the tracer then differentiates
-/// the curvature across the triangles (eq. 4).
-struct CurvatureOnly(Arc<dyn CurvatureEstimator + Send + Sync>);
-
-impl CurvatureEstimator for CurvatureOnly {
-    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
-        let mut field = self.0.estimate(mesh)?;
-        field.extremality = None;
-        Ok(field)
-    }
-}
 
 /// The ellipsoid's frame: turned about an oblique axis, centred off the grid.
 fn frame() -> (Rotation3<f64>, Point) {
@@ -143,7 +130,7 @@ fn main() {
         // extremalities' (the shape operator's).
         let discrete = Surface {
             mesh: surface.mesh.clone(),
-            curvature: Some(Arc::new(CurvatureOnly(image))),
+            curvature: Some(Arc::new(WithoutExtremality(image))),
             image: None,
         };
         println!(

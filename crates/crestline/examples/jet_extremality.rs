@@ -25,7 +25,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crestline::curvature::{
-    AutoEstimator, CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator,
+    AutoEstimator, CurvatureEstimator, Estimator, JetFit, ShapeOperator, WithoutExtremality,
 };
 use crestline::jobs::{RidgesOptions, Surface};
 use crestline::lines::{FeatureLines, LineExtractor, LineKind};
@@ -38,18 +38,6 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
 const AXES: [f64; 3] = [1.0, 0.7, 0.45];
 const SCALE: f64 = 1000.0;
-
-/// The jet fit's curvature without its extremalities: the tracer then
-/// differentiates the curvature over the 1-ring (eq. 4).
-struct JetCurvatureOnly;
-
-impl CurvatureEstimator for JetCurvatureOnly {
-    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
-        let mut field = JetFit::default().estimate(mesh)?;
-        field.extremality = None;
-        Ok(field)
-    }
-}
 
 fn motion() -> Isometry3<f64> {
     Isometry3::from_parts(
@@ -277,7 +265,8 @@ fn main() {
     let noisy = generate::with_normal_noise(&clean, 0.2, 5).unwrap();
     let shape: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(ShapeOperator);
     let jet: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(JetFit::default());
-    let jet_discrete: Arc<dyn CurvatureEstimator + Send + Sync> = Arc::new(JetCurvatureOnly);
+    let jet_discrete: Arc<dyn CurvatureEstimator + Send + Sync> =
+        Arc::new(WithoutExtremality(jet.clone()));
     let steps = ExtremalityTracer::DEFAULT_SMOOTH_STEPS;
     let time = ExtremalityTracer::DEFAULT_SMOOTH_TIME;
     let (jet_steps, jet_time) = (

@@ -426,10 +426,9 @@ fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
 mod image_ridges {
     use std::sync::Arc;
 
-    use crestline::curvature::{CurvatureEstimator, CurvatureField};
+    use crestline::curvature::WithoutExtremality;
     use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
     use crestline::lines::LineKind;
-    use crestline::mesh::Mesh;
     use crestline::progress::Silent;
     use crestline::ridges::Kinds;
     use crestline::volume::Volume;
@@ -437,18 +436,6 @@ mod image_ridges {
     use nalgebra::{Matrix3, Rotation3, Unit};
 
     const AXES: [f64; 3] = [24.0, 17.0, 11.0];
-
-    /// The image's curvature with its extremalities dropped: the tracer then
-    /// differentiates the curvature across the triangles.
-    struct CurvatureOnly(Arc<dyn CurvatureEstimator + Send + Sync>);
-
-    impl CurvatureEstimator for CurvatureOnly {
-        fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
-            let mut field = self.0.estimate(mesh)?;
-            field.extremality = None;
-            Ok(field)
-        }
-    }
 
     /// The ellipsoid's axes turned off the grid's and its centre off the grid.
     fn frame() -> (Rotation3<f64>, Point) {
@@ -509,7 +496,7 @@ mod image_ridges {
         // discrete extremalities, with their default smoothing.
         let discrete = Surface {
             mesh: surface.mesh.clone(),
-            curvature: Some(Arc::new(CurvatureOnly(image))),
+            curvature: Some(Arc::new(WithoutExtremality(image))),
             image: None,
         };
         let (by_image, lines) = ridge_offset(&surface, None);

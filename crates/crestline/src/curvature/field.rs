@@ -245,3 +245,18 @@ impl CurvatureEstimator for GivenCurvature {
         Ok(self.0.clone())
     }
 }
+
+/// The curvature another estimator gives, without the extremalities it may give
+/// too ([`CurvatureField::extremality`]): the ridge tracer then differentiates the
+/// curvature across the mesh (Hildebrandt, Polthier, Wardetzky 2005, eq. 4). For
+/// comparing the two ways to the extremalities.
+#[derive(Clone)]
+pub struct WithoutExtremality(pub std::sync::Arc<dyn CurvatureEstimator + Send + Sync>);
+
+impl CurvatureEstimator for WithoutExtremality {
+    fn estimate(&self, mesh: &Mesh) -> Result<CurvatureField> {
+        let mut field = self.0.estimate(mesh)?;
+        field.extremality = None;
+        Ok(field)
+    }
+}
