@@ -4,6 +4,7 @@ library's default."""
 
 import inspect
 import json
+import typing
 
 import numpy as np
 import pytest
@@ -44,6 +45,8 @@ def test_the_defaults_are_the_librarys():
     crestline.defaults()["iso"]["sigma"] = 7
     assert DEFAULTS == json.loads(_crestline.defaults())
     assert NAMES["estimator"] == tuple(_crestline.names()["estimator"])
+    # The type of the estimator's names lists the same ones.
+    assert typing.get_args(crestline._mesh.EstimatorName) == NAMES["estimator"]
 
 
 @pytest.mark.parametrize("function, job, unit, arguments", FUNCTIONS)

@@ -30,7 +30,7 @@ Curvature = Dict[str, npt.NDArray[Any]]
 """``k_max``, ``k_min`` (n,) float64; ``d_max``, ``d_min``, ``normal`` (n, 3)
 float64; ``unreliable`` (n,) bool."""
 
-EstimatorName = Literal["shape-operator", "jet-fit"]
+EstimatorName = Literal["shape-operator", "jet-fit", "auto"]
 Estimator = Union[EstimatorName, Callable[[Vertices, Faces], Dict[str, Any]]]
 """The name of one of crestline's estimators, or a function ``(vertices, faces)
 -> dict`` returning ``k_max``, ``k_min`` (n,), ``d_max``, ``d_min``, ``normal``
@@ -139,8 +139,9 @@ def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: O
     ``normal`` (n, 3) and ``unreliable`` (n,) bool; the jet fit adds the
     extremalities ``e_max``, ``e_min`` from its cubic terms and ``fit_residual``.
     ``estimator`` (default {estimator}) is ``"shape-operator"`` (fast),
-    ``"jet-fit"`` (accurate on irregular meshes) or a callable (see
-    ``Estimator``), whose result is checked and returned.
+    ``"jet-fit"`` (accurate on irregular meshes), ``"auto"`` (the jet fit on a
+    clean mesh, the shape operator on a noisy one, by the fit's residual) or a
+    callable (see ``Estimator``), whose result is checked and returned.
     Positive curvature is convex (a sphere with outward faces has ``k > 0``).
     Raises ``ValueError`` naming the argument for bad arrays, and for a mesh that
     needs repairs which renumber its vertices (use :func:`read_mesh`).
