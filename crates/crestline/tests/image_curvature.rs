@@ -515,3 +515,35 @@ mod image_ridges {
         assert!(unsmoothed <= 0.01, "{unsmoothed} voxel unsmoothed");
     }
 }
+
+/// The extremalities come with a Gaussian's smooth third derivatives, not with the
+/// cubic B-spline's (σ = 0), which jump across every grid plane.
+#[test]
+fn only_a_gaussian_gives_the_images_extremalities() {
+    use crestline::curvature::{CurvatureEstimator, ImageCurvature};
+
+    let volume = sampled::field(24, [1.0; 3], Matrix3::identity(), |p| {
+        -p.coords.norm_squared()
+    });
+    let (iso, _) = crestline::curvature::image_isosurface(&volume, -64.0, 1.0).unwrap();
+    let mesh = iso.to_mesh().unwrap();
+    let gaussian = ImageCurvature::new(&volume, 1.0)
+        .unwrap()
+        .estimate(&mesh)
+        .unwrap();
+    let spline = ImageCurvature::new(&volume, 0.0)
+        .unwrap()
+        .estimate(&mesh)
+        .unwrap();
+    let [e_max, e_min] = gaussian.extremality.expect("a Gaussian's extremalities");
+    // A sphere: every direction is principal and the curvature is constant.
+    let largest = e_max
+        .iter()
+        .chain(&e_min)
+        .fold(0.0f64, |m, e| m.max(e.abs()));
+    assert!(
+        largest < 1e-3,
+        "extremality {largest} on a sphere of radius 8"
+    );
+    assert!(spline.extremality.is_none());
+}

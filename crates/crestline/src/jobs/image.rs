@@ -137,9 +137,10 @@ impl Surface {
     }
 
     /// Whether the surface is an isosurface carrying its image's curvature and
-    /// extremalities ([`ImageCurvature`]), rather than one a mesh estimator finds.
-    pub fn has_image_curvature(&self) -> bool {
-        self.image.is_some() && self.curvature.is_some()
+    /// extremalities ([`ImageCurvature::gives_extremalities`]: smoothed by a
+    /// Gaussian, σ > 0), rather than one a mesh estimator finds.
+    pub fn has_image_extremalities(&self) -> bool {
+        self.curvature.is_some() && self.image.is_some_and(|image| image.sigma > 0.0)
     }
 
     /// The unit of the relative [`Length`]s on this surface: one voxel for an

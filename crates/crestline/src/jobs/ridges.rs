@@ -24,14 +24,14 @@ pub struct RidgesOptions {
     pub estimator: Estimator,
     /// Implicit smoothing steps of the extremalities. Default (`None`): the
     /// estimator's ([`ExtremalityTracer::smoothing_defaults`]), or one light step
-    /// on an isosurface with its image's curvature, whose extremalities come from
+    /// on an isosurface with its image's extremalities (σ > 0), which come from
     /// the smoothed image ([`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS`]).
     pub smooth_steps: Option<usize>,
     /// Smoothing time step, in units of the mean edge length squared. Default
     /// (`None`): the estimator's, at least
     /// [`ExtremalityTracer::DEFAULT_PRESMOOTHED_SMOOTH_TIME`] on a presmoothed
     /// surface, or [`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME`] on an
-    /// isosurface with its image's curvature.
+    /// isosurface with its image's extremalities.
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
     /// ∫ |k_min| ds for valleys) is at least this. Default:
@@ -73,7 +73,7 @@ impl Default for RidgesOptions {
 impl RidgesOptions {
     /// The tracer these options describe, on `surface`.
     pub fn tracer(&self, surface: &Surface) -> ExtremalityTracer {
-        let (smooth_steps, smooth_time) = if surface.has_image_curvature() {
+        let (smooth_steps, smooth_time) = if surface.has_image_extremalities() {
             (
                 ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS,
                 ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME,
