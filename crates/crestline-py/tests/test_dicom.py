@@ -240,7 +240,7 @@ def nearest(points, others):
     return index, np.linalg.norm(points - others[index], axis=1)
 
 
-def unmatched(points, kinds, others, other_kinds):
+def distance_to_same_kind(points, kinds, others, other_kinds):
     """The distance from each of ``points`` to the nearest of ``others`` of its kind
     (an extremal point and a curvature maximum may coincide)."""
     distance = np.full(len(points), np.inf)
@@ -260,8 +260,8 @@ def test_the_landmarks_of_a_series_are_the_niftis(which, request, nifti_landmark
     turn = written["affine"] @ np.linalg.inv(RAS_TO_LPS @ template[1])
     expected = expected @ turn[:3, :3].T + turn[:3, 3]
     assert len(expected) > 1000
-    missing = unmatched(expected, expected_kinds, points, kinds)
-    extra = unmatched(points, kinds, expected, expected_kinds)
+    missing = distance_to_same_kind(expected, expected_kinds, points, kinds)
+    extra = distance_to_same_kind(points, kinds, expected, expected_kinds)
     print(f"{which}: {len(points)} landmarks for the NIfTI's {len(expected)}; the farthest {max(missing.max(), extra.max()):.1e} mm from one of its kind")
     assert len(points) == len(expected)
     assert missing.max() <= LANDMARK_TOLERANCE and extra.max() <= LANDMARK_TOLERANCE

@@ -81,14 +81,7 @@ impl JetFit {
         let normals = area_weighted_normals(mesh);
         let fits: Vec<VertexFit> = mesh
             .par_vertices()
-            .map(|v| {
-                GATHERER.with_borrow_mut(|gatherer| {
-                    let points = gatherer.gather(self, mesh, v);
-                    LOCAL.with_borrow_mut(|local| {
-                        fit_vertex(mesh, v, &normals[v.idx()], points, local)
-                    })
-                })
-            })
+            .map(|v| self.fit_at(mesh, v, &normals[v.idx()]))
             .collect();
         let mut field = CurvatureField::from_fn(mesh.vertex_count(), |v| {
             let fit = &fits[v.idx()];
@@ -115,24 +108,27 @@ impl JetFit {
     pub fn median_residual(&self, mesh: &Mesh, count: usize) -> Option<f64> {
         let n = mesh.vertex_count();
         let step = n.div_ceil(count.max(1)).max(1);
-        let normals = area_weighted_normals(mesh);
         let mut residuals: Vec<f64> = (0..n)
             .into_par_iter()
             .step_by(step)
             .filter_map(|v| {
                 let v = VertexId(v as u32);
-                GATHERER.with_borrow_mut(|gatherer| {
-                    let points = gatherer.gather(self, mesh, v);
-                    let fit = LOCAL.with_borrow_mut(|local| {
-                        fit_vertex(mesh, v, &normals[v.idx()], points, local)
-                    });
-                    fit.fitted.then_some(fit.residual)
-                })
+                let fit = self.fit_at(mesh, v, &mesh.area_weighted_normal(v));
+                fit.fitted.then_some(fit.residual)
             })
             .filter(|r| r.is_finite())
             .collect();
         residuals.sort_by(f64::total_cmp);
         residuals.get(residuals.len() / 2).copied()
+    }
+
+    /// The fit at `v` in the frame of `normal` ([`fit_vertex`]) to the points
+    /// [`JetFit::fit_points`] gathers, with this thread's buffers.
+    fn fit_at(&self, mesh: &Mesh, v: VertexId, normal: &Vector) -> VertexFit {
+        GATHERER.with_borrow_mut(|gatherer| {
+            let points = gatherer.gather(self, mesh, v);
+            LOCAL.with_borrow_mut(|local| fit_vertex(mesh, v, normal, points, local))
+        })
     }
 
     /// The vertices the fit at `v` uses, `v` first: the smallest ring neighbourhood

@@ -79,15 +79,7 @@ impl RidgesOptions {
                 ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME,
             )
         } else {
-            let (steps, time) = ExtremalityTracer::smoothing_defaults(self.estimator);
-            if self.presmooth > 0 {
-                (
-                    steps,
-                    time.max(ExtremalityTracer::DEFAULT_PRESMOOTHED_SMOOTH_TIME),
-                )
-            } else {
-                (steps, time)
-            }
+            ExtremalityTracer::smoothing_defaults(self.estimator, self.presmooth > 0)
         };
         ExtremalityTracer {
             estimator: surface.estimator(self.estimator),

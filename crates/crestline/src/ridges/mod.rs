@@ -203,7 +203,7 @@ impl ExtremalityTracer {
     /// [`Self::DEFAULT_FITTED_SMOOTH_STEPS`] and [`Self::DEFAULT_FITTED_SMOOTH_TIME`]
     /// for those of the jet fit.
     pub fn with_estimator(estimator: Estimator) -> Self {
-        let (smooth_steps, smooth_time) = Self::smoothing_defaults(estimator);
+        let (smooth_steps, smooth_time) = Self::smoothing_defaults(estimator, false);
         ExtremalityTracer {
             estimator: estimator.build(),
             smooth_steps,
@@ -213,9 +213,11 @@ impl ExtremalityTracer {
     }
 
     /// The default smoothing steps and time of the extremalities `estimator`
-    /// gives or leads to (see [`Self::with_estimator`]).
-    pub fn smoothing_defaults(estimator: Estimator) -> (usize, f64) {
-        match estimator {
+    /// gives or leads to (see [`Self::with_estimator`]), on a surface
+    /// `presmoothed` or not (then τ is at least
+    /// [`Self::DEFAULT_PRESMOOTHED_SMOOTH_TIME`]).
+    pub fn smoothing_defaults(estimator: Estimator, presmoothed: bool) -> (usize, f64) {
+        let (steps, time) = match estimator {
             // The jet fit chosen on a clean mesh smooths its extremalities by the
             // residual weights, which vanish there; a noisy mesh gets the shape
             // operator and its smoothing.
@@ -226,6 +228,11 @@ impl ExtremalityTracer {
                 Self::DEFAULT_FITTED_SMOOTH_STEPS,
                 Self::DEFAULT_FITTED_SMOOTH_TIME,
             ),
+        };
+        if presmoothed {
+            (steps, time.max(Self::DEFAULT_PRESMOOTHED_SMOOTH_TIME))
+        } else {
+            (steps, time)
         }
     }
 }
