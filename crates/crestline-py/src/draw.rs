@@ -2,12 +2,11 @@
 //! removed, as SVG and optionally PNG ([`jobs::draw`]).
 
 use crestline::draw::{render_png, svg_document, Style};
-use crestline::jobs::{self, Surface};
-use numpy::PyReadonlyArray2;
+use crestline::jobs;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use crate::arrays::mesh_of;
+use crate::built_mesh::BuiltMesh;
 use crate::jobs::job_options;
 use crate::lines::{feature_lines, LineParts};
 use crate::progress::Callback;
@@ -22,23 +21,22 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// say, with `lines` drawn instead of those the options choose when given, and
 /// its PNG rendering if `png`.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, lines, options, png, progress=None))]
+#[pyo3(signature = (mesh, lines, options, png, progress=None))]
 fn draw<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArray2<'py, f64>,
-    faces: PyReadonlyArray2<'py, i64>,
+    mesh: Bound<'py, BuiltMesh>,
     lines: Option<Vec<LineParts<'py>>>,
     options: &str,
     png: bool,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(String, Option<Bound<'py, PyBytes>>)> {
-    let surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    let surface = mesh.get().surface();
     let given = lines.map(feature_lines).transpose()?;
     let options: jobs::DrawingOptions = job_options("draw", options)?;
     let mut observer = Callback::new(progress);
     let drawn = py.detach(|| -> crestline::Result<(String, Option<Vec<u8>>)> {
         let style = options.style(Style::default())?;
-        let drawing = jobs::draw(&surface, (None, given), &options, &mut observer)?;
+        let drawing = jobs::draw(surface, (None, given), &options, &mut observer)?;
         let svg = svg_document(&drawing, &style);
         let image = png
             .then(|| render_png(&svg, style.background.as_deref()))

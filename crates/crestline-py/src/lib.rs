@@ -5,6 +5,7 @@
 //! vertices and int64 faces with indices in range.
 
 mod arrays;
+mod built_mesh;
 mod draw;
 mod errors;
 mod jobs;

@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{index_rows, points, rows};
+use crate::built_mesh::BuiltMesh;
 use crate::errors::raised;
 
 /// Every line as a dict ([`line_dict`]).
@@ -121,21 +122,19 @@ pub type LocatedLine<'py> = (
     PyReadonlyArray2<'py, f64>,
 );
 
-/// Write the labels of the vertices of the mesh (`vertices`, `faces`, which
-/// must need no repairs) that ridge and valley `lines` pass near, as a
+/// Write the labels of the vertices of the mesh that ridge and valley `lines` pass near, as a
 /// `.label.gii` (of Workbench's `structure`) or `.label`
 /// ([`crestline::lines::write_labels`]), atomically.
 #[pyfunction]
 pub fn write_line_labels(
     py: Python<'_>,
     path: PathBuf,
-    vertices: PyReadonlyArray2<'_, f64>,
-    faces: PyReadonlyArray2<'_, i64>,
+    mesh: Bound<'_, BuiltMesh>,
     lines: Vec<LocatedLine<'_>>,
     structure: &str,
 ) -> PyResult<()> {
     let structure = structure.parse().map_err(raised)?;
-    let mesh = crate::arrays::mesh_of(vertices.as_array(), faces.as_array())?;
+    let mesh = &mesh.get().surface().mesh;
     let n = mesh.vertex_count();
     let mut points = Vec::new();
     for (i, (kind, ids, weights)) in lines.iter().enumerate() {
@@ -171,6 +170,6 @@ pub fn write_line_labels(
         }
     }
     let labels = mesh.to_input_order(&label_nearest_corners(n, points), 0);
-    py.detach(|| write_labels(&path, &labels, &mesh, structure))
+    py.detach(|| write_labels(&path, &labels, mesh, structure))
         .map_err(raised)
 }

@@ -13,7 +13,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{faces, mesh_of, points, report_json, rows};
+use crate::arrays::{faces, points, report_json, rows};
+use crate::built_mesh::BuiltMesh;
 use crate::errors::raised;
 use crate::jobs::job_options;
 use crate::lines::line_dicts;
@@ -27,7 +28,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ridges, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_landmarks, m)?)?;
     m.add_function(wrap_pyfunction!(morse, m)?)?;
-    m.add_function(wrap_pyfunction!(mean_edge_length, m)?)?;
+    m.add_class::<BuiltMesh>()?;
     Ok(())
 }
 
@@ -45,29 +46,18 @@ fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<MeshArrays<'py>> {
     Ok((vertices, faces(py, &mesh), report_json(&report)))
 }
 
-/// The mean length of the mesh's edges, each counted once (the length scale of
-/// the command-line tool's defaults).
-#[pyfunction]
-fn mean_edge_length(
-    vertices: PyReadonlyArray2<'_, f64>,
-    faces: PyReadonlyArray2<'_, i64>,
-) -> PyResult<f64> {
-    Ok(mesh_of(vertices.as_array(), faces.as_array())?.mean_edge_length())
-}
-
 /// Principal curvatures and directions per vertex ([`jobs::curvature`] with the
 /// JSON `options` of [`jobs::CurvatureOptions`]), as a dict of arrays.
 #[pyfunction]
 fn curvature<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArray2<'py, f64>,
-    faces: PyReadonlyArray2<'py, i64>,
+    mesh: Bound<'py, BuiltMesh>,
     options: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options: jobs::CurvatureOptions = job_options("curvature", options)?;
-    let surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    let surface = mesh.get().surface();
     let mut observer = Callback::new(None);
-    let field = py.detach(|| jobs::curvature(&surface, &options, &mut observer));
+    let field = py.detach(|| jobs::curvature(surface, &options, &mut observer));
     field_dict(py, observer.outcome(field)?)
 }
 
@@ -146,18 +136,15 @@ fn field_of(field: &Bound<'_, PyDict>) -> PyResult<CurvatureField> {
     })
 }
 
-/// The surface of the arrays and the ridges options of the JSON `options`
-/// ([`jobs::RidgesOptions`]) with the per-vertex smoothing `weights`.
-fn ridges_inputs(
-    vertices: &PyReadonlyArray2<f64>,
-    faces: &PyReadonlyArray2<i64>,
+/// The ridges options of the JSON `options` ([`jobs::RidgesOptions`]) with the
+/// per-vertex smoothing `weights`.
+fn ridges_options(
     options: &str,
     weights: Option<PyReadonlyArray1<f64>>,
-) -> PyResult<(Surface, jobs::RidgesOptions)> {
+) -> PyResult<jobs::RidgesOptions> {
     let mut options: jobs::RidgesOptions = job_options("ridges", options)?;
     options.smoothing_weights = weights.map(|w| w.as_array().to_vec());
-    let mesh = mesh_of(vertices.as_array(), faces.as_array())?;
-    Ok((Surface::of_mesh(mesh), options))
+    Ok(options)
 }
 
 /// Ridge and valley lines by extremality tracing ([`jobs::ridges`]) as the JSON
@@ -167,17 +154,17 @@ fn ridges_inputs(
 /// estimator's, and the smoothing defaults are those of its extremalities (the
 /// jet fit's when it has fitted ones).
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, options, weights=None, field=None, progress=None))]
+#[pyo3(signature = (mesh, options, weights=None, field=None, progress=None))]
 fn ridges<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArray2<'py, f64>,
-    faces: PyReadonlyArray2<'py, i64>,
+    mesh: Bound<'py, BuiltMesh>,
     options: &str,
     weights: Option<PyReadonlyArray1<'py, f64>>,
     field: Option<Bound<'py, PyDict>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let (surface, mut options) = ridges_inputs(&vertices, &faces, options, weights)?;
+    let surface = mesh.get().surface();
+    let mut options = ridges_options(options, weights)?;
     let field = field.as_ref().map(field_of).transpose()?;
     if let Some(field) = &field {
         options.estimator = if field.extremality.is_some() {
@@ -190,10 +177,10 @@ fn ridges<'py>(
     let lines = py.detach(|| match &field {
         Some(field) => {
             options
-                .tracer(&surface)
+                .tracer(surface)
                 .trace_with_curvature(&surface.mesh, field, &mut observer)
         }
-        None => jobs::ridges(&surface, &options, &mut observer),
+        None => jobs::ridges(surface, &options, &mut observer),
     });
     line_dicts(py, &observer.outcome(lines)?.lines, Some(&surface.mesh))
 }
@@ -202,22 +189,22 @@ fn ridges<'py>(
 /// from [`jobs::LinesFrom::Surface`]), as the JSON the library writes; `ridges`
 /// and `options` are the JSON options of the tracing and of the landmarks.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, ridges, options, weights=None, progress=None))]
-fn mesh_landmarks(
-    py: Python<'_>,
-    vertices: PyReadonlyArray2<'_, f64>,
-    faces: PyReadonlyArray2<'_, i64>,
+#[pyo3(signature = (mesh, ridges, options, weights=None, progress=None))]
+fn mesh_landmarks<'py>(
+    py: Python<'py>,
+    mesh: Bound<'py, BuiltMesh>,
     ridges: &str,
     options: &str,
-    weights: Option<PyReadonlyArray1<'_, f64>>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<String> {
-    let (surface, ridges) = ridges_inputs(&vertices, &faces, ridges, weights)?;
+    let surface = mesh.get().surface();
+    let ridges = ridges_options(ridges, weights)?;
     let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
     let mut observer = Callback::new(progress);
     let found = py.detach(|| {
         let input = jobs::LinesFrom::Surface {
-            surface: &surface,
+            surface,
             options: &ridges,
         };
         jobs::landmarks(input, &options, &mut observer)
@@ -230,24 +217,30 @@ fn mesh_landmarks(
 /// instead of the indicator, the curvature of `field` when given (from a callable
 /// estimator) instead of the estimator's; as dicts like [`ridges`]'.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, options, values=None, field=None, progress=None))]
+#[pyo3(signature = (mesh, options, values=None, field=None, progress=None))]
 fn morse<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArray2<'py, f64>,
-    faces: PyReadonlyArray2<'py, i64>,
+    mesh: Bound<'py, BuiltMesh>,
     options: &str,
     values: Option<PyReadonlyArray1<'py, f64>>,
     field: Option<Bound<'py, PyDict>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let options: jobs::MorseOptions = job_options("morse", options)?;
-    let mut surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
-    if let Some(field) = field.as_ref().map(field_of).transpose()? {
-        surface.curvature = Some(Arc::new(GivenCurvature(field)));
-    }
+    let built = mesh.get().surface();
+    // A given field needs a surface of its own (rare: a callable estimator's).
+    let with_field = field
+        .as_ref()
+        .map(field_of)
+        .transpose()?
+        .map(|field| Surface {
+            curvature: Some(Arc::new(GivenCurvature(field))),
+            ..Surface::of_mesh(built.mesh.clone())
+        });
+    let surface = with_field.as_ref().unwrap_or(built);
     let values: Option<Vec<f64>> = values.map(|v| v.as_array().to_vec());
     let mut observer = Callback::new(progress);
-    let found = py.detach(|| jobs::morse(&surface, values, &options, &mut observer));
+    let found = py.detach(|| jobs::morse(surface, values, &options, &mut observer));
     let (lines, _) = observer.outcome(found)?;
     line_dicts(py, &lines.lines, Some(&surface.mesh))
 }

@@ -2,12 +2,11 @@
 //! ([`jobs::view`], [`crestline::view::view_html`]).
 
 use crestline::draw::Style;
-use crestline::jobs::{self, Surface};
+use crestline::jobs;
 use crestline::view::view_html;
-use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 
-use crate::arrays::mesh_of;
+use crate::built_mesh::BuiltMesh;
 use crate::jobs::job_options;
 use crate::lines::{feature_lines, LineParts};
 use crate::progress::Callback;
@@ -21,22 +20,21 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// The HTML view of the mesh titled `title`, with `lines` shown instead of those
 /// the JSON `options` of [`jobs::ViewOptions`] choose when given.
 #[pyfunction]
-#[pyo3(signature = (vertices, faces, lines, options, title, progress=None))]
+#[pyo3(signature = (mesh, lines, options, title, progress=None))]
 fn view<'py>(
     py: Python<'py>,
-    vertices: PyReadonlyArray2<'py, f64>,
-    faces: PyReadonlyArray2<'py, i64>,
+    mesh: Bound<'py, BuiltMesh>,
     lines: Option<Vec<LineParts<'py>>>,
     options: &str,
     title: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<String> {
-    let surface = Surface::of_mesh(mesh_of(vertices.as_array(), faces.as_array())?);
+    let surface = mesh.get().surface();
     let given = lines.map(feature_lines).transpose()?;
     let options: jobs::ViewOptions = job_options("view", options)?;
     let mut observer = Callback::new(progress);
     let html = py.detach(|| -> crestline::Result<String> {
-        let (lines, curvature) = jobs::view(&surface, (None, given), &options, &mut observer)?;
+        let (lines, curvature) = jobs::view(surface, (None, given), &options, &mut observer)?;
         let style = Style::default();
         Ok(view_html(
             &surface.mesh,

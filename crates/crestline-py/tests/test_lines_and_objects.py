@@ -135,6 +135,49 @@ def test_pymeshlab_meshes_and_mesh_sets_are_accepted(bunny):
     assert np.array_equal(crestline.curvature(meshes)["k_max"], expected)
 
 
+def test_a_mesh_built_once_serves_every_call_as_its_arrays_would(bunny):
+    vertices, faces = bunny
+    mesh = crestline.Mesh(vertices, faces)
+    assert repr(mesh) == f"crestline.Mesh({len(vertices)} vertices, {len(faces)} faces)"
+    for name in ("k_max", "k_min", "d_max", "e_max"):
+        built, given = crestline.curvature(mesh, estimator="jet-fit"), crestline.curvature(vertices, faces, estimator="jet-fit")
+        assert np.array_equal(built[name], given[name])
+    for trace in (crestline.ridges, crestline.morse):
+        built, given = trace(mesh), trace(vertices, faces)
+        assert len(built) == len(given) > 0
+        for a, b in zip(built, given):
+            assert a.kind == b.kind and np.array_equal(a.points, b.points)
+    assert crestline.draw(mesh) == crestline.draw(vertices, faces)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    unique = np.unique(np.sort(edges, axis=1), axis=0)
+    lengths = np.linalg.norm(vertices[unique[:, 0]] - vertices[unique[:, 1]], axis=1)
+    assert mesh.mean_edge_length() == pytest.approx(lengths.mean(), rel=1e-12)
+
+
+def test_a_built_mesh_holds_read_only_copies_of_its_arrays(bunny):
+    vertices, faces = bunny
+    moved = vertices.copy()
+    mesh = crestline.Mesh(moved, faces)
+    moved *= 2.0  # the caller's array changes; the mesh does not
+    assert np.array_equal(mesh.vertices, vertices)
+    with pytest.raises(ValueError, match="read-only"):
+        mesh.vertices[0, 0] = 1.0
+    with pytest.raises(ValueError, match="read-only"):
+        mesh.faces[0, 0] = 1
+    # Other functions take it as a mesh object with vertices and faces.
+    other = crestline.curvature(crestline.Mesh(mesh))["k_max"]
+    assert np.array_equal(other, crestline.curvature(vertices, faces)["k_max"])
+
+
+def test_a_mesh_that_needs_renumbering_is_refused_when_built(bunny):
+    vertices, faces = bunny
+    doubled = np.vstack([vertices, vertices[:1]])  # an unreferenced vertex is dropped
+    with pytest.raises(ValueError, match="renumber its vertices"):
+        crestline.Mesh(doubled, faces)
+    with pytest.raises(ValueError, match=r"faces: expected shape \(m, 3\)"):
+        crestline.Mesh(vertices, faces[:, :2])
+
+
 class PolyDataLike:
     """The layout of a pyvista PolyData: ``points`` and a flat ``faces`` array of
     ``[3, a, b, c, 3, ...]``, with ``n_cells``."""

@@ -26,6 +26,9 @@ USAGE = textwrap.dedent('''
     marks = crestline.landmarks(crests, radius=5.0, persistence=2.0)
     motion = crestline.register(crests, crests)["matrix"]
     sheet = crestline.crease_surface(brain.data, spacing=(1.0, 1.0, 1.0))["faces"]
+    built = crestline.Mesh(vertices, faces)
+    unit: float = built.mean_edge_length()
+    again: crestline.Lines = crestline.ridges(built, threshold=3.0)
     try:
         crestline.read_mesh("missing.obj")
     except crestline.FileError as error:

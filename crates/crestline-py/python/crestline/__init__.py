@@ -32,6 +32,7 @@ from typing import Any, Dict
 
 from ._crestline import __version__
 
+from ._built import Mesh
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
 from ._view import View, view
@@ -85,6 +86,7 @@ __all__ = [
     "Landmarks",
     "Line",
     "Lines",
+    "Mesh",
     "MeshError",
     "Progress",
     "Space",

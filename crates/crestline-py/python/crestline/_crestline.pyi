@@ -10,43 +10,42 @@ I64 = npt.NDArray[np.int64]
 LineParts = tuple[str, bool, float, F64, list[tuple[str, list[float]]]]
 
 def read_mesh(path: str) -> tuple[F64, I64, str]: ...
-def curvature(vertices: F64, faces: I64, options: str) -> dict[str, Any]: ...
-def mean_edge_length(vertices: F64, faces: I64) -> float: ...
+
+class Mesh:
+    def __init__(self, vertices: F64, faces: I64) -> None: ...
+    def mean_edge_length(self) -> float: ...
+
+def curvature(mesh: Mesh, options: str) -> dict[str, Any]: ...
 def ridges(
-    vertices: F64,
-    faces: I64,
+    mesh: Mesh,
     options: str,
     weights: Optional[F64] = None,
     field: Optional[dict[str, Any]] = None,
     progress: Optional[Any] = None,
 ) -> list[dict[str, Any]]: ...
 def mesh_landmarks(
-    vertices: F64,
-    faces: I64,
+    mesh: Mesh,
     ridges: str,
     options: str,
     weights: Optional[F64] = None,
     progress: Optional[Any] = None,
 ) -> str: ...
 def morse(
-    vertices: F64,
-    faces: I64,
+    mesh: Mesh,
     options: str,
     values: Optional[F64] = None,
     field: Optional[dict[str, Any]] = None,
     progress: Optional[Any] = None,
 ) -> list[dict[str, Any]]: ...
 def draw(
-    vertices: F64,
-    faces: I64,
+    mesh: Mesh,
     lines: Optional[list[LineParts]],
     options: str,
     png: bool,
     progress: Optional[Any] = None,
 ) -> tuple[str, Optional[bytes]]: ...
 def view(
-    vertices: F64,
-    faces: I64,
+    mesh: Mesh,
     lines: Optional[list[LineParts]],
     options: str,
     title: str,
@@ -74,7 +73,7 @@ def image_landmarks(
 def write_landmarks(path: str, landmarks: str, declared: Optional[str], given: Optional[str]) -> None: ...
 def write_lines(path: str, lines: list[LineParts], space: Optional[str] = None) -> None: ...
 def write_line_labels(
-    path: str, vertices: F64, faces: I64, lines: list[tuple[str, I64, F64]], structure: str
+    path: str, mesh: Mesh, lines: list[tuple[str, I64, F64]], structure: str
 ) -> None: ...
 def write_mesh(path: str, vertices: F64, faces: I64, values: list[tuple[str, list[float]]], space: Optional[str]) -> None: ...
 def read_vertex_values(path: str) -> list[float]: ...

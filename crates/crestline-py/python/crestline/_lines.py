@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, Dict, Iterable, Iterator, List, Optional,
 import numpy as np
 import numpy.typing as npt
 
-from ._checks import file_path, mesh_arrays
+from ._checks import file_path
 
 if TYPE_CHECKING:
     from ._view import View
@@ -130,7 +130,9 @@ class Lines(Sequence[Line]):
         temporary name and renamed."""
         from . import _crestline
 
-        v, f = mesh_arrays(vertices, faces)
+        from ._built import built_mesh
+
+        mesh = built_mesh(vertices, faces)
         located = []
         for i, line in enumerate(self._lines):
             if line.location_vertices is None or line.location_weights is None:
@@ -142,7 +144,7 @@ class Lines(Sequence[Line]):
                     np.ascontiguousarray(line.location_weights, dtype=np.float64).reshape(-1, 3),
                 )
             )
-        _crestline.write_line_labels(file_path(path), v, f, located, structure)
+        _crestline.write_line_labels(file_path(path), mesh._built, located, structure)
 
     def show(
         self,

@@ -11,6 +11,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _crestline
+from ._built import built_mesh
 from ._checks import (
     Faces,
     Vertices,
@@ -146,11 +147,11 @@ def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: O
     Raises ``ValueError`` naming the argument for bad arrays, and for a mesh that
     needs repairs which renumber its vertices (use :func:`read_mesh`).
     """
-    v, f = mesh_arrays(vertices, faces)
+    mesh = built_mesh(vertices, faces)
     if callable(estimator):
-        return _custom_field(estimator, v, f)
+        return _custom_field(estimator, mesh.vertices, mesh.faces)
     given = options(estimator=None if estimator is None else estimator_name(estimator))
-    result: Curvature = _crestline.curvature(v, f, given)
+    result: Curvature = _crestline.curvature(mesh._built, given)
     return result
 
 
@@ -191,7 +192,7 @@ def ridges(
     and the surface location of every point. ``progress`` (see ``Progress``) is
     told of each stage.
     """
-    v, f = mesh_arrays(vertices, faces)
+    mesh = built_mesh(vertices, faces)
     given = options(
         estimator=None if estimator is None or callable(estimator) else estimator_name(estimator),
         smooth_steps=None if smooth_steps is None else count(smooth_steps, "smooth_steps", 0, 1000),
@@ -203,9 +204,9 @@ def ridges(
         fair=None if fair is None else bool(fair),
         all_extrema=None if all_extrema is None else bool(all_extrema),
     )
-    weights = None if smoothing_weights is None else per_vertex(smoothing_weights, "smoothing_weights", len(v))
-    field = _custom_field(estimator, v, f) if callable(estimator) else None
-    dicts = _crestline.ridges(v, f, given, weights, field, callback(progress, "progress"))
+    weights = None if smoothing_weights is None else per_vertex(smoothing_weights, "smoothing_weights", len(mesh.vertices))
+    field = _custom_field(estimator, mesh.vertices, mesh.faces) if callable(estimator) else None
+    dicts = _crestline.ridges(mesh._built, given, weights, field, callback(progress, "progress"))
     return Lines._from_dicts(dicts)
 
 
@@ -239,10 +240,10 @@ def morse(
     the indicator at each point in ``values["indicator"]``. ``progress`` (see
     ``Progress``) is told of each stage.
     """
-    v, f = mesh_arrays(vertices, faces)
+    mesh = built_mesh(vertices, faces)
     values = None
     if indicator is not None and not isinstance(indicator, str):
-        values, indicator = per_vertex(indicator, "indicator", len(v)), None
+        values, indicator = per_vertex(indicator, "indicator", len(mesh.vertices)), None
     given = options(
         indicator=choice(indicator, "indicator", "indicator"),
         estimator=None if estimator is None or callable(estimator) else estimator_name(estimator),
@@ -253,8 +254,8 @@ def morse(
         keep_forced=None if keep_forced is None else bool(keep_forced),
         smooth=None if smooth is None else count(smooth, "smooth", 0),
     )
-    field = _custom_field(estimator, v, f) if callable(estimator) else None
-    dicts = _crestline.morse(v, f, given, values, field, callback(progress, "progress"))
+    field = _custom_field(estimator, mesh.vertices, mesh.faces) if callable(estimator) else None
+    dicts = _crestline.morse(mesh._built, given, values, field, callback(progress, "progress"))
     return Lines._from_dicts(dicts)
 
 
@@ -312,7 +313,7 @@ def draw(
 
     Returns the SVG document, or ``(svg, png_bytes)`` with ``png=True``.
     """
-    v, f = mesh_arrays(vertices, faces)
+    mesh = built_mesh(vertices, faces)
     given_lines = None
     if isinstance(lines, Lines):
         given_lines, lines = lines._parts(), None
@@ -331,5 +332,5 @@ def draw(
         silhouettes=None if silhouettes is None else bool(silhouettes),
         **more,
     )
-    svg, image = _crestline.draw(v, f, given_lines, options(**chosen), bool(png), progress)
+    svg, image = _crestline.draw(mesh._built, given_lines, options(**chosen), bool(png), progress)
     return (svg, image) if png else svg

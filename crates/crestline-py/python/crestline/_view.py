@@ -10,7 +10,8 @@ from typing import Any, Optional, Union
 import numpy.typing as npt
 
 from . import _crestline
-from ._checks import callback, file_path, mesh_arrays
+from ._built import built_mesh
+from ._checks import callback, file_path
 from ._jobs import options
 from ._lines import Lines
 
@@ -49,10 +50,10 @@ def view(
     command-line tool's ``view`` makes it. Keyword arguments ``ridges`` and
     ``morse`` (dicts of the options of :func:`ridges` and :func:`morse`) and
     ``progress``."""
-    v, f = mesh_arrays(vertices, faces)
+    mesh = built_mesh(vertices, faces)
     given = None
     if isinstance(lines, Lines):
         given, lines = lines._parts(), None
     progress = callback(more.pop("progress", None), "progress")
-    page = _crestline.view(v, f, given, options(lines=lines, **more), str(title), progress)
+    page = _crestline.view(mesh._built, given, options(lines=lines, **more), str(title), progress)
     return View(page)

@@ -18,7 +18,8 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _crestline
-from ._checks import Faces, Vertices, callback, count, estimator_name, file_path, mesh_arrays, number, numeric, points
+from ._built import built_mesh
+from ._checks import Faces, Vertices, callback, count, estimator_name, file_path, number, numeric, points
 from ._jobs import NAMES, documented, options
 from ._lines import Lines, _frame
 from ._mesh import Progress
@@ -382,12 +383,12 @@ def landmarks(
     else:
         if sigma is not None or min_length is not None:
             raise ValueError("sigma, min_length: for an image (with level), not for a mesh")
-        v, f = mesh_arrays(source, faces)
+        mesh = built_mesh(source, faces)
         tracing = options(
             estimator=None if estimator is None else estimator_name(estimator),
             threshold=None if threshold is None else number(threshold, "threshold"),
         )
-        found = _crestline.mesh_landmarks(v, f, tracing, marks, None, progress)
+        found = _crestline.mesh_landmarks(mesh._built, tracing, marks, None, progress)
         space = None
     return {**_landmark_arrays(json.loads(found)), "space": space}
 

@@ -57,7 +57,7 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 
-from . import _crestline
+from ._built import Mesh
 from ._jobs import DEFAULTS
 from ._lines import Lines
 from ._mesh import curvature, read_mesh, ridges, write_mesh
@@ -153,10 +153,10 @@ def _image_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
 
 def _mesh_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     """Ridges and valleys of a mesh and its mean edge length."""
-    vertices, faces, _ = read_mesh(path)
+    mesh = Mesh(*read_mesh(path)[:2])
     keys = set(DEFAULTS["ridges"])
-    found = ridges(vertices, faces, **{k: v for k, v in options.items() if k in keys})
-    return found, _crestline.mean_edge_length(vertices, faces)
+    found = ridges(mesh, **{k: v for k, v in options.items() if k in keys})
+    return found, mesh.mean_edge_length()
 
 
 def _save_lines(lines: Lines, folder: Path) -> Tuple[Dict[str, int], List[str]]:
