@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use crestline::curvature::DerivativeOrder;
 use crestline::curvature::{write_curvature_ply, Estimator};
 use crestline::io::{soup_format, write_soup_of_structure, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
@@ -71,7 +72,12 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     let options = args.options();
     let surface = load_surface(
         &args.volume,
-        (StrictArg::default(), &args.surface, options),
+        (
+            StrictArg::default(),
+            &args.surface,
+            options,
+            with_curvature.then_some(DerivativeOrder::Second),
+        ),
         &[],
         &mut report,
     )?

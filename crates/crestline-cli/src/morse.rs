@@ -19,6 +19,7 @@ use super::plot::write_hierarchy_png;
 use super::structure::StructureArg;
 use super::surface::{load_surface, VolumeArgs};
 use super::ReportArg;
+use crestline::curvature::DerivativeOrder;
 use crestline::jobs::{morse, IsoOptions, MorseOptions, Surface};
 
 /// Options of the Morse-Smale extractor, shared by every command that uses it.
@@ -181,7 +182,12 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     };
     let loaded = load_surface(
         &args.mesh,
-        (args.strict, &args.volume, iso),
+        (
+            args.strict,
+            &args.volume,
+            iso,
+            Some(DerivativeOrder::Second),
+        ),
         &indicator_file,
         &mut report,
     )?;

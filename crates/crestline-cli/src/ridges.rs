@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::report::Report;
+use crestline::curvature::DerivativeOrder;
 use crestline::curvature::Estimator;
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
 use crestline::lines::{write_on_surface, FeatureLines, SURFACE_FORMATS};
@@ -151,7 +152,12 @@ pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> 
         .collect();
     load_surface(
         path,
-        (args.strict, &args.volume, args.iso_options()),
+        (
+            args.strict,
+            &args.volume,
+            args.iso_options(),
+            Some(DerivativeOrder::Third),
+        ),
         &extra,
         report,
     )

@@ -5,6 +5,7 @@ use std::borrow::Cow;
 use std::path::Path;
 
 use crate::report::Report;
+use crestline::curvature::DerivativeOrder;
 use crestline::io::{is_volume_path, read_volume_with, VolumeReadOptions};
 use crestline::jobs::{self, CurvatureSource, IsoOptions, Length, Surface};
 use crestline::volume::Volume;
@@ -75,10 +76,11 @@ pub struct Loaded {
 
 /// The surface in `path`: a mesh file (with per-vertex `scalars` read from text
 /// files, repairs warned about), or the isosurface of a 3D image as `volume` says
-/// (`iso` choosing the mesh estimator for `--curvature mesh`).
+/// (`iso` choosing the mesh estimator for `--curvature mesh`; `needs` the image's
+/// derivatives the command uses, [`jobs::isosurface`]).
 pub fn load_surface(
     path: &Path,
-    (strict, volume, iso): (StrictArg, &VolumeArgs, IsoOptions),
+    (strict, volume, iso, needs): (StrictArg, &VolumeArgs, IsoOptions, Option<DerivativeOrder>),
     scalars: &[(&str, &Path)],
     report: &mut Report,
 ) -> Result<Loaded> {
@@ -91,7 +93,8 @@ pub fn load_surface(
         }
         let level = required_level(path, volume)?;
         let image = read_image(path, &volume.series, report)?;
-        let surface = jobs::isosurface(&image, level, &iso, report).map_err(|e| naming(e, path))?;
+        let surface =
+            jobs::isosurface(&image, level, &iso, needs, report).map_err(|e| naming(e, path))?;
         if let Some(from) = surface.image {
             report.section("sigma", from.sigma);
             report.section("level", from.level);

@@ -162,7 +162,8 @@ fn iso_equals_the_job() {
             "iso.ply",
             &[&["iso", MNI, "--level", &level][..], &args].concat(),
         );
-        let surface = jobs::isosurface(&volume, LEVEL, &options, &mut Silent).unwrap();
+        let curvature = Some(crestline::curvature::DerivativeOrder::Second);
+        let surface = jobs::isosurface(&volume, LEVEL, &options, curvature, &mut Silent).unwrap();
         let written = read_mesh(&file).unwrap();
         let mesh = &surface.mesh;
         assert_same_surface(&written, mesh.positions(), &mesh.triangles());

@@ -119,7 +119,7 @@ fn isosurface<'py>(
     let volume = volume_of(&samples, &affine)?;
     let options: jobs::IsoOptions = job_options("iso", options)?;
     let mut observer = Callback::new(progress);
-    let surface = py.detach(|| jobs::isosurface(&volume, level, &options, &mut observer));
+    let surface = py.detach(|| jobs::isosurface(&volume, level, &options, None, &mut observer));
     let mesh = observer.outcome(surface)?.mesh;
     let vertices = rows(py, mesh.positions().iter().map(|p| [p.x, p.y, p.z]));
     Ok((vertices, crate::arrays::faces(py, &mesh)))

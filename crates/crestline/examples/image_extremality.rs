@@ -18,7 +18,7 @@
 
 use std::sync::Arc;
 
-use crestline::curvature::WithoutExtremality;
+use crestline::curvature::{DerivativeOrder, WithoutExtremality};
 use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
 use crestline::lines::LineKind;
 use crestline::progress::Silent;
@@ -124,7 +124,8 @@ fn main() {
             sigma: sigma.into(),
             ..IsoOptions::default()
         };
-        let surface = isosurface(&volume, -1.0, &iso, &mut Silent).unwrap();
+        let third = Some(DerivativeOrder::Third);
+        let surface = isosurface(&volume, -1.0, &iso, third, &mut Silent).unwrap();
         let image = surface.curvature.clone().expect("the image's curvature");
         // Not marked as an image's isosurface: the defaults are the discrete
         // extremalities' (the shape operator's).

@@ -260,6 +260,7 @@ fn sphere_field_curvature_is_one_over_the_radius_at_every_vertex() {
 
 #[test]
 fn curvature_kept_at_some_points_equals_the_whole_grids_there_and_is_none_elsewhere() {
+    use crestline::curvature::DerivativeOrder::Third;
     use crestline::curvature::ImageCurvature;
     let flips = Matrix3::new(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0);
     let volume = sampled::field(41, [0.8, 1.0, 1.3], flips, |p| {
@@ -268,7 +269,7 @@ fn curvature_kept_at_some_points_equals_the_whole_grids_there_and_is_none_elsewh
     let (iso, _) = crestline::curvature::image_isosurface(&volume, 0.0, 1.5).unwrap();
     let mesh = iso.to_mesh().unwrap();
     let whole = ImageCurvature::new(&volume, 1.5).unwrap();
-    let some = ImageCurvature::at_points(&volume, 1.5, mesh.positions()).unwrap();
+    let some = ImageCurvature::at_points(&volume, 1.5, mesh.positions(), Third).unwrap();
     assert!(some.smoothed().is_none() && whole.smoothed().is_some());
     assert!(some.surface_volume(&volume).is_err());
     for p in mesh.positions() {
@@ -280,9 +281,9 @@ fn curvature_kept_at_some_points_equals_the_whole_grids_there_and_is_none_elsewh
     assert!(whole.derivatives_at(&centre).is_some());
     assert!(some.derivatives_at(&centre).is_none());
     // The spline keeps its samples whole.
-    let spline = ImageCurvature::at_points(&volume, 0.0, &[centre]).unwrap();
+    let spline = ImageCurvature::at_points(&volume, 0.0, &[centre], Third).unwrap();
     assert!(spline.derivatives_at(&centre).is_some());
-    assert!(ImageCurvature::at_points(&volume, -1.0, &[centre]).is_err());
+    assert!(ImageCurvature::at_points(&volume, -1.0, &[centre], Third).is_err());
 }
 
 #[test]
@@ -426,7 +427,7 @@ fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
 mod image_ridges {
     use std::sync::Arc;
 
-    use crestline::curvature::WithoutExtremality;
+    use crestline::curvature::{DerivativeOrder, WithoutExtremality};
     use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
     use crestline::lines::LineKind;
     use crestline::progress::Silent;
@@ -490,7 +491,16 @@ mod image_ridges {
 
     #[test]
     fn the_images_extremalities_put_the_ridge_closer_than_discrete_differences() {
-        let surface = isosurface(&ellipsoid(), -1.0, &IsoOptions::default(), &mut Silent).unwrap();
+        let third = Some(DerivativeOrder::Third);
+        let surface = isosurface(
+            &ellipsoid(),
+            -1.0,
+            &IsoOptions::default(),
+            third,
+            &mut Silent,
+        )
+        .unwrap();
+        assert!(surface.has_image_extremalities());
         let image = surface.curvature.clone().expect("the image's curvature");
         // The same surface and curvature as a mesh with given curvature: the
         // discrete extremalities, with their default smoothing.
@@ -513,6 +523,39 @@ mod image_ridges {
             "{by_image} against {by_differences}"
         );
         assert!(unsmoothed <= 0.01, "{unsmoothed} voxel unsmoothed");
+    }
+
+    /// A job that needs the curvature alone gets the same curvature from the first
+    /// and second derivatives, without extremalities; one that needs neither gets
+    /// the surface alone.
+    #[test]
+    fn the_isosurface_computes_only_the_derivatives_its_job_needs() {
+        let volume = ellipsoid();
+        let options = IsoOptions::default();
+        let full = isosurface(
+            &volume,
+            -1.0,
+            &options,
+            Some(DerivativeOrder::Third),
+            &mut Silent,
+        )
+        .unwrap();
+        let second = isosurface(
+            &volume,
+            -1.0,
+            &options,
+            Some(DerivativeOrder::Second),
+            &mut Silent,
+        )
+        .unwrap();
+        assert!(!second.has_image_extremalities());
+        let estimate = |s: &Surface| s.curvature.as_ref().unwrap().estimate(&s.mesh).unwrap();
+        let (a, b) = (estimate(&full), estimate(&second));
+        assert!(a.extremality.is_some() && b.extremality.is_none());
+        assert_eq!((a.k_max, a.d_max, a.normal), (b.k_max, b.d_max, b.normal));
+        let bare = isosurface(&volume, -1.0, &options, None, &mut Silent).unwrap();
+        assert!(bare.curvature.is_none() && !bare.has_image_extremalities());
+        assert_eq!(bare.mesh.positions(), full.mesh.positions());
     }
 }
 

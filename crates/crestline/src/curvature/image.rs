@@ -37,6 +37,19 @@ const FIRST_TO_THIRD: std::ops::Range<usize> = 1..20;
 /// How many partials [`FIRST_TO_THIRD`] holds.
 const PARTIALS: usize = FIRST_TO_THIRD.end - FIRST_TO_THIRD.start;
 
+/// How many of them are of order 1 and 2 (they come first).
+const FIRST_AND_SECOND: usize = 9;
+
+/// The highest order of the image's derivatives an [`ImageCurvature`] made for
+/// some points keeps ([`ImageCurvature::at_points`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DerivativeOrder {
+    /// First and second derivatives: the curvature (9 partials per grid point).
+    Second,
+    /// Up to the third: the curvature and its extremalities (19 partials).
+    Third,
+}
+
 /// Image-based curvature: a [`CurvatureEstimator`] that gives every vertex of a
 /// surface in the image's world the curvature of the isosurface of the image
 /// through that vertex. For an isosurface mesh this is the curvature of the
@@ -70,8 +83,30 @@ enum GridPartials {
     Some {
         dims: [usize; 3],
         voxels: VoxelSet,
-        values: Vec<[f32; PARTIALS]>,
+        values: HeldPartials,
     },
+}
+
+/// The partials held at some grid points: all of [`FIRST_TO_THIRD`], or those of
+/// order 1 and 2 only.
+#[derive(Clone, Debug)]
+enum HeldPartials {
+    Second(Vec<[f32; FIRST_AND_SECOND]>),
+    Third(Vec<[f32; PARTIALS]>),
+}
+
+impl HeldPartials {
+    /// The partials of point number `k`, those of third order zero if not held.
+    fn get(&self, k: usize) -> [f32; PARTIALS] {
+        match self {
+            HeldPartials::Second(values) => {
+                let mut all = [0.0; PARTIALS];
+                all[..FIRST_AND_SECOND].copy_from_slice(&values[k]);
+                all
+            }
+            HeldPartials::Third(values) => values[k],
+        }
+    }
 }
 
 impl GridPartials {
@@ -93,7 +128,7 @@ impl GridPartials {
                 }
                 Some(values)
             }
-            GridPartials::Some { voxels, values, .. } => Some(values[voxels.number(at)?]),
+            GridPartials::Some { voxels, values, .. } => Some(values.get(voxels.number(at)?)),
         }
     }
 }
@@ -130,10 +165,18 @@ impl ImageCurvature {
     /// hold the points (elsewhere the curvature is `None`, as outside the grid),
     /// computed a few z slices at a time, so that
     /// memory grows with the points rather than with the image. At the points, the
-    /// same values as [`ImageCurvature::new`]'s.
+    /// same values as [`ImageCurvature::new`]'s. With `order`
+    /// [`DerivativeOrder::Second`] only the first and second derivatives are
+    /// computed and kept: the curvature, without extremalities
+    /// ([`gives_extremalities`](Self::gives_extremalities) is false).
     ///
     /// Errors as [`ImageCurvature::new`].
-    pub fn at_points(volume: &Volume, sigma: f64, points: &[Point]) -> Result<ImageCurvature> {
+    pub fn at_points(
+        volume: &Volume,
+        sigma: f64,
+        points: &[Point],
+        order: DerivativeOrder,
+    ) -> Result<ImageCurvature> {
         ImageCurvature::check_sigma(sigma)?;
         if sigma == 0.0 {
             return Ok(ImageCurvature::spline(volume));
@@ -148,11 +191,10 @@ impl ImageCurvature {
             }
         }
         let voxels = voxels.build();
-        let partials = &Partial::ALL[FIRST_TO_THIRD];
-        let values = Derivatives::at_voxels(volume, sigma, partials, &voxels, |d, index| {
-            let values = d.components::<PARTIALS>(FIRST_TO_THIRD.start, index);
-            values.map_or([f32::NAN; PARTIALS], |v| v.map(|x| x as f32))
-        })?;
+        let values = match order {
+            DerivativeOrder::Second => HeldPartials::Second(partials_at(volume, sigma, &voxels)?),
+            DerivativeOrder::Third => HeldPartials::Third(partials_at(volume, sigma, &voxels)?),
+        };
         Ok(ImageCurvature {
             reconstruction: Reconstruction::Gaussian {
                 partials: GridPartials::Some {
@@ -260,7 +302,16 @@ impl ImageCurvature {
     /// template, `--sigma 0`: 9,168 lines against 1,802 from differences of its
     /// curvature), so the ridge tracer differentiates the curvature instead.
     pub fn gives_extremalities(&self) -> bool {
-        matches!(self.reconstruction, Reconstruction::Gaussian { .. })
+        match &self.reconstruction {
+            Reconstruction::Gaussian { partials, .. } => !matches!(
+                partials,
+                GridPartials::Some {
+                    values: HeldPartials::Second(_),
+                    ..
+                }
+            ),
+            Reconstruction::Spline(_) => false,
+        }
     }
 
     /// Principal curvatures, the outward normal n = −∇f/|∇f| and the
@@ -317,6 +368,21 @@ pub fn image_isosurface(
     let curvature = ImageCurvature::new(volume, sigma)?;
     let surface = isosurface(&*curvature.surface_volume(volume)?, level)?;
     Ok((surface, curvature))
+}
+
+/// The first `N` partials of [`FIRST_TO_THIRD`] of `volume` smoothed by `sigma`
+/// at the members of `voxels`, in their numbering, as `f32` (NaN where not
+/// defined).
+fn partials_at<const N: usize>(
+    volume: &Volume,
+    sigma: f64,
+    voxels: &VoxelSet,
+) -> Result<Vec<[f32; N]>> {
+    let partials = &Partial::ALL[FIRST_TO_THIRD.start..FIRST_TO_THIRD.start + N];
+    Derivatives::at_voxels(volume, sigma, partials, voxels, |d, index| {
+        let values = d.components::<N>(FIRST_TO_THIRD.start, index);
+        values.map_or([f32::NAN; N], |v| v.map(|x| x as f32))
+    })
 }
 
 /// The partials of order 1 to 3 at the fractional index `index`, interpolated

@@ -31,7 +31,7 @@ pub use accuracy::relative_rms_error;
 pub use auto::{AutoEstimator, CLEAN_FIT_RESIDUAL};
 pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature, WithoutExtremality};
-pub use image::{image_isosurface, ImageCurvature};
+pub use image::{image_isosurface, DerivativeOrder, ImageCurvature};
 pub use jet::JetFit;
 pub use output::{estimate_curvature, write_curvature_ply, write_curvature_ply_with_quality};
 pub use per_vertex::{

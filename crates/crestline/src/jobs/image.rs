@@ -6,7 +6,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::Length;
-use crate::curvature::{CurvatureEstimator, Estimator, ImageCurvature};
+use crate::curvature::{CurvatureEstimator, DerivativeOrder, Estimator, ImageCurvature};
 use crate::error::readable;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
@@ -118,6 +118,9 @@ pub struct FromImage {
     pub voxel: f64,
     /// The Gaussian σ the image was smoothed by (0: the B-spline).
     pub sigma: f64,
+    /// Whether the surface's curvature gives the image's extremalities
+    /// ([`ImageCurvature::gives_extremalities`]).
+    pub extremalities: bool,
 }
 
 impl Surface {
@@ -140,7 +143,7 @@ impl Surface {
     /// extremalities ([`ImageCurvature::gives_extremalities`]: smoothed by a
     /// Gaussian, σ > 0), rather than one a mesh estimator finds.
     pub fn has_image_extremalities(&self) -> bool {
-        self.curvature.is_some() && self.image.is_some_and(|image| image.sigma > 0.0)
+        self.curvature.is_some() && self.image.is_some_and(|image| image.extremalities)
     }
 
     /// The unit of the relative [`Length`]s on this surface: one voxel for an
@@ -217,11 +220,15 @@ fn check_level(
 /// `derivatives`, and the counts `vertices` and `faces`. Non-finite samples are
 /// replaced first ([`prepared_image`]). The smoothed image is dropped once the
 /// surface is extracted, and the image's derivatives are kept only around the
-/// vertices ([`ImageCurvature::at_points`]).
+/// vertices ([`ImageCurvature::at_points`]), up to the order `needs` (the job's
+/// that uses the surface: [`DerivativeOrder::Third`] for ridges, which take the
+/// image's extremalities); `None` computes none, for a caller that takes the
+/// mesh alone (the surface then has no curvature of its own).
 pub fn isosurface(
     volume: &Volume,
     level: f64,
     options: &IsoOptions,
+    needs: Option<DerivativeOrder>,
     observer: &mut dyn Observer,
 ) -> Result<Surface> {
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
@@ -243,12 +250,17 @@ pub fn isosurface(
     let mesh = try_stage(observer, "mesh", || surface.to_mesh())?;
     observer.count("vertices", mesh.vertex_count());
     observer.count("faces", mesh.face_count());
-    let curvature: Option<Arc<dyn CurvatureEstimator + Send + Sync>> = match options.curvature {
-        CurvatureSource::Image => Some(Arc::new(try_stage(observer, "derivatives", || {
-            ImageCurvature::at_points(&volume, sigma, mesh.positions())
-        })?)),
-        CurvatureSource::Mesh => None,
+    let image_curvature = match (options.curvature, needs) {
+        (CurvatureSource::Image, Some(order)) => Some(try_stage(observer, "derivatives", || {
+            ImageCurvature::at_points(&volume, sigma, mesh.positions(), order)
+        })?),
+        _ => None,
     };
+    let extremalities = image_curvature
+        .as_ref()
+        .is_some_and(ImageCurvature::gives_extremalities);
+    let curvature = image_curvature
+        .map(|curvature| Arc::new(curvature) as Arc<dyn CurvatureEstimator + Send + Sync>);
     Ok(Surface {
         mesh,
         curvature,
@@ -256,6 +268,7 @@ pub fn isosurface(
             level,
             voxel,
             sigma,
+            extremalities,
         }),
     })
 }
