@@ -25,6 +25,7 @@ mod build;
 pub mod generate;
 pub(crate) mod geometry;
 mod ids;
+pub(crate) mod morton;
 mod soup;
 mod topology;
 
