@@ -48,10 +48,10 @@ const CHUNK: usize = 8192;
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
 /// conjugate gradient method. On two cores the factorization is the faster on
 /// every mesh measured (both fields, 3 steps; `examples/bench_smoothing.rs`):
-/// smoothing stage 0.5 s against 5.5 s on the Stanford dragon (435k vertices),
-/// 5.8 s against 39 s on the dragon ×4 (1.7M), plus its symbolic analysis (0.5
-/// and 2.6 s), because a V-cycle moves about as many bytes as a solve with the
-/// factor and the iteration takes 25–40 of them. But the factor's fill grows
+/// smoothing stage 0.6 s against 6.0 s on the Stanford dragon (435k vertices),
+/// 3.5 s against 25.5 s on the dragon ×4 (1.7M), plus its symbolic analysis
+/// (0.5 and 2.6 s), because a V-cycle moves more bytes than a solve with the
+/// factor and the iteration takes about 18 (dragon) to 22 (×4) of them. But the factor's fill grows
 /// faster than the mesh: the dragon ×16 (7M vertices) needed 17.7 GB for ridges
 /// with the factorization, and the dragon ×64 would not fit in 24 GiB, while the
 /// multigrid hierarchy takes about twice the matrix. From 2M unknowns on, memory

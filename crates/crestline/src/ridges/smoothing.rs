@@ -39,7 +39,7 @@ fn bounded_masses(mesh: &Mesh, time: f64) -> Vec<f64> {
 /// residual of 10⁻⁸, looser than the default (10⁻¹⁰, which the surface smoothing
 /// keeps: its errors move vertices, and the curvature amplifies them). The lines
 /// traced then stay within 8 · 10⁻⁹ of the bounding box diagonal of the
-/// factorization's on the Stanford dragon and 1.4 · 10⁻⁵ on the dragon ×4 (same
+/// factorization's on the Stanford dragon and 1.4 · 10⁻⁶ on the dragon ×4 (same
 /// lines; `examples/bench_smoothing.rs`), for a quarter less time.
 const EXTREMALITY_SETTINGS: CgSettings = CgSettings {
     tolerance: 1e-8,
@@ -67,8 +67,9 @@ const SHORT_TIME: f64 = 0.5;
 /// iteration) in the Morton order of their positions ([`morton_order`]): each
 /// step of the iteration then reads its vectors mostly from nearby memory, which
 /// on a refined scan whose neighbours lie far apart in the vertex list makes the
-/// smoothing about a quarter faster (dragon ×4, `examples/bench_smoothing.rs`:
-/// 41 s in the mesh's order, 29 s in Morton order). The interface speaks of
+/// smoothing about a quarter faster (dragon ×4, `examples/bench_smoothing.rs`,
+/// with one sweep per side of the V-cycle: 41 s in the mesh's order, 29 s in
+/// Morton order). The interface speaks of
 /// vertices either way; [`to_unknowns`](Self::to_unknowns) and
 /// [`to_vertices`](Self::to_vertices) reorder vectors.
 #[derive(Clone, Debug)]
