@@ -77,32 +77,53 @@ fn closest_admissible(
     floor: f64,
 ) -> Option<(SurfaceLocation, Point)> {
     let mut best: Option<(f64, SurfaceLocation, Point)> = None;
-    let (centre, own_face) = nearest_vertex(mesh, at);
-    for face in mesh.vertex_faces(centre).chain(own_face) {
-        let corners = mesh.face_vertices(face);
-        let values = corners.map(|v| field[v.idx()]);
-        // No point of a face whose corners all lie below the floor is admissible.
-        if values.iter().all(|&value| value < floor) {
-            continue;
+    let (centre, mut own_face) = nearest_vertex(mesh, at);
+    for face in mesh.vertex_faces(centre) {
+        // The face `at` lies in is one of the star's, looked at once.
+        if own_face == Some(face) {
+            own_face = None;
         }
-        let points = corners.map(|v| mesh.position(v));
-        let barycentric = closest_on_triangle(target, &points);
-        // NaN values are never admissible.
-        let value: f64 = (0..3).map(|k| barycentric[k] * values[k]).sum();
-        if value.is_nan() || value < floor {
-            continue;
-        }
-        let position: Vector = (0..3).map(|k| points[k].coords * barycentric[k]).sum();
-        let distance = (position - target.coords).norm_squared();
-        if best.as_ref().is_none_or(|(d, ..)| distance < *d) {
-            let location = SurfaceLocation::Face {
-                face: face.0,
-                barycentric,
-            };
-            best = Some((distance, location, Point::from(position)));
-        }
+        closer_admissible(mesh, face, target, field, floor, &mut best);
+    }
+    if let Some(face) = own_face {
+        closer_admissible(mesh, face, target, field, floor, &mut best);
     }
     best.map(|(_, location, position)| (location, position))
+}
+
+/// The point of `face` closest to `target` as `best` (with its squared distance
+/// and location) if `field` is at least `floor` there and it is closer than
+/// `best`.
+fn closer_admissible(
+    mesh: &Mesh,
+    face: FaceId,
+    target: &Point,
+    field: &[f64],
+    floor: f64,
+    best: &mut Option<(f64, SurfaceLocation, Point)>,
+) {
+    let corners = mesh.face_vertices(face);
+    let values = corners.map(|v| field[v.idx()]);
+    // No point of a face whose corners all lie below the floor is admissible.
+    if values.iter().all(|&value| value < floor) {
+        return;
+    }
+    let points = corners.map(|v| mesh.position(v));
+    let barycentric = closest_on_triangle(target, &points);
+    // NaN values are never admissible.
+    let value: f64 = (0..3).map(|k| barycentric[k] * values[k]).sum();
+    if value.is_nan() || value < floor {
+        return;
+    }
+    let position: Vector = (0..3).map(|k| points[k].coords * barycentric[k]).sum();
+    let distance = (position - target.coords).norm_squared();
+    if best.as_ref().is_none_or(|(d, ..)| distance < *d) {
+        let location = SurfaceLocation::Face {
+            face: face.0,
+            barycentric,
+        };
+        *best = Some((distance, location, Point::from(position)));
+    }
 }
 
 /// The vertex with the largest weight at `at`, and the face `at` lies in (if it
