@@ -169,6 +169,16 @@ def test_a_built_mesh_holds_read_only_copies_of_its_arrays(bunny):
     assert np.array_equal(other, crestline.curvature(vertices, faces)["k_max"])
 
 
+def test_a_built_mesh_pickles_as_its_arrays(bunny):
+    import pickle
+
+    mesh = crestline.Mesh(*bunny)
+    again = pickle.loads(pickle.dumps(mesh))
+    assert np.array_equal(again.vertices, mesh.vertices) and np.array_equal(again.faces, mesh.faces)
+    assert again.mean_edge_length() == mesh.mean_edge_length()
+    assert np.array_equal(crestline.curvature(again)["k_max"], crestline.curvature(mesh)["k_max"])
+
+
 def test_a_mesh_that_needs_renumbering_is_refused_when_built(bunny):
     vertices, faces = bunny
     doubled = np.vstack([vertices, vertices[:1]])  # an unreferenced vertex is dropped

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any, Optional, Tuple
 
 import numpy.typing as npt
 
@@ -48,6 +48,11 @@ class Mesh:
         """The mean length of the mesh's edges, each counted once: the length unit
         of the options documented "in mean edge lengths"."""
         return float(self._built.mean_edge_length())
+
+    def __reduce__(self) -> Tuple[Any, Tuple[Vertices, Faces]]:
+        # Pickled as its arrays (for multiprocessing and Dask), built again when
+        # unpickled.
+        return (Mesh, (self._vertices, self._faces))
 
     def __repr__(self) -> str:
         return f"crestline.Mesh({len(self._vertices)} vertices, {len(self._faces)} faces)"
