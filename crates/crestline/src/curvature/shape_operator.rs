@@ -16,8 +16,9 @@ use super::{CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 /// are the principal curvatures and directions. Boundary edges contribute nothing
 /// and boundary vertices are flagged unreliable.
 ///
-/// Cost: one parallel pass over the faces and one over the vertices, each edge
-/// evaluated from both of its ends (cheaper than storing per-edge operators).
+/// Cost: one parallel pass over the faces (their area vectors and unit normals)
+/// and one over the vertices, each edge evaluated from both of its ends (cheaper
+/// than storing per-edge operators).
 ///
 /// Robustness: the operator is computed in the unit frame ([`Mesh::in_unit_frame`])
 /// and the curvatures scaled back, so any coordinate scale works; non-finite and
@@ -44,6 +45,7 @@ impl CurvatureEstimator for ShapeOperator {
 /// The field of a mesh in the unit frame, before repairs.
 fn estimate_unit(mesh: &Mesh) -> CurvatureField {
     let area_vectors: Vec<Vector> = mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
+    let normals: Vec<Vector> = area_vectors.par_iter().map(Vector::normalize).collect();
     CurvatureField::from_fn(mesh.vertex_count(), |v| {
         let mut area_vector = Vector::zeros();
         for h in mesh.outgoing(v) {
@@ -57,7 +59,7 @@ fn estimate_unit(mesh: &Mesh) -> CurvatureField {
         let mut operator = nalgebra::Matrix3::zeros();
         for h in mesh.outgoing(v) {
             // Each edge is evaluated from both of its ends: cheaper than storing it.
-            let e = edge_operator(mesh, mesh.edge(h), &area_vectors);
+            let e = edge_operator(mesh, mesh.edge(h), &normals);
             let weight = normal.dot(&e.normal) * e.mean_curvature;
             operator += e.across * e.across.transpose() * weight;
         }
@@ -68,9 +70,8 @@ fn estimate_unit(mesh: &Mesh) -> CurvatureField {
     })
 }
 
-/// S(e) of edge `e` from the area vectors (twice the area times the unit normal)
-/// of the faces.
-fn edge_operator(mesh: &Mesh, e: EdgeId, area_vectors: &[Vector]) -> EdgeOperator {
+/// S(e) of edge `e` from the unit normals of the faces.
+fn edge_operator(mesh: &Mesh, e: EdgeId, normals: &[Vector]) -> EdgeOperator {
     let h = mesh.edge_halfedge(e, 0);
     let edge = mesh.halfedge_vector(h);
     if mesh.is_boundary_edge(e) {
@@ -80,8 +81,8 @@ fn edge_operator(mesh: &Mesh, e: EdgeId, area_vectors: &[Vector]) -> EdgeOperato
             normal: Vector::zeros(),
         };
     }
-    let n1 = area_vectors[mesh.face(h).idx()].normalize();
-    let n2 = area_vectors[mesh.face(mesh.twin(h)).idx()].normalize();
+    let n1 = normals[mesh.face(h).idx()];
+    let n2 = normals[mesh.face(mesh.twin(h)).idx()];
     let length = edge.norm();
     let e_hat = edge / length;
     // 2|e| sin(φ/2) without trigonometry: sin φ = ⟨N1 × N2, ê⟩ (signed) and
