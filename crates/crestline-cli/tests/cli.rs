@@ -1311,14 +1311,19 @@ fn sigint_stops_a_long_command_promptly_without_output() {
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("crease.ply");
-    for command in [
-        vec!["crease", "volumes/mni152_t1_1mm.nii.gz"],
-        vec![
-            "crest-lines",
-            "volumes/mni152_t1_1mm.nii.gz",
-            "--level",
-            "80",
-        ],
+    // Each command with when to interrupt it: well before it ends on a fast
+    // machine (crease about 10 s, crest-lines 0.6 s on two cores).
+    for (command, delay) in [
+        (vec!["crease", "volumes/mni152_t1_1mm.nii.gz"], 700),
+        (
+            vec![
+                "crest-lines",
+                "volumes/mni152_t1_1mm.nii.gz",
+                "--level",
+                "80",
+            ],
+            250,
+        ),
     ] {
         let output = if command[0] == "crease" {
             out.clone()
@@ -1332,7 +1337,7 @@ fn sigint_stops_a_long_command_promptly_without_output() {
             .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
             .spawn()
             .unwrap();
-        std::thread::sleep(Duration::from_millis(700));
+        std::thread::sleep(Duration::from_millis(delay));
         assert!(
             child.try_wait().unwrap().is_none(),
             "{command:?} ended too soon to interrupt"
