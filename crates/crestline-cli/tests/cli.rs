@@ -1311,19 +1311,24 @@ fn sigint_stops_a_long_command_promptly_without_output() {
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("crease.ply");
-    // Each command with when to interrupt it: well before it ends on a fast
-    // machine (crease about 10 s, crest-lines 0.6 s on two cores).
+    let crest_lines = [
+        "crest-lines",
+        "volumes/mni152_t1_1mm.nii.gz",
+        "--level",
+        "80",
+    ];
+    // Crest lines take 0.6 s on two cores, less on more: they are interrupted a
+    // third of the way through a run as long as it takes here. Crease surfaces
+    // take about 10 s.
+    let measured = tempfile::tempdir().unwrap();
+    let whole_json = measured.path().join("whole.json");
+    let started = Instant::now();
+    let whole = crestline(&[&crest_lines[..], &["-o", whole_json.to_str().unwrap()]].concat());
+    assert!(whole.status.success(), "{}", stderr(&whole));
+    let third = (started.elapsed().as_millis() as u64 / 3).max(20);
     for (command, delay) in [
         (vec!["crease", "volumes/mni152_t1_1mm.nii.gz"], 700),
-        (
-            vec![
-                "crest-lines",
-                "volumes/mni152_t1_1mm.nii.gz",
-                "--level",
-                "80",
-            ],
-            250,
-        ),
+        (crest_lines.to_vec(), third),
     ] {
         let output = if command[0] == "crease" {
             out.clone()
@@ -1537,19 +1542,36 @@ fn option_errors_name_the_option_as_typed() {
 #[cfg(unix)]
 #[test]
 fn sigterm_at_any_moment_leaves_a_whole_output_or_nothing() {
-    use std::time::Duration;
+    use std::time::{Duration, Instant};
 
-    let mut interrupted = 0;
-    for delay in [300, 900, 1500, 2100, 2700, 3300] {
-        let dir = tempfile::tempdir().unwrap();
-        let output = dir.path().join("brain.vtk");
-        let mut child = Command::new(env!("CARGO_BIN_EXE_crestline"))
+    let spawn = |output: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_crestline"))
             .args(["iso", MNI, "--level", "80", "-o"])
-            .arg(&output)
+            .arg(output)
             .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
             .stderr(std::process::Stdio::null())
             .spawn()
-            .unwrap();
+            .unwrap()
+    };
+    // The signals fall across a whole run as long as it takes on this machine
+    // (0.3 s on two idle cores), and once after it; never before 100 ms, when
+    // the handlers might not be installed yet.
+    let dir = tempfile::tempdir().unwrap();
+    let started = Instant::now();
+    assert!(spawn(&dir.path().join("brain.vtk"))
+        .wait()
+        .unwrap()
+        .success());
+    let whole = started.elapsed().as_millis() as u64;
+    let delays: Vec<u64> = (1..=6)
+        .map(|k| (whole * k / 6).max(100))
+        .chain([whole * 3 / 2])
+        .collect();
+    let mut interrupted = 0;
+    for delay in delays {
+        let dir = tempfile::tempdir().unwrap();
+        let output = dir.path().join("brain.vtk");
+        let mut child = spawn(&output);
         std::thread::sleep(Duration::from_millis(delay));
         Command::new("kill")
             .args(["-TERM", &child.id().to_string()])
