@@ -88,29 +88,28 @@ struct SystemPattern {
 }
 
 impl SystemPattern {
-    /// The pattern of the mesh's systems, with the unknowns in Morton order if
-    /// `reorder`.
-    fn new(mesh: &Mesh, reorder: bool) -> SystemPattern {
+    /// The pattern of the mesh's systems as `solver` solves them: the unknowns in
+    /// Morton order if it iterates on a mesh of this size.
+    fn new(mesh: &Mesh, solver: Solver) -> SystemPattern {
         let n = mesh.vertex_count();
-        let order = reorder.then(|| morton_order(mesh.positions()));
-        // The unknown of each vertex.
-        let rank: Vec<usize> = match &order {
-            Some(order) => {
-                let mut rank = vec![0; n];
-                for (k, &v) in order.iter().enumerate() {
-                    rank[v as usize] = k;
-                }
-                rank
+        let iterates = solver.resolve(n) == Solver::Iterative;
+        let order = iterates.then(|| morton_order(mesh.positions()));
+        // The unknown of each vertex, where they are reordered.
+        let ranks: Option<Vec<u32>> = order.as_ref().map(|order| {
+            let mut ranks = vec![0; n];
+            for (k, &v) in order.iter().enumerate() {
+                ranks[v as usize] = k as u32;
             }
-            None => (0..n).collect(),
-        };
+            ranks
+        });
+        let rank = |v: u32| ranks.as_ref().map_or(v, |ranks| ranks[v as usize]) as usize;
         let ends: Vec<[u32; 2]> = (0..mesh.edge_count() as u32)
             .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.0))
             .collect();
         let mut col_ptr = vec![0; n + 1];
         for &[p, q] in &ends {
-            col_ptr[rank[p as usize] + 1] += 1;
-            col_ptr[rank[q as usize] + 1] += 1;
+            col_ptr[rank(p) + 1] += 1;
+            col_ptr[rank(q) + 1] += 1;
         }
         for k in 0..n {
             col_ptr[k + 1] += col_ptr[k] + 1;
@@ -123,7 +122,7 @@ impl SystemPattern {
             fill[k] += 1;
         }
         for (e, &[p, q]) in ends.iter().enumerate() {
-            let (p, q) = (rank[p as usize], rank[q as usize]);
+            let (p, q) = (rank(p), rank(q));
             entries[fill[p]] = (q, e);
             fill[p] += 1;
             entries[fill[q]] = (p, e);
@@ -287,9 +286,8 @@ impl ExtremalitySmoother {
             weights.map_or(1.0, |w| 0.5 * (w[p] + w[q]))
         });
         let solver = for_time_step(solver, tau);
-        let iterates = solver.resolve(mesh.vertex_count()) == Solver::Iterative;
         Ok(ExtremalitySmoother {
-            pattern: SystemPattern::new(mesh, iterates),
+            pattern: SystemPattern::new(mesh, solver),
             tau,
             vertex_weights: vertex_weights.map(<[f64]>::to_vec),
             weights,
@@ -419,9 +417,8 @@ pub fn presmooth_surface_with(mesh: &Mesh, steps: usize, solver: Solver) -> Resu
 fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
     let h = current.mean_edge_length();
     // The pattern never changes: a direct solver reuses its symbolic analysis.
+    let pattern = SystemPattern::new(&current, solver);
     let mut solver = SpdSolver::new(solver, CgSettings::default());
-    let iterates = solver.solver().resolve(current.vertex_count()) == Solver::Iterative;
-    let pattern = SystemPattern::new(&current, iterates);
     for _ in 0..steps {
         let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
         solver.set_matrix(pattern.matrix(&mass, &weights, |_, _| 1.0)?)?;
