@@ -69,6 +69,9 @@ struct Extrema {
     ids: Vec<u32>,
     /// The surviving extremum (a vertex or face id) of each set.
     survivor: Vec<u32>,
+    /// The key of each set's entry in the queue, infinite if it has none: the
+    /// only entry of the set that counts, others are outdated.
+    queued: Vec<f64>,
 }
 
 impl Extrema {
@@ -82,6 +85,7 @@ impl Extrema {
             links: vec![0; n],
             candidates: (0..n).map(|_| BinaryHeap::new()).collect(),
             survivor: ids.clone(),
+            queued: vec![f64::INFINITY; n],
             ids,
         }
     }
@@ -197,29 +201,27 @@ struct Ends {
     maxima: [u32; 2],
 }
 
-/// A queue entry: the best score of an extremum set when queued, held `copies`
-/// times. Never above the set's current best: every change that can lower it queues
-/// a new entry, and an entry whose set improved is re-queued when popped. Entries
-/// with equal keys are interchangeable, so the queue keeps them as one with a count
-/// instead of as separate elements: re-queueing would otherwise multiply the
-/// entries of sets that are touched often.
+/// A queue entry: the best score of an extremum set when queued. Never above the
+/// set's current best: every change that can lower it queues a new entry, and an
+/// entry whose set improved is re-queued when popped. A set has one entry that
+/// counts, the lowest since it was last popped ([`Extrema::queued`]): a higher
+/// score is not queued, as the set is looked at anew at its lower entry anyway,
+/// and the entries a lower one superseded are dropped when popped.
 #[derive(Clone, Copy)]
 struct Entry {
     t: f64,
     /// The set, with the kind in the top bit (minima first), so that an entry
     /// takes 16 bytes.
     slot: u32,
-    copies: u32,
 }
 
 impl Entry {
-    /// One copy of the entry of set `set` of `kind` at score `t`.
+    /// The entry of set `set` of `kind` at score `t`.
     fn new(t: f64, kind: Kind, set: u32) -> Entry {
         debug_assert!(set < 1 << 31);
         Entry {
             t,
             slot: (kind as u32) << 31 | set,
-            copies: 1,
         }
     }
 
@@ -245,8 +247,7 @@ impl PartialEq for Entry {
 impl Eq for Entry {}
 
 impl Ord for Entry {
-    /// By key (t, kind, set), smallest first (the queue is a max-heap); the count
-    /// is not part of the key.
+    /// By key (t, kind, set), smallest first (the queue is a max-heap).
     fn cmp(&self, other: &Self) -> Ordering {
         other.t.total_cmp(&self.t).then(other.slot.cmp(&self.slot))
     }
@@ -602,10 +603,28 @@ impl<'a> Hierarchy<'a> {
         })
     }
 
-    /// Queue extremum set `m` under its current best score.
+    /// Queue extremum set `m` under its current best score, unless it has an
+    /// entry at a lower one.
     fn queue_set(&mut self, kind: Kind, m: usize) {
         if let Some((t, _, _)) = self.set_best(kind, m) {
+            self.push_entry(t, kind, m);
+        }
+    }
+
+    /// Queue set `m` of `kind` at `t`, unless its entry is lower.
+    fn push_entry(&mut self, t: f64, kind: Kind, m: usize) {
+        let queued = &mut self.extrema_mut(kind).queued[m];
+        if t < *queued {
+            *queued = t;
             self.queue.push(Entry::new(t, kind, m as u32));
+        }
+    }
+
+    /// The extrema of `kind`, to change.
+    fn extrema_mut(&mut self, kind: Kind) -> &mut Extrema {
+        match kind {
+            Kind::Minimum => &mut self.minima,
+            Kind::Maximum => &mut self.maxima,
         }
     }
     /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
@@ -654,8 +673,14 @@ impl<'a> Hierarchy<'a> {
     /// smallest entry whose score is still current is the saddle of least t (eq. 9),
     /// cancelled with the extremum that attains it.
     pub fn cancel_next(&mut self) -> Option<Cancellation> {
-        while let Some(entry) = self.pop_entry() {
+        while let Some(entry) = self.queue.pop() {
             let (kind, m) = (entry.kind(), entry.set());
+            let queued = &mut self.extrema_mut(kind).queued[m];
+            if queued.to_bits() != entry.t.to_bits() {
+                // A lower entry superseded this one.
+                continue;
+            }
+            *queued = f64::INFINITY;
             let current = match kind {
                 Kind::Minimum => self.minima.find(m as u32) == m,
                 Kind::Maximum => self.maxima.find(m as u32) == m && m != self.boundary_set(),
@@ -667,31 +692,14 @@ impl<'a> Hierarchy<'a> {
                 continue;
             };
             // Lazy queue: a set whose best score grew since it was queued (its top
-            // saddle was cancelled elsewhere, a region merged) goes back in, every
-            // copy alike, as nothing changes between them.
+            // saddle was cancelled elsewhere, a region merged) goes back in.
             if t > entry.t + 1e-12 * entry.t.abs().max(1e-300) {
-                self.queue.push(Entry { t, ..entry });
+                self.push_entry(t, kind, m);
                 continue;
-            }
-            // One copy is used; the others wait in the queue as before.
-            if entry.copies > 1 {
-                self.queue.push(Entry {
-                    copies: entry.copies - 1,
-                    ..entry
-                });
             }
             return Some(self.cancel(s, partner, t));
         }
         None
-    }
-
-    /// Pop the smallest entry together with every other entry of the same key.
-    fn pop_entry(&mut self) -> Option<Entry> {
-        let mut entry = self.queue.pop()?;
-        while self.queue.peek() == Some(&entry) {
-            entry.copies += self.queue.pop().map_or(0, |e| e.copies);
-        }
-        Some(entry)
     }
 
     /// Cancel saddle `s` with `partner`: make the saddle edge part of the forest of

@@ -1,6 +1,6 @@
 //! A priority queue for the cancellation loop.
 
-/// A max-heap like [`std::collections::BinaryHeap`] (push, pop, peek), stored as a
+/// A max-heap like [`std::collections::BinaryHeap`] (push, pop), stored as a
 /// 4-ary tree: half as many levels as a binary heap, and the four children of a
 /// node side by side in memory. Popping from a large queue is bound by the memory
 /// latency of each level, so fewer levels make it faster.
@@ -14,11 +14,6 @@ impl<T: Ord + Copy> QuaternaryHeap<T> {
         QuaternaryHeap {
             items: Vec::with_capacity(capacity),
         }
-    }
-
-    /// The greatest item.
-    pub fn peek(&self) -> Option<&T> {
-        self.items.first()
     }
 
     /// Add `item`.
