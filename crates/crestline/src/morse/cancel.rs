@@ -56,36 +56,49 @@ pub struct Cancellation {
 /// Extrema of one kind, merged by cancellations, numbered in id order (the initial
 /// minima, or the initial maxima and then the boundary), so that the sets' arrays
 /// are only as long as the extrema and set indices compare as element ids do
-/// (queue ties are broken by set). Each set carries the region integral, how many
-/// live saddle branches end at it, and its non-terminal cancellation candidates.
+/// (queue ties are broken by set). Each set carries a [`SetState`].
 struct Extrema {
     sets: DisjointSets,
-    region: Vec<Integral>,
-    links: Vec<i64>,
-    /// Per set, the candidates (s, e) whose branch ends at it, keyed by the part of
-    /// their score that does not depend on the extremum; see [`Hierarchy::offset`].
-    candidates: Vec<BinaryHeap<Candidate>>,
+    /// What each set carries, read together.
+    state: Vec<SetState>,
     /// The element (vertex or face id) of each index, increasing.
     ids: Vec<u32>,
-    /// The surviving extremum (a vertex or face id) of each set.
-    survivor: Vec<u32>,
-    /// The key of each set's entry in the queue, infinite if it has none: the
+}
+
+/// What an extremum set carries: the region integral, how many live saddle
+/// branches end at it, its non-terminal cancellation candidates and its key in
+/// the queue. Kept in one cache line, as a cancellation reads them together.
+#[repr(align(64))]
+struct SetState {
+    /// The candidates (s, e) whose branch ends at the set, keyed by the part of
+    /// their score that does not depend on the extremum; see
+    /// [`Hierarchy::offset`].
+    candidates: BinaryHeap<Candidate>,
+    region: Integral,
+    links: i64,
+    /// The key of the set's entry in the queue, infinite if it has none: the
     /// only entry of the set that counts, others are outdated.
-    queued: Vec<f64>,
+    queued: f64,
+    /// The surviving extremum (a vertex or face id) of the set.
+    survivor: u32,
 }
 
 impl Extrema {
     /// The extrema with the element ids `ids` and the regions `region` (indexed by
     /// element id).
     fn new(ids: Vec<u32>, region: &[Integral]) -> Extrema {
-        let n = ids.len();
         Extrema {
-            sets: DisjointSets::new(n),
-            region: ids.iter().map(|&id| region[id as usize]).collect(),
-            links: vec![0; n],
-            candidates: (0..n).map(|_| BinaryHeap::new()).collect(),
-            survivor: ids.clone(),
-            queued: vec![f64::INFINITY; n],
+            sets: DisjointSets::new(ids.len()),
+            state: ids
+                .iter()
+                .map(|&id| SetState {
+                    candidates: BinaryHeap::new(),
+                    region: region[id as usize],
+                    links: 0,
+                    queued: f64::INFINITY,
+                    survivor: id,
+                })
+                .collect(),
             ids,
         }
     }
@@ -98,12 +111,12 @@ impl Extrema {
     fn merge(&mut self, gone: usize, kept: usize) -> usize {
         let rep = self.sets.union(gone as u32, kept as u32) as usize;
         let other = if rep == kept { gone } else { kept };
-        self.region[rep] = self.region[rep].merged(self.region[other]);
-        self.links[rep] += self.links[other];
-        let mut moved = std::mem::take(&mut self.candidates[other]);
+        self.state[rep].region = self.state[rep].region.merged(self.state[other].region);
+        self.state[rep].links += self.state[other].links;
+        let mut moved = std::mem::take(&mut self.state[other].candidates);
         // `append` moves the smaller heap into the larger.
-        self.candidates[rep].append(&mut moved);
-        self.survivor[rep] = self.survivor[kept];
+        self.state[rep].candidates.append(&mut moved);
+        self.state[rep].survivor = self.state[kept].survivor;
         rep
     }
 
@@ -112,7 +125,7 @@ impl Extrema {
         (0..self.ids.len())
             .filter(|&m| self.find(m as u32) == m)
             .map(|m| {
-                let survivor = self.survivor[m];
+                let survivor = self.state[m].survivor;
                 self.ids.binary_search(&survivor).unwrap_or_else(|_| {
                     unreachable!("the survivor {survivor} is no initial extremum")
                 })
@@ -125,11 +138,11 @@ impl Extrema {
     /// merge.
     fn best_valid(&mut self, m: usize, alive: &[bool]) -> Option<Candidate> {
         loop {
-            let top = *self.candidates[m].peek()?;
+            let top = *self.state[m].candidates.peek()?;
             if alive[top.saddle()] && self.find(top.far) != m {
                 return Some(top);
             }
-            self.candidates[m].pop();
+            self.state[m].candidates.pop();
         }
     }
 }
@@ -334,7 +347,7 @@ impl<'a> Hierarchy<'a> {
             cancelled: Vec::new(),
         };
         hierarchy.add_candidates();
-        for m in 0..hierarchy.minima.region.len() {
+        for m in 0..hierarchy.minima.state.len() {
             hierarchy.queue_set(Kind::Minimum, m);
         }
         for m in 0..boundary {
@@ -353,18 +366,22 @@ impl<'a> Hierarchy<'a> {
             let Ends { minima, maxima } = self.ends[s];
             for (branch, &end) in minima.iter().enumerate() {
                 let far = minima[1 - branch];
-                self.minima.links[end as usize] += 1;
-                self.minima.candidates[end as usize].push(Candidate::new(low, s, branch, far));
+                self.minima.state[end as usize].links += 1;
+                self.minima.state[end as usize]
+                    .candidates
+                    .push(Candidate::new(low, s, branch, far));
             }
             for (branch, &end) in maxima.iter().enumerate() {
                 if end as usize != self.boundary {
                     let far = maxima[1 - branch];
-                    self.maxima.links[end as usize] += 1;
-                    self.maxima.candidates[end as usize].push(Candidate::new(high, s, branch, far));
+                    self.maxima.state[end as usize].links += 1;
+                    self.maxima.state[end as usize]
+                        .candidates
+                        .push(Candidate::new(high, s, branch, far));
                 }
             }
         }
-        self.maxima.links[self.boundary] = i64::MAX / 2;
+        self.maxima.state[self.boundary].links = i64::MAX / 2;
     }
 
     /// Number of live saddles.
@@ -423,7 +440,7 @@ impl<'a> Hierarchy<'a> {
                 }
             })
             .collect();
-        attach(extrema.region.len(), extrema.survivor_trees(), &links)
+        attach(extrema.state.len(), extrema.survivor_trees(), &links)
     }
 
     /// Whether saddle `s` has no valid cancellation, with a minimum or a maximum.
@@ -457,10 +474,11 @@ impl<'a> Hierarchy<'a> {
         let boundary = self.boundary_set();
         let scan_a = match kind {
             Kind::Maximum if a == boundary || b == boundary => b == boundary,
-            _ => extrema.candidates[a].len() <= extrema.candidates[b].len(),
+            _ => extrema.state[a].candidates.len() <= extrema.state[b].candidates.len(),
         };
         let (scanned, other) = if scan_a { (a, b) } else { (b, a) };
-        extrema.candidates[scanned]
+        extrema.state[scanned]
+            .candidates
             .iter()
             .filter(|c| self.alive[c.saddle()] && extrema.find(c.far) == other)
             .filter(|c| !self.valid(c.saddle(), other_kind))
@@ -474,7 +492,7 @@ impl<'a> Hierarchy<'a> {
         };
         // The boundary's set is not a maximum.
         let maxima = live(&self.maxima, self.boundary + 1) - 1;
-        (live(&self.minima, self.minima.region.len()), maxima)
+        (live(&self.minima, self.minima.state.len()), maxima)
     }
 
     /// The current minimum (set representative) at the end of each descending branch.
@@ -544,13 +562,13 @@ impl<'a> Hierarchy<'a> {
     /// The extremum's part of its non-terminal candidates' scores.
     fn offset(&self, kind: Kind, m: usize) -> f64 {
         match (self.criterion, kind) {
-            (Criterion::Feature, Kind::Minimum) => -self.minima.region[m].mean(),
-            (Criterion::Feature, Kind::Maximum) => self.maxima.region[m].mean(),
+            (Criterion::Feature, Kind::Minimum) => -self.minima.state[m].region.mean(),
+            (Criterion::Feature, Kind::Maximum) => self.maxima.state[m].region.mean(),
             (Criterion::Persistence, Kind::Minimum) => {
-                -self.keys.vertex[self.minima.survivor[m] as usize]
+                -self.keys.vertex[self.minima.state[m].survivor as usize]
             }
             (Criterion::Persistence, Kind::Maximum) => {
-                self.keys.face[self.maxima.survivor[m] as usize]
+                self.keys.face[self.maxima.state[m].survivor as usize]
             }
         }
     }
@@ -580,7 +598,7 @@ impl<'a> Hierarchy<'a> {
         let saddle = &self.saddles[s];
         // A terminal extremum has a single live branch, the top one; its score
         // includes the Γ term (eqs. 5–8). Otherwise key + offset.
-        let terminal = self.extrema(kind).links[m] == 1;
+        let terminal = self.extrema(kind).state[m].links == 1;
         Some(match kind {
             Kind::Minimum => (
                 if terminal {
@@ -613,7 +631,7 @@ impl<'a> Hierarchy<'a> {
 
     /// Queue set `m` of `kind` at `t`, unless its entry is lower.
     fn push_entry(&mut self, t: f64, kind: Kind, m: usize) {
-        let queued = &mut self.extrema_mut(kind).queued[m];
+        let queued = &mut self.extrema_mut(kind).state[m].queued;
         if t < *queued {
             *queued = t;
             self.queue.push(Entry::new(t, kind, m as u32));
@@ -632,13 +650,13 @@ impl<'a> Hierarchy<'a> {
         match self.criterion {
             Criterion::Persistence => {
                 self.keys.edge[saddle.edge.idx()]
-                    - self.keys.vertex[self.minima.survivor[m] as usize]
+                    - self.keys.vertex[self.minima.state[m].survivor as usize]
             }
             Criterion::Feature => {
-                let region = self.minima.region[m].mean();
+                let region = self.minima.state[m].region.mean();
                 // σ_max(r, m): how much the ascending line rises above the valley.
                 let sigma = saddle.ascending_mean() - region;
-                if self.minima.links[m] == 1 {
+                if self.minima.state[m].links == 1 {
                     // Γ_min(v_i, m_i) for a terminal minimum.
                     sigma.min(region - saddle.descending[i].mean())
                 } else {
@@ -652,13 +670,14 @@ impl<'a> Hierarchy<'a> {
     fn score_maximum(&self, saddle: &Saddle, i: usize, m: usize) -> f64 {
         match self.criterion {
             Criterion::Persistence => {
-                self.keys.face[self.maxima.survivor[m] as usize] - self.keys.edge[saddle.edge.idx()]
+                self.keys.face[self.maxima.state[m].survivor as usize]
+                    - self.keys.edge[saddle.edge.idx()]
             }
             Criterion::Feature => {
-                let region = self.maxima.region[m].mean();
+                let region = self.maxima.state[m].region.mean();
                 // σ_min(v, M): how far the descending line sinks below the hill.
                 let sigma = region - saddle.descending_mean();
-                if self.maxima.links[m] == 1 {
+                if self.maxima.state[m].links == 1 {
                     // Γ_max(r_i, M_i) for a terminal maximum.
                     sigma.min(saddle.ascending[i].mean() - region)
                 } else {
@@ -675,7 +694,7 @@ impl<'a> Hierarchy<'a> {
     pub fn cancel_next(&mut self) -> Option<Cancellation> {
         while let Some(entry) = self.queue.pop() {
             let (kind, m) = (entry.kind(), entry.set());
-            let queued = &mut self.extrema_mut(kind).queued[m];
+            let queued = &mut self.extrema_mut(kind).state[m].queued;
             if queued.to_bits() != entry.t.to_bits() {
                 // A lower entry superseded this one.
                 continue;
@@ -717,13 +736,13 @@ impl<'a> Hierarchy<'a> {
         let (record, merged, others) = match partner {
             Partner::Minimum(i) => {
                 self.initial.edge_role[edge.idx()] = EdgeRole::Primal;
-                let gone_vertex = self.minima.survivor[mins[i]];
+                let gone_vertex = self.minima.state[mins[i]].survivor;
                 self.forced_saddles += self.newly_forced(Kind::Minimum, mins[i], mins[1 - i]);
-                self.minima.links[mins[i]] -= 1;
-                self.minima.links[mins[1 - i]] -= 1;
+                self.minima.state[mins[i]].links -= 1;
+                self.minima.state[mins[1 - i]].links -= 1;
                 let merged = self.minima.merge(mins[i], mins[1 - i]);
                 for m in maxs.into_iter().flatten() {
-                    self.maxima.links[m] -= 1;
+                    self.maxima.state[m].links -= 1;
                 }
                 let others = maxs.map(|m| m.map(|m| (Kind::Maximum, m)));
                 (("minimum", gone_vertex), (Kind::Minimum, merged), others)
@@ -732,13 +751,13 @@ impl<'a> Hierarchy<'a> {
                 self.initial.edge_role[edge.idx()] = EdgeRole::Dual;
                 let boundary = self.boundary_set();
                 let (gone, kept) = (maxs[i].unwrap_or(boundary), maxs[1 - i].unwrap_or(boundary));
-                let gone_face = self.maxima.survivor[gone];
+                let gone_face = self.maxima.state[gone].survivor;
                 self.forced_saddles += self.newly_forced(Kind::Maximum, gone, kept);
-                self.maxima.links[gone] -= 1;
-                self.maxima.links[kept] -= 1;
+                self.maxima.state[gone].links -= 1;
+                self.maxima.state[kept].links -= 1;
                 let merged = self.maxima.merge(gone, kept);
                 for m in mins {
-                    self.minima.links[m] -= 1;
+                    self.minima.state[m].links -= 1;
                 }
                 let others = mins.map(|m| Some((Kind::Minimum, m)));
                 (("maximum", gone_face), (Kind::Maximum, merged), others)
