@@ -46,6 +46,16 @@ impl PrincipalCurvatures {
         let a = t1.dot(&op_t1);
         let b = 0.5 * (t1.dot(&op_t2) + t2.dot(&op_t1));
         let c = t2.dot(&op_t2);
+        Self::from_tangent_form([a, b, c], (t1, t2), normal)
+    }
+
+    /// The eigenpairs of the symmetric operator `[[a, b], [b, c]]` = `form` in the
+    /// orthonormal tangent basis `(t1, t2)` ([`tangent_basis`] of `normal`).
+    pub fn from_tangent_form(
+        [a, b, c]: [f64; 3],
+        (t1, t2): (Vector, Vector),
+        normal: &Vector,
+    ) -> Self {
         let (k_max, k_min, [u, w]) = symmetric_2x2_eigen(a, b, c);
         let d_max = t1 * u + t2 * w;
         PrincipalCurvatures {

@@ -3,6 +3,7 @@
 
 use rayon::prelude::*;
 
+use crate::differential::tangent_basis;
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Result, Vector};
 
@@ -56,16 +57,21 @@ fn estimate_unit(mesh: &Mesh) -> CurvatureField {
         }
         let normal = area_vector.normalize();
         let star_area = 0.5 * area_vector.norm();
-        let mut operator = nalgebra::Matrix3::zeros();
+        // S(p) in the tangent plane of N_p, accumulated as its three entries.
+        let basis = tangent_basis(&normal);
+        let mut form = [0.0; 3];
         for h in mesh.outgoing(v) {
             // Each edge is evaluated from both of its ends: cheaper than storing it.
             let e = edge_operator(mesh, mesh.edge(h), &normals);
             let weight = normal.dot(&e.normal) * e.mean_curvature;
-            operator += e.across * e.across.transpose() * weight;
+            let (p, q) = (e.across.dot(&basis.0), e.across.dot(&basis.1));
+            form[0] += weight * p * p;
+            form[1] += weight * p * q;
+            form[2] += weight * q * q;
         }
         // ½ Σ ..., rescaled by the lumped mass area(star) / 3.
-        operator *= 0.5 * 3.0 / star_area;
-        let k = PrincipalCurvatures::from_tangent_operator(&operator, &normal);
+        let scale = 0.5 * 3.0 / star_area;
+        let k = PrincipalCurvatures::from_tangent_form(form.map(|x| x * scale), basis, &normal);
         (k, normal, mesh.is_boundary_vertex(v))
     })
 }
