@@ -764,14 +764,16 @@ impl<'a> Hierarchy<'a> {
             }
         };
         // A cancellation can lower other scores (§3.7): the merged extremum's region
-        // and candidates changed, and extrema whose link counts dropped may have
-        // become terminal (the Γ terms of eqs. 7–8). Queue them afresh, once each.
+        // and candidates changed, and extrema whose link counts dropped to one became
+        // terminal (the Γ terms of eqs. 7–8). Queue them afresh, once each. The
+        // scores of the others whose counts dropped stay or grow (a candidate of
+        // theirs died), which their pending entries answer when popped.
+        let [a, b] =
+            others.map(|set| set.filter(|&(kind, m)| self.extrema(kind).state[m].links == 1));
         self.requeue(merged);
-        match others {
-            [Some(a), Some(b)] if a == b => self.requeue(a),
-            [a, b] => {
-                a.into_iter().chain(b).for_each(|set| self.requeue(set));
-            }
+        match (a, b) {
+            (Some(a), Some(b)) if a == b => self.requeue(a),
+            (a, b) => a.into_iter().chain(b).for_each(|set| self.requeue(set)),
         }
         let cancellation = Cancellation {
             saddle: edge.0,
