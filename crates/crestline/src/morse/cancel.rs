@@ -361,21 +361,38 @@ impl<'a> Hierarchy<'a> {
     /// candidates in their heaps; the boundary is never a terminal maximum, nor
     /// cancelled.
     fn add_candidates(&mut self) {
+        let boundary = self.boundary;
+        let ends = |s: usize| {
+            let Ends { minima, maxima } = self.ends[s];
+            let maxima = maxima.map(|m| (m as usize != boundary).then_some(m));
+            (minima, maxima)
+        };
+        // The links first, so that every heap is allocated once, at its size.
+        for s in 0..self.saddles.len() {
+            let (minima, maxima) = ends(s);
+            for end in minima {
+                self.minima.state[end as usize].links += 1;
+            }
+            for end in maxima.into_iter().flatten() {
+                self.maxima.state[end as usize].links += 1;
+            }
+        }
+        for state in self.minima.state.iter_mut().chain(&mut self.maxima.state) {
+            state.candidates.reserve_exact(state.links as usize);
+        }
         for s in 0..self.saddles.len() {
             let (low, high) = self.static_keys(&self.saddles[s]);
-            let Ends { minima, maxima } = self.ends[s];
+            let (minima, maxima) = ends(s);
             for (branch, &end) in minima.iter().enumerate() {
                 let far = minima[1 - branch];
-                self.minima.state[end as usize].links += 1;
                 self.minima.state[end as usize]
                     .candidates
                     .push(Candidate::new(low, s, branch, far));
             }
-            for (branch, &end) in maxima.iter().enumerate() {
-                if end as usize != self.boundary {
-                    let far = maxima[1 - branch];
-                    self.maxima.state[end as usize].links += 1;
-                    self.maxima.state[end as usize]
+            for (branch, end) in maxima.iter().enumerate() {
+                if let Some(end) = end {
+                    let far = maxima[1 - branch].unwrap_or(boundary as u32);
+                    self.maxima.state[*end as usize]
                         .candidates
                         .push(Candidate::new(high, s, branch, far));
                 }
