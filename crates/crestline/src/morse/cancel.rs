@@ -483,23 +483,34 @@ impl<'a> Hierarchy<'a> {
     /// cancellations of `kind`, and that have none of the other kind. Every such
     /// saddle has a candidate in the heap of each set it links (the boundary aside),
     /// so one heap is scanned: the smaller, or the one that is not the boundary.
-    fn newly_forced(&self, kind: Kind, a: usize, b: usize) -> usize {
-        let (extrema, other_kind) = match kind {
-            Kind::Minimum => (&self.minima, Kind::Maximum),
-            Kind::Maximum => (&self.maxima, Kind::Minimum),
+    /// The scan also drops the candidates that no longer count, which the heap
+    /// would drop when they came to its top: those of dead saddles, and those
+    /// linking `a` and `b`, invalid once they are merged. The heap pops the others
+    /// in the same order.
+    fn newly_forced(&mut self, kind: Kind, a: usize, b: usize) -> usize {
+        let other_kind = match kind {
+            Kind::Minimum => Kind::Maximum,
+            Kind::Maximum => Kind::Minimum,
         };
         let boundary = self.boundary_set();
+        let state = &self.extrema(kind).state;
         let scan_a = match kind {
             Kind::Maximum if a == boundary || b == boundary => b == boundary,
-            _ => extrema.state[a].candidates.len() <= extrema.state[b].candidates.len(),
+            _ => state[a].candidates.len() <= state[b].candidates.len(),
         };
         let (scanned, other) = if scan_a { (a, b) } else { (b, a) };
-        extrema.state[scanned]
-            .candidates
-            .iter()
-            .filter(|c| self.alive[c.saddle()] && extrema.find(c.far) == other)
-            .filter(|c| !self.valid(c.saddle(), other_kind))
-            .count()
+        let mut candidates = std::mem::take(&mut self.extrema_mut(kind).state[scanned].candidates);
+        let mut forced = 0;
+        candidates.retain(|c| {
+            let alive = self.alive[c.saddle()];
+            let linking = alive && self.extrema(kind).find(c.far) == other;
+            if linking && !self.valid(c.saddle(), other_kind) {
+                forced += 1;
+            }
+            alive && !linking
+        });
+        self.extrema_mut(kind).state[scanned].candidates = candidates;
+        forced
     }
 
     /// Number of live minima and maxima.
