@@ -217,7 +217,7 @@ struct Ends {
 /// A queue entry: the best score of an extremum set when queued. Never above the
 /// set's current best: every change that can lower it queues a new entry, and an
 /// entry whose set improved is re-queued when popped. A set has one entry that
-/// counts, the lowest since it was last popped ([`Extrema::queued`]): a higher
+/// counts, the lowest since it was last popped ([`SetState::queued`]): a higher
 /// score is not queued, as the set is looked at anew at its lower entry anyway,
 /// and the entries a lower one superseded are dropped when popped.
 #[derive(Clone, Copy)]
@@ -362,18 +362,12 @@ impl<'a> Hierarchy<'a> {
     /// cancelled.
     fn add_candidates(&mut self) {
         let boundary = self.boundary;
-        let ends = |s: usize| {
-            let Ends { minima, maxima } = self.ends[s];
-            let maxima = maxima.map(|m| (m as usize != boundary).then_some(m));
-            (minima, maxima)
-        };
         // The links first, so that every heap is allocated once, at its size.
-        for s in 0..self.saddles.len() {
-            let (minima, maxima) = ends(s);
-            for end in minima {
+        for Ends { minima, maxima } in &self.ends {
+            for &end in minima {
                 self.minima.state[end as usize].links += 1;
             }
-            for end in maxima.into_iter().flatten() {
+            for &end in maxima.iter().filter(|&&end| end as usize != boundary) {
                 self.maxima.state[end as usize].links += 1;
             }
         }
@@ -382,17 +376,17 @@ impl<'a> Hierarchy<'a> {
         }
         for s in 0..self.saddles.len() {
             let (low, high) = self.static_keys(&self.saddles[s]);
-            let (minima, maxima) = ends(s);
+            let Ends { minima, maxima } = self.ends[s];
             for (branch, &end) in minima.iter().enumerate() {
                 let far = minima[1 - branch];
                 self.minima.state[end as usize]
                     .candidates
                     .push(Candidate::new(low, s, branch, far));
             }
-            for (branch, end) in maxima.iter().enumerate() {
-                if let Some(end) = end {
-                    let far = maxima[1 - branch].unwrap_or(boundary as u32);
-                    self.maxima.state[*end as usize]
+            for (branch, &end) in maxima.iter().enumerate() {
+                if end as usize != boundary {
+                    let far = maxima[1 - branch];
+                    self.maxima.state[end as usize]
                         .candidates
                         .push(Candidate::new(high, s, branch, far));
                 }
@@ -470,6 +464,14 @@ impl<'a> Hierarchy<'a> {
         match kind {
             Kind::Minimum => &self.minima,
             Kind::Maximum => &self.maxima,
+        }
+    }
+
+    /// The extrema of `kind`, to change.
+    fn extrema_mut(&mut self, kind: Kind) -> &mut Extrema {
+        match kind {
+            Kind::Minimum => &mut self.minima,
+            Kind::Maximum => &mut self.maxima,
         }
     }
 
@@ -666,13 +668,6 @@ impl<'a> Hierarchy<'a> {
         }
     }
 
-    /// The extrema of `kind`, to change.
-    fn extrema_mut(&mut self, kind: Kind) -> &mut Extrema {
-        match kind {
-            Kind::Minimum => &mut self.minima,
-            Kind::Maximum => &mut self.maxima,
-        }
-    }
     /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
     fn score_minimum(&self, saddle: &Saddle, i: usize, m: usize) -> f64 {
         match self.criterion {

@@ -69,9 +69,9 @@ const SHORT_TIME: f64 = 0.5;
 /// on a refined scan whose neighbours lie far apart in the vertex list makes the
 /// smoothing about a quarter faster (dragon ×4, `examples/bench_smoothing.rs`,
 /// with one sweep per side of the V-cycle: 41 s in the mesh's order, 29 s in
-/// Morton order). The interface speaks of
-/// vertices either way; [`to_unknowns`](Self::to_unknowns) and
-/// [`to_vertices`](Self::to_vertices) reorder vectors.
+/// Morton order). The interface speaks of vertices either way;
+/// [`to_unknowns`](Self::to_unknowns) and [`to_vertices`](Self::to_vertices)
+/// reorder vectors.
 #[derive(Clone, Debug)]
 struct SystemPattern {
     col_ptr: Arc<[usize]>,
