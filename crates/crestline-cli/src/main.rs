@@ -2,6 +2,12 @@
 //! success, 1 an error (printed as one line `error: <file>: <what is wrong>`), 2 bad
 //! usage (printed by clap).
 
+/// mimalloc rather than the system allocator: the Morse cancellation alone makes and
+/// merges millions of small heaps, and large meshes allocate and free arrays of
+/// hundreds of megabytes stage after stage.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 mod crease;
 mod crest;
 mod curvature;
