@@ -4,20 +4,17 @@ use crate::mesh::{Mesh, RepairReport, TriangleSoup};
 use crate::progress::{try_stage, Observer};
 use crate::Result;
 
-/// The half-edge mesh of `soup`, repaired as [`Mesh::from_soup`] does (or, if
-/// `strict`, refusing a component that cannot be oriented consistently, as
-/// [`Mesh::from_soup_strict`]): the stage `build`, and each repair as a warning.
+/// The half-edge mesh of `soup`, read from a file, repaired as [`Mesh::from_soup`]
+/// does (or, if `strict`, refusing a component that cannot be oriented
+/// consistently, as [`Mesh::from_soup_strict`]) and renumbered if its vertex
+/// order is scattered ([`Mesh::from_file_soup`]): the stage `build`, and each
+/// repair as a warning.
 pub fn build_mesh(
     soup: TriangleSoup,
     strict: bool,
     observer: &mut dyn Observer,
 ) -> Result<(Mesh, RepairReport)> {
-    let build = if strict {
-        Mesh::from_soup_strict
-    } else {
-        Mesh::from_soup
-    };
-    let (mesh, repairs) = try_stage(observer, "build", || build(soup))?;
+    let (mesh, repairs) = try_stage(observer, "build", || Mesh::from_file_soup(soup, strict))?;
     for message in repairs.messages() {
         observer.warning(&message);
     }

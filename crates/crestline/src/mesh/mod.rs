@@ -25,6 +25,7 @@ mod build;
 pub mod generate;
 pub(crate) mod geometry;
 mod ids;
+mod locality;
 pub(crate) mod morton;
 mod soup;
 mod topology;

@@ -1,0 +1,96 @@
+//! Renumbering a soup whose vertex order is scattered, so that every stage after
+//! the build reads its per-vertex arrays mostly from nearby memory.
+//!
+//! A subdivided or re-exported scan may list a vertex's neighbours millions of
+//! entries apart (midpoint subdivision appends every new vertex after the old
+//! ones), and then every stage that walks the surface misses the caches at each
+//! step. Such soups get their vertices along the Morton curve of their positions
+//! ([`morton_order`]) and their faces in the order of their first vertex; soups in
+//! a local order already (a scan's or a marching cubes' order) are left alone, so
+//! that their vertices keep the numbers of the file.
+
+use rayon::prelude::*;
+
+use super::morton::morton_order;
+use super::{Mesh, RepairReport, TriangleSoup, VertexId};
+use crate::Result;
+
+/// How far apart in the vertex list the corners of a face may lie and still be
+/// near in memory: 2¹⁶ positions take 1.5 MB, about what a core's caches hold.
+const NEAR: u32 = 1 << 16;
+
+impl Mesh {
+    /// [`Mesh::from_soup`] (or, if `strict`, [`Mesh::from_soup_strict`]) for a
+    /// soup read from a file, renumbered first if its vertex order is scattered
+    /// (see the [module documentation](self)). [`Mesh::input_vertices`] still name
+    /// the file's vertices, so per-vertex results go back to the file's order
+    /// through [`Mesh::to_input_order`].
+    pub fn from_file_soup(soup: TriangleSoup, strict: bool) -> Result<(Mesh, RepairReport)> {
+        let build = if strict {
+            Mesh::from_soup_strict
+        } else {
+            Mesh::from_soup
+        };
+        if !is_scattered(&soup) {
+            return build(soup);
+        }
+        let (soup, rank) = in_locality_order(soup);
+        let (mut mesh, report) = build(soup)?;
+        mesh.input_vertices = rank
+            .iter()
+            .map(|&r| mesh.input_vertices[r as usize])
+            .collect::<Vec<Option<VertexId>>>();
+        Ok((mesh, report))
+    }
+}
+
+/// Whether most faces (over half) have corners further than [`NEAR`] apart in the
+/// vertex list.
+fn is_scattered(soup: &TriangleSoup) -> bool {
+    let far = soup
+        .triangles
+        .par_iter()
+        .filter(|t| t.iter().max().unwrap_or(&0) - t.iter().min().unwrap_or(&0) > NEAR)
+        .count();
+    2 * far > soup.triangles.len()
+}
+
+/// The soup with its vertices in Morton order and its faces ordered by their
+/// first corner (each keeps its corners' cyclic order, so its orientation), and
+/// the new number of each vertex.
+fn in_locality_order(mut soup: TriangleSoup) -> (TriangleSoup, Vec<u32>) {
+    let order = morton_order(&soup.positions);
+    let mut rank = vec![0; order.len()];
+    for (k, &v) in order.iter().enumerate() {
+        rank[v as usize] = k as u32;
+    }
+    soup.positions = order.iter().map(|&v| soup.positions[v as usize]).collect();
+    for property in &mut soup.vertex_scalars {
+        property.values = order.iter().map(|&v| property.values[v as usize]).collect();
+    }
+    soup.triangles = by_first_corner(&soup.triangles, &rank);
+    (soup, rank)
+}
+
+/// The triangles with their vertices renumbered by `rank`, ordered by their new
+/// first corner (a counting sort: linear, and stable).
+fn by_first_corner(triangles: &[[u32; 3]], rank: &[u32]) -> Vec<[u32; 3]> {
+    let mut start = vec![0u32; rank.len() + 1];
+    for t in triangles {
+        start[rank[t[0] as usize] as usize + 1] += 1;
+    }
+    for k in 0..rank.len() {
+        start[k + 1] += start[k];
+    }
+    let mut sorted = vec![[0; 3]; triangles.len()];
+    for t in triangles {
+        let t = t.map(|v| rank[v as usize]);
+        let slot = &mut start[t[0] as usize];
+        sorted[*slot as usize] = t;
+        *slot += 1;
+    }
+    sorted
+}
+
+#[cfg(test)]
+mod tests;
