@@ -89,7 +89,11 @@ fn a_scattered_soup_is_renumbered_and_its_inputs_still_name_the_files_vertices()
     for (i, v) in mesh.input_vertices().iter().enumerate() {
         let v = v.expect("no vertex is dropped");
         assert_eq!(mesh.position(v), soup.positions[i], "vertex {i}");
-        assert_eq!(index[v.idx()], soup.vertex_scalars[0].values[i], "vertex {i}");
+        assert_eq!(
+            index[v.idx()],
+            soup.vertex_scalars[0].values[i],
+            "vertex {i}"
+        );
     }
     assert_eq!(
         mesh.to_input_order(index, f64::NAN),
@@ -99,7 +103,11 @@ fn a_scattered_soup_is_renumbered_and_its_inputs_still_name_the_files_vertices()
     let faces = oriented_faces(&built.positions, &built.triangles);
     let expected = oriented_faces(&soup.positions, &soup.triangles);
     assert_eq!(faces.len(), soup.triangles.len());
-    assert!(faces == expected, "{} faces differ", faces.difference(&expected).count());
+    assert!(
+        faces == expected,
+        "{} faces differ",
+        faces.difference(&expected).count()
+    );
 }
 
 #[test]
@@ -124,11 +132,7 @@ fn repairs_of_a_renumbered_soup_compose_with_the_new_numbers() {
     soup.positions.push(soup.positions[7]);
     soup.positions.push(Point::new(1e3, 1e3, 1e3));
     soup.vertex_scalars[0].values.extend([-1.0, -2.0]);
-    let face = soup
-        .triangles
-        .iter()
-        .position(|t| t.contains(&7))
-        .unwrap();
+    let face = soup.triangles.iter().position(|t| t.contains(&7)).unwrap();
     for v in &mut soup.triangles[face] {
         if *v == 7 {
             *v = n;
