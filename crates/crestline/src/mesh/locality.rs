@@ -21,10 +21,13 @@ const NEAR: u32 = 1 << 16;
 
 impl Mesh {
     /// [`Mesh::from_soup`] (or, if `strict`, [`Mesh::from_soup_strict`]) for a
-    /// soup read from a file, renumbered first if its vertex order is scattered
-    /// (see the [module documentation](self)). [`Mesh::input_vertices`] still name
-    /// the file's vertices, so per-vertex results go back to the file's order
-    /// through [`Mesh::to_input_order`].
+    /// soup read from a file, renumbered first if its vertex order is scattered:
+    /// if over half of its faces have corners more than 2¹⁶ entries apart in the
+    /// vertex list, its vertices go along the Morton curve of their positions and
+    /// its faces in the order of their first corner, so that the stages after the
+    /// build read nearby memory. [`Mesh::input_vertices`] still name the file's
+    /// vertices, so per-vertex results go back to the file's order through
+    /// [`Mesh::to_input_order`].
     pub fn from_file_soup(soup: TriangleSoup, strict: bool) -> Result<(Mesh, RepairReport)> {
         let build = if strict {
             Mesh::from_soup_strict
