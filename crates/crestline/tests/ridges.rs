@@ -10,12 +10,13 @@ use crestline::lines::{
     FeatureLines, LineExtractor, LineKind, SurfaceLocation, SurfaceWithCurvature,
 };
 use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::Mesh;
+use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Point, Vector};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 use rand::rngs::StdRng;
+use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use std::sync::Arc;
 
@@ -261,6 +262,70 @@ fn smoothing_recovers_the_ridge_of_a_noisy_ellipsoid() {
         unsmoothed.len() > 100 && unsmoothed_mean > 0.02,
         "{unsmoothed_mean}"
     );
+}
+
+/// `mesh` with its vertices and its faces listed in random orders (each face keeps
+/// its corners' cyclic order).
+fn shuffled(mesh: &Mesh, seed: u64) -> Mesh {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let soup = mesh.to_soup();
+    let mut order: Vec<usize> = (0..soup.positions.len()).collect();
+    order.shuffle(&mut rng);
+    let mut rank = vec![0; order.len()];
+    for (k, &v) in order.iter().enumerate() {
+        rank[v] = k as u32;
+    }
+    let mut triangles: Vec<[u32; 3]> = soup
+        .triangles
+        .iter()
+        .map(|t| t.map(|v| rank[v as usize]))
+        .collect();
+    triangles.shuffle(&mut rng);
+    let soup = TriangleSoup {
+        positions: order.iter().map(|&v| soup.positions[v]).collect(),
+        triangles,
+        ..TriangleSoup::default()
+    };
+    Mesh::from_soup(soup).unwrap().0
+}
+
+#[test]
+fn ridges_of_a_real_mesh_do_not_depend_on_its_vertex_and_face_numbering() {
+    // The same surface numbered another way gives the same lines, perhaps listed
+    // in another order or direction: as many, with as many points each, and every
+    // point within 1e-12 of the diagonal of a point of the other lines. (Morse
+    // lines do depend on the numbering: it breaks ties between equal values.)
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes/bunny.obj");
+    let mesh = Mesh::from_soup(crestline::io::read_mesh(&path).unwrap())
+        .unwrap()
+        .0;
+    let renumbered = shuffled(&mesh, 17);
+    assert!((0..100).any(|v| mesh.positions()[v] != renumbered.positions()[v]));
+    let a = ExtremalityTracer::default()
+        .extract(&mesh, &mut Silent)
+        .unwrap();
+    let b = ExtremalityTracer::default()
+        .extract(&renumbered, &mut Silent)
+        .unwrap();
+    assert!(a.len() > 20);
+    assert_eq!(a.len(), b.len());
+    let sizes = |lines: &FeatureLines| {
+        let mut sizes: Vec<usize> = lines.iter().map(|l| l.points.len()).collect();
+        sizes.sort_unstable();
+        sizes
+    };
+    assert_eq!(sizes(&a), sizes(&b));
+    let tolerance = 1e-12 * mesh.bounding_box().diagonal();
+    let (points_a, points_b) = (all_points(&a), all_points(&b));
+    for (from, to) in [(&points_a, &points_b), (&points_b, &points_a)] {
+        for p in from {
+            let nearest = to
+                .iter()
+                .map(|q| (p - q).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < tolerance, "{p} is {nearest} from the other lines");
+        }
+    }
 }
 
 #[test]
