@@ -67,29 +67,34 @@ fn in_locality_order(mut soup: TriangleSoup) -> (TriangleSoup, Vec<u32>) {
     for (k, &v) in order.iter().enumerate() {
         rank[v as usize] = k as u32;
     }
-    soup.positions = order.iter().map(|&v| soup.positions[v as usize]).collect();
+    soup.positions = order
+        .par_iter()
+        .map(|&v| soup.positions[v as usize])
+        .collect();
     for property in &mut soup.vertex_scalars {
         property.values = order.iter().map(|&v| property.values[v as usize]).collect();
     }
-    soup.triangles = by_first_corner(&soup.triangles, &rank);
+    soup.triangles
+        .par_iter_mut()
+        .for_each(|t| *t = t.map(|v| rank[v as usize]));
+    soup.triangles = by_first_corner(&soup.triangles, rank.len());
     (soup, rank)
 }
 
-/// The triangles with their vertices renumbered by `rank`, ordered by their new
-/// first corner (a counting sort: linear, and stable).
-fn by_first_corner(triangles: &[[u32; 3]], rank: &[u32]) -> Vec<[u32; 3]> {
-    let mut start = vec![0u32; rank.len() + 1];
+/// The triangles (over `vertex_count` vertices) ordered by their first corner: a
+/// counting sort, linear and stable.
+fn by_first_corner(triangles: &[[u32; 3]], vertex_count: usize) -> Vec<[u32; 3]> {
+    let mut start = vec![0u32; vertex_count + 1];
     for t in triangles {
-        start[rank[t[0] as usize] as usize + 1] += 1;
+        start[t[0] as usize + 1] += 1;
     }
-    for k in 0..rank.len() {
+    for k in 0..vertex_count {
         start[k + 1] += start[k];
     }
     let mut sorted = vec![[0; 3]; triangles.len()];
     for t in triangles {
-        let t = t.map(|v| rank[v as usize]);
         let slot = &mut start[t[0] as usize];
-        sorted[*slot as usize] = t;
+        sorted[*slot as usize] = *t;
         *slot += 1;
     }
     sorted
