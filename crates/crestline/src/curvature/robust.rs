@@ -19,7 +19,7 @@ use crate::mesh::geometry::robust_norm;
 use crate::mesh::{Mesh, VertexId};
 use crate::Vector;
 
-use super::{tangent_basis, CurvatureField};
+use super::{symmetric_2x2_eigen, tangent_basis, CurvatureField};
 
 /// C: how many robust scales a curvature may lie from the median of its 1-ring.
 /// Chosen well above the spread of estimates on noisy scans (a few scales) and
@@ -46,10 +46,11 @@ pub(super) fn estimate_robustly(
 /// Flag as unreliable every vertex of `field` (estimated on `mesh`) with a
 /// non-finite value or an outlying curvature (see the module documentation), and
 /// replace its values: curvatures by the medians over its reliable neighbours, the
-/// normal (if not finite) by their mean normal, the directions by a neighbour's
-/// projected into the tangent plane, and extremalities, if the field has them, by
-/// the medians of its reliable neighbours' (each read with the sign of the
-/// vertex's own direction). Returns the number of vertices repaired.
+/// normal (if not finite) by their mean normal, the directions by the mean axis of
+/// theirs in the tangent plane (the dominant axis of their d dᵀ, whatever the
+/// order of the neighbours), and extremalities, if the field has them, by the
+/// medians of its reliable neighbours' (each read with the sign of the vertex's
+/// own direction). Returns the number of vertices repaired.
 pub fn repair_outliers(mesh: &Mesh, field: &mut CurvatureField) -> usize {
     let bad: Vec<bool> = mesh
         .par_vertices()
@@ -256,10 +257,8 @@ fn repair(mesh: &Mesh, field: &CurvatureField, bad: &[bool], v: VertexId) -> Rep
         median(&mut values).unwrap_or(0.0)
     };
     let normal = repaired_normal(field, &good, v.idx());
-    let reference = good
-        .first()
-        .map_or(field.d_max[v.idx()], |&w| field.d_max[w]);
-    let d_max = tangent_direction(&reference, &normal);
+    let d_max = mean_tangent_direction(good.iter().map(|&w| &field.d_max[w]), &normal)
+        .unwrap_or_else(|| tangent_direction(&field.d_max[v.idx()], &normal));
     Repair {
         k_max: median_of(&field.k_max),
         k_min: median_of(&field.k_min),
@@ -279,6 +278,27 @@ fn repaired_normal(field: &CurvatureField, good: &[usize], i: usize) -> Vector {
     let sum: Vector = good.iter().map(|&w| field.normal[w]).sum();
     sum.try_normalize(f64::MIN_POSITIVE)
         .unwrap_or_else(Vector::z)
+}
+
+/// The mean axis of the line field `directions` (each direction as good as its
+/// opposite) in the plane normal to `normal`: the dominant eigenvector of the sum
+/// of their projections' outer products d dᵀ, which does not depend on the order
+/// of the directions (nor on the numbering of the mesh they come from). `None`
+/// if that sum has no dominant axis (no directions, or directions that cancel).
+fn mean_tangent_direction<'a>(
+    directions: impl Iterator<Item = &'a Vector>,
+    normal: &Vector,
+) -> Option<Vector> {
+    let (t1, t2) = tangent_basis(normal);
+    let [mut a, mut b, mut c] = [0.0; 3];
+    for d in directions.filter(|d| d.iter().all(|x| x.is_finite())) {
+        let (p, q) = (d.dot(&t1), d.dot(&t2));
+        a += p * p;
+        b += p * q;
+        c += q * q;
+    }
+    let (major, minor, [x, y]) = symmetric_2x2_eigen(a, b, c);
+    (major > minor + 1e-12 * major.abs()).then(|| t1 * x + t2 * y)
 }
 
 /// `reference` projected into the plane normal to `normal` and normalised, or a
@@ -330,5 +350,41 @@ mod tests {
             "{cleared} of {}",
             mesh.vertex_count()
         );
+    }
+
+    #[test]
+    fn the_mean_axis_of_directions_ignores_their_order_and_signs() {
+        let normal = Vector::new(0.2, -0.3, 1.0).normalize();
+        let (t1, t2) = tangent_basis(&normal);
+        // Directions about 30° from t1 in the tangent plane, some tilted out of
+        // it, some reversed.
+        let axis = t1 * 30f64.to_radians().cos() + t2 * 30f64.to_radians().sin();
+        let spread = [-0.2, 0.1, 0.15, -0.05, 0.0];
+        let directions: Vec<Vector> = spread
+            .iter()
+            .enumerate()
+            .map(|(k, &a)| {
+                let d = (axis + (t2 * 0.866 - t1 * 0.5) * a + normal * 0.1).normalize();
+                if k % 2 == 0 {
+                    -d
+                } else {
+                    d
+                }
+            })
+            .collect();
+        let mean = mean_tangent_direction(directions.iter(), &normal).unwrap();
+        let mut reordered = directions.clone();
+        reordered.reverse();
+        reordered.swap(0, 2);
+        let flipped: Vec<Vector> = reordered.iter().map(|d| -d).collect();
+        for other in [&reordered, &flipped] {
+            let again = mean_tangent_direction(other.iter(), &normal).unwrap();
+            assert!((mean.dot(&again).abs() - 1.0).abs() < 1e-14);
+        }
+        assert!(mean.dot(&normal).abs() < 1e-14);
+        assert!(mean.dot(&axis).abs() > 0.999, "{mean} against {axis}");
+        // No directions, or two perpendicular ones, have no mean axis.
+        assert!(mean_tangent_direction([].iter(), &normal).is_none());
+        assert!(mean_tangent_direction([t1, t2].iter(), &normal).is_none());
     }
 }
