@@ -11,8 +11,8 @@
 
 use rayon::prelude::*;
 
-use super::morton::morton_order;
-use super::{Mesh, RepairReport, TriangleSoup, VertexId};
+use super::morton::{morton_order, ranks};
+use super::{Mesh, RepairReport, TriangleSoup};
 use crate::Result;
 
 /// How far apart in the vertex list the corners of a face may lie and still be
@@ -42,7 +42,7 @@ impl Mesh {
         mesh.input_vertices = rank
             .iter()
             .map(|&r| mesh.input_vertices[r as usize])
-            .collect::<Vec<Option<VertexId>>>();
+            .collect();
         Ok((mesh, report))
     }
 }
@@ -53,7 +53,7 @@ fn is_scattered(soup: &TriangleSoup) -> bool {
     let far = soup
         .triangles
         .par_iter()
-        .filter(|t| t.iter().max().unwrap_or(&0) - t.iter().min().unwrap_or(&0) > NEAR)
+        .filter(|&&[a, b, c]| a.max(b).max(c) - a.min(b).min(c) > NEAR)
         .count();
     2 * far > soup.triangles.len()
 }
@@ -63,10 +63,7 @@ fn is_scattered(soup: &TriangleSoup) -> bool {
 /// the new number of each vertex.
 fn in_locality_order(mut soup: TriangleSoup) -> (TriangleSoup, Vec<u32>) {
     let order = morton_order(&soup.positions);
-    let mut rank = vec![0; order.len()];
-    for (k, &v) in order.iter().enumerate() {
-        rank[v as usize] = k as u32;
-    }
+    let rank = ranks(&order);
     soup.positions = order
         .par_iter()
         .map(|&v| soup.positions[v as usize])

@@ -46,6 +46,16 @@ pub(crate) fn morton_order(points: &[Point]) -> Vec<u32> {
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
+/// The place of each index in `order` (a permutation of 0..n): the inverse
+/// permutation, `rank[order[k]] = k`.
+pub(crate) fn ranks(order: &[u32]) -> Vec<u32> {
+    let mut rank = vec![0; order.len()];
+    for (k, &v) in order.iter().enumerate() {
+        rank[v as usize] = k as u32;
+    }
+    rank
+}
+
 /// The low 21 bits of `x` moved to every third bit (bit k to bit 3k).
 fn spread(x: u64) -> u64 {
     let mut x = x & 0x1f_ffff;

@@ -9,7 +9,7 @@ use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result, Vector};
 
 use crate::lines::zero_set::direction_sign;
-use crate::mesh::morton::morton_order;
+use crate::mesh::morton::{morton_order, ranks};
 
 /// The smallest lumped mass, as a fraction of the time step t (an area, like the
 /// masses).
@@ -95,13 +95,7 @@ impl SystemPattern {
         let iterates = solver.resolve(n) == Solver::Iterative;
         let order = iterates.then(|| morton_order(mesh.positions()));
         // The unknown of each vertex, where they are reordered.
-        let ranks: Option<Vec<u32>> = order.as_ref().map(|order| {
-            let mut ranks = vec![0; n];
-            for (k, &v) in order.iter().enumerate() {
-                ranks[v as usize] = k as u32;
-            }
-            ranks
-        });
+        let ranks: Option<Vec<u32>> = order.as_deref().map(ranks);
         let rank = |v: u32| ranks.as_ref().map_or(v, |ranks| ranks[v as usize]) as usize;
         let ends: Vec<[u32; 2]> = (0..mesh.edge_count() as u32)
             .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.0))

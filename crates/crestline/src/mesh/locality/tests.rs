@@ -34,18 +34,21 @@ fn grid(n: usize) -> TriangleSoup {
 }
 
 /// `soup` with its vertices listed in a scattered order: vertex i moves to
-/// (i · stride) mod n, stride odd and coprime to n.
+/// (i · stride) mod n, stride coprime to n; its scalars move with it.
 fn scattered(mut soup: TriangleSoup, stride: usize) -> TriangleSoup {
     let n = soup.positions.len();
     let to = |i: usize| (i * stride) % n;
-    let mut positions = vec![Point::origin(); n];
-    let mut values = vec![0.0; n];
-    for i in 0..n {
-        positions[to(i)] = soup.positions[i];
-        values[to(i)] = soup.vertex_scalars[0].values[i];
+    fn moved<T: Copy>(values: &[T], to: impl Fn(usize) -> usize) -> Vec<T> {
+        let mut out = values.to_vec();
+        for (i, &x) in values.iter().enumerate() {
+            out[to(i)] = x;
+        }
+        out
     }
-    soup.positions = positions;
-    soup.vertex_scalars[0].values = values;
+    soup.positions = moved(&soup.positions, to);
+    for property in &mut soup.vertex_scalars {
+        property.values = moved(&property.values, to);
+    }
     for t in &mut soup.triangles {
         *t = t.map(|v| to(v as usize) as u32);
     }
@@ -170,10 +173,6 @@ fn strict_building_refuses_an_unorientable_soup_in_either_order() {
         triangles.push([a, d, c]);
     }
     let strip = TriangleSoup {
-        vertex_scalars: vec![ScalarProperty {
-            name: "index".into(),
-            values: vec![0.0; positions.len()],
-        }],
         positions,
         triangles,
         ..TriangleSoup::default()
