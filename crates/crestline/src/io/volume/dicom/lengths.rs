@@ -12,6 +12,10 @@
 //! deflated syntax (§A.5) compresses the data set and is not walked; an element of
 //! VR UN with an undefined length holds implicit VR data and ends the walk too.
 
+use dicom_core::dictionary::{DataDictionary, DataDictionaryEntry};
+use dicom_core::{Tag, VR};
+use dicom_dictionary_std::StandardDataDictionary;
+
 use crate::{Error, Result};
 
 /// The transfer syntax UIDs whose data set is encoded differently from explicit
@@ -19,12 +23,6 @@ use crate::{Error, Result};
 const IMPLICIT_LITTLE: &str = "1.2.840.10008.1.2";
 const EXPLICIT_BIG: &str = "1.2.840.10008.1.2.2";
 const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
-
-/// The explicit VRs whose length takes 4 bytes after 2 reserved ones (PS3.5
-/// Table 7.1-1).
-const LONG_VRS: [&[u8; 2]; 13] = [
-    b"OB", b"OD", b"OF", b"OL", b"OV", b"OW", b"SQ", b"SV", b"UC", b"UN", b"UR", b"UT", b"UV",
-];
 
 /// The tag of Pixel Data.
 const PIXEL_DATA: (u16, u16) = (0x7fe0, 0x0010);
@@ -58,10 +56,12 @@ struct Walk<'a> {
     little: bool,
 }
 
-/// One element header: tag, explicit VR (if any) and length.
+/// One element header: tag, explicit VR (if any), the size of one of its values
+/// ([`value_unit`]) and length.
 struct ElementHeader {
     tag: (u16, u16),
-    vr: Option<[u8; 2]>,
+    vr: Option<VR>,
+    unit: usize,
     length: u32,
 }
 
@@ -89,7 +89,7 @@ impl Walk<'_> {
             let undefined = header.length == UNDEFINED;
             let item = header.tag.0 == 0xfffe;
             let sequence =
-                header.vr == Some(*b"SQ") || (header.vr.is_none() && self.holds_items(&header));
+                header.vr == Some(VR::SQ) || (header.vr.is_none() && self.holds_items(&header));
             if header.tag == PIXEL_DATA {
                 match undefined {
                     true => self.fragments()?,
@@ -97,7 +97,7 @@ impl Walk<'_> {
                 }
                 continue;
             }
-            if undefined && header.vr == Some(*b"UN") {
+            if undefined && header.vr == Some(VR::UN) {
                 return Ok(());
             }
             // Sequences and items are entered (their elements follow); delimiters
@@ -146,27 +146,36 @@ impl Walk<'_> {
         }
     }
 
-    /// Read the element header at the position.
+    /// Read the element header at the position. An explicit VR that is not one of
+    /// PS3.5 Table 7.1-1 is read as UN (as dicom-rs reads it: 2 reserved bytes and
+    /// a 4-byte length), or a corrupt VR would hide a huge length from the walk;
+    /// the VR of an implicit one is the dictionary's.
     fn header(&mut self) -> Result<ElementHeader> {
         let tag = (self.u16()?, self.u16()?);
         if tag.0 == 0xfffe || !self.explicit {
             let length = self.u32()?;
+            let unit = match tag.0 {
+                0xfffe => 1,
+                _ => value_unit(implicit_vr(tag)),
+            };
             return Ok(ElementHeader {
                 tag,
                 vr: None,
+                unit,
                 length,
             });
         }
-        let vr = [self.byte()?, self.byte()?];
-        let length = if LONG_VRS.contains(&&vr) {
+        let vr = VR::from_binary([self.byte()?, self.byte()?]).unwrap_or(VR::UN);
+        let length = if short_length(vr) {
+            u32::from(self.u16()?)
+        } else {
             self.u16()?;
             self.u32()?
-        } else {
-            u32::from(self.u16()?)
         };
         Ok(ElementHeader {
             tag,
             vr: Some(vr),
+            unit: value_unit(vr),
             length,
         })
     }
@@ -186,9 +195,18 @@ impl Walk<'_> {
         )))
     }
 
-    /// The value of `header`, after checking that it fits, moving past it.
+    /// The value of `header`, after checking that it fits and holds whole
+    /// values ([`value_unit`]), moving past it.
     fn value(&mut self, header: &ElementHeader) -> Result<&[u8]> {
         self.remaining(header)?;
+        if header.length as usize % header.unit != 0 {
+            let (group, element) = header.tag;
+            return Err(Error::Parse(format!(
+                "its element ({group:04X},{element:04X}) at byte {} has a length of {} bytes, \
+                 not a whole number of its {}-byte values (a corrupt file)",
+                self.at, header.length, header.unit
+            )));
+        }
         let start = self.at;
         self.at += header.length as usize;
         Ok(&self.bytes[start..self.at])
@@ -228,6 +246,59 @@ impl Walk<'_> {
             "ends inside an element header at byte {} (a truncated file)",
             self.at
         ))
+    }
+}
+
+/// Whether an explicit `vr` has a 2-byte length (PS3.5 Table 7.1-2).
+fn short_length(vr: VR) -> bool {
+    use VR::*;
+    matches!(
+        vr,
+        AE | AS
+            | AT
+            | CS
+            | DA
+            | DS
+            | DT
+            | FL
+            | FD
+            | IS
+            | LO
+            | LT
+            | PN
+            | SH
+            | SL
+            | SS
+            | ST
+            | TM
+            | UI
+            | UL
+            | US
+    )
+}
+
+/// The VR a reader gives an implicit VR element: the dictionary's, OW for Pixel
+/// Data and overlays (PS3.5 A.1 c), UN for an unknown tag.
+fn implicit_vr((group, element): (u16, u16)) -> VR {
+    if (group, element) == PIXEL_DATA || (group >> 8 == 0x60 && element == 0x3000) {
+        return VR::OW;
+    }
+    StandardDataDictionary
+        .by_tag(Tag(group, element))
+        .map_or(VR::UN, |entry| entry.vr().relaxed())
+}
+
+/// The size in bytes of one value of `vr`. dicom-rs reads length / size values
+/// of a binary VR and moves on by the length: a length that is not a multiple
+/// leaves it reading the next elements from the wrong byte, where it may find
+/// a length of gigabytes and allocate it before failing.
+fn value_unit(vr: VR) -> usize {
+    use VR::*;
+    match vr {
+        US | OW | SS => 2,
+        AT | FL | OF | SL | UL | OL => 4,
+        FD | OD | SV | UV | OV => 8,
+        _ => 1,
     }
 }
 
@@ -273,5 +344,36 @@ mod tests {
         );
         let err = check(&file(&[0x28, 0x00, 0x10])).unwrap_err().to_string();
         assert!(err.contains("ends inside an element header"), "{err}");
+    }
+
+    #[test]
+    fn an_unknown_vr_takes_a_four_byte_length_as_dicom_rs_reads_it() {
+        // (0018,0000) with the corrupt VR "\x01S": a DICOM reader takes it for UN,
+        // whose length is the 4 bytes after 2 reserved ones, here 0x2053_4648
+        // (542 MB), not the 2 bytes 04 00 a short VR would have.
+        let elements = [
+            0x18, 0x00, 0x00, 0x00, 0x01, b'S', 0x04, 0x00, b'H', b'F', b'S', b' ',
+        ];
+        let err = check(&file(&elements)).unwrap_err().to_string();
+        assert!(
+            err.contains("(0018,0000)") && err.contains("claims 542328392 bytes"),
+            "{err}"
+        );
+        // An undefined length of an unknown VR is UN's: implicit VR data, not walked.
+        let elements = [
+            0x18, 0x00, 0x00, 0x00, 0x01, b'S', 0, 0, 0xff, 0xff, 0xff, 0xff,
+        ];
+        check(&file(&elements)).unwrap();
+    }
+
+    #[test]
+    fn a_binary_value_of_a_broken_length_is_refused() {
+        // Rows (US) with 3 bytes: a reader takes one value and loses its place.
+        let elements = [0x28, 0x00, 0x10, 0x00, b'U', b'S', 3, 0, 64, 0, 0];
+        let err = check(&file(&elements)).unwrap_err().to_string();
+        assert!(
+            err.contains("(0028,0010)") && err.contains("of its 2-byte values"),
+            "{err}"
+        );
     }
 }
