@@ -12,7 +12,7 @@ use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 use super::cells::{Integral, Saddle};
 use super::disjoint::DisjointSets;
 use super::gradient::{EdgeRole, Gradient, Keys};
-use super::heap::QuaternaryHeap;
+use super::heap::SeededQueue;
 
 /// How saddles are ranked for cancellation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -294,7 +294,7 @@ pub struct Hierarchy<'a> {
     live_saddles: usize,
     /// Live saddles with no valid cancellation left: forced by topology.
     forced_saddles: usize,
-    queue: QuaternaryHeap<Entry>,
+    queue: SeededQueue<Entry>,
     /// The cancellations made, in order.
     pub cancelled: Vec<Cancellation>,
 }
@@ -343,16 +343,20 @@ impl<'a> Hierarchy<'a> {
             criterion,
             live_saddles: n,
             forced_saddles: 0,
-            queue: QuaternaryHeap::with_capacity(n),
+            queue: SeededQueue::new(Vec::new()),
             cancelled: Vec::new(),
         };
         hierarchy.add_candidates();
-        for m in 0..hierarchy.minima.state.len() {
-            hierarchy.queue_set(Kind::Minimum, m);
-        }
-        for m in 0..boundary {
-            hierarchy.queue_set(Kind::Maximum, m);
-        }
+        let sets = (0..hierarchy.minima.state.len())
+            .map(|m| (Kind::Minimum, m))
+            .chain((0..boundary).map(|m| (Kind::Maximum, m)));
+        let initial = sets
+            .filter_map(|(kind, m)| {
+                let (t, _, _) = hierarchy.set_best(kind, m)?;
+                hierarchy.claim_entry(t, kind, m)
+            })
+            .collect();
+        hierarchy.queue = SeededQueue::new(initial);
         hierarchy.forced_saddles = (0..n).filter(|&s| hierarchy.is_forced(s)).count();
         hierarchy
     }
@@ -661,11 +665,19 @@ impl<'a> Hierarchy<'a> {
 
     /// Queue set `m` of `kind` at `t`, unless its entry is lower.
     fn push_entry(&mut self, t: f64, kind: Kind, m: usize) {
-        let queued = &mut self.extrema_mut(kind).state[m].queued;
-        if t < *queued {
-            *queued = t;
-            self.queue.push(Entry::new(t, kind, m as u32));
+        if let Some(entry) = self.claim_entry(t, kind, m) {
+            self.queue.push(entry);
         }
+    }
+
+    /// The entry of set `m` of `kind` at `t`, now the one that counts, unless
+    /// the set has a lower one.
+    fn claim_entry(&mut self, t: f64, kind: Kind, m: usize) -> Option<Entry> {
+        let queued = &mut self.extrema_mut(kind).state[m].queued;
+        (t < *queued).then(|| {
+            *queued = t;
+            Entry::new(t, kind, m as u32)
+        })
     }
 
     /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
