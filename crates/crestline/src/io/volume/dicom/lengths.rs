@@ -199,7 +199,7 @@ impl Walk<'_> {
     /// values ([`value_unit`]), moving past it.
     fn value(&mut self, header: &ElementHeader) -> Result<&[u8]> {
         self.remaining(header)?;
-        if header.length as usize % header.unit != 0 {
+        if !(header.length as usize).is_multiple_of(header.unit) {
             let (group, element) = header.tag;
             return Err(Error::Parse(format!(
                 "its element ({group:04X},{element:04X}) at byte {} has a length of {} bytes, \
