@@ -45,14 +45,18 @@ impl CurvatureEstimator for ShapeOperator {
 
 /// The field of a mesh in the unit frame, before repairs.
 fn estimate_unit(mesh: &Mesh) -> CurvatureField {
-    let area_vectors: Vec<Vector> = mesh.par_faces().map(|f| mesh.face_area_vector(f)).collect();
-    let normals: Vec<Vector> = area_vectors.par_iter().map(Vector::normalize).collect();
+    // The faces' area vectors are recomputed where summed rather than stored:
+    // cheaper than writing and reading a vector per face on large meshes.
+    let normals: Vec<Vector> = mesh
+        .par_faces()
+        .map(|f| mesh.face_area_vector(f).normalize())
+        .collect();
     CurvatureField::from_fn(mesh.vertex_count(), |v| {
         let mut area_vector = Vector::zeros();
         for h in mesh.outgoing(v) {
             let f = mesh.face(h);
             if f.is_valid() {
-                area_vector += area_vectors[f.idx()];
+                area_vector += mesh.face_area_vector(f);
             }
         }
         let normal = area_vector.normalize();
