@@ -7,6 +7,8 @@ use std::cell::OnceCell;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, VecDeque};
 
+use rayon::prelude::*;
+
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 
 use super::cells::{Integral, Saddle};
@@ -118,6 +120,36 @@ impl Extrema {
         self.state[rep].candidates.append(&mut moved);
         self.state[rep].survivor = self.state[kept].survivor;
         rep
+    }
+
+    /// Link the saddles to these extrema: `side(ends[s])` are the extrema at the
+    /// ends of saddle s's two branches of this kind, `key(s)` its candidates' key.
+    /// Counts each extremum's links and fills its heap of candidates, but at
+    /// `skip` (the boundary).
+    fn link(
+        &mut self,
+        ends: &[Ends],
+        side: impl Fn(&Ends) -> [u32; 2],
+        key: impl Fn(usize) -> f64,
+        skip: Option<u32>,
+    ) {
+        let kept = |end: &u32| Some(*end) != skip;
+        // The links first, so that every heap is allocated once, at its size.
+        for end in ends.iter().flat_map(&side).filter(kept) {
+            self.state[end as usize].links += 1;
+        }
+        for state in &mut self.state {
+            state.candidates.reserve_exact(state.links as usize);
+        }
+        for (s, pair) in ends.iter().map(&side).enumerate() {
+            let key = key(s);
+            for (branch, end) in pair.iter().enumerate().filter(|(_, end)| kept(end)) {
+                let far = pair[1 - branch];
+                self.state[*end as usize]
+                    .candidates
+                    .push(Candidate::new(key, s, branch, far));
+            }
+        }
     }
 
     /// The index of the tree of each set's surviving extremum.
@@ -362,40 +394,20 @@ impl<'a> Hierarchy<'a> {
     }
 
     /// Link every saddle to the extrema at the ends of its branches, with its
-    /// candidates in their heaps; the boundary is never a terminal maximum, nor
-    /// cancelled.
+    /// candidates in their heaps (minima and maxima side by side); the boundary
+    /// is never a terminal maximum, nor cancelled.
     fn add_candidates(&mut self) {
-        let boundary = self.boundary;
-        // The links first, so that every heap is allocated once, at its size.
-        for Ends { minima, maxima } in &self.ends {
-            for &end in minima {
-                self.minima.state[end as usize].links += 1;
-            }
-            for &end in maxima.iter().filter(|&&end| end as usize != boundary) {
-                self.maxima.state[end as usize].links += 1;
-            }
-        }
-        for state in self.minima.state.iter_mut().chain(&mut self.maxima.state) {
-            state.candidates.reserve_exact(state.links as usize);
-        }
-        for s in 0..self.saddles.len() {
-            let (low, high) = self.static_keys(&self.saddles[s]);
-            let Ends { minima, maxima } = self.ends[s];
-            for (branch, &end) in minima.iter().enumerate() {
-                let far = minima[1 - branch];
-                self.minima.state[end as usize]
-                    .candidates
-                    .push(Candidate::new(low, s, branch, far));
-            }
-            for (branch, &end) in maxima.iter().enumerate() {
-                if end as usize != boundary {
-                    let far = maxima[1 - branch];
-                    self.maxima.state[end as usize]
-                        .candidates
-                        .push(Candidate::new(high, s, branch, far));
-                }
-            }
-        }
+        let (criterion, keys, saddles) = (self.criterion, self.keys, &self.saddles);
+        let key = |s: usize| static_keys(criterion, keys, &saddles[s]);
+        let ends = &self.ends;
+        let boundary = self.boundary as u32;
+        rayon::join(
+            || self.minima.link(ends, |e| e.minima, |s| key(s).0, None),
+            || {
+                self.maxima
+                    .link(ends, |e| e.maxima, |s| key(s).1, Some(boundary))
+            },
+        );
         self.maxima.state[self.boundary].links = i64::MAX / 2;
     }
 
@@ -576,21 +588,6 @@ impl<'a> Hierarchy<'a> {
             }
         }
         out
-    }
-
-    /// The parts of a saddle's scores that do not depend on the extremum it is
-    /// cancelled with: (with a minimum, with a maximum). A non-terminal candidate
-    /// scores its key plus its extremum's [`offset`](Self::offset): σ_max(r, m) =
-    /// avg_r(I) − avg_U(m)(I) (eq. 1), σ_min(v, M) = avg_S(M)(I) − avg_v(I) (eq. 2),
-    /// or the persistence f(s) − f(m), f(M) − f(s).
-    fn static_keys(&self, saddle: &Saddle) -> (f64, f64) {
-        match self.criterion {
-            Criterion::Feature => (saddle.ascending_mean(), -saddle.descending_mean()),
-            Criterion::Persistence => {
-                let f = self.keys.edge[saddle.edge.idx()];
-                (f, -f)
-            }
-        }
     }
 
     /// The extremum's part of its non-terminal candidates' scores.
@@ -828,6 +825,21 @@ impl<'a> Hierarchy<'a> {
     }
 }
 
+/// The parts of a saddle's scores that do not depend on the extremum it is
+/// cancelled with: (with a minimum, with a maximum). A non-terminal candidate
+/// scores its key plus its extremum's [`offset`](Hierarchy::offset): σ_max(r, m) =
+/// avg_r(I) − avg_U(m)(I) (eq. 1), σ_min(v, M) = avg_S(M)(I) − avg_v(I) (eq. 2),
+/// or the persistence f(s) − f(m), f(M) − f(s).
+fn static_keys(criterion: Criterion, keys: &Keys, saddle: &Saddle) -> (f64, f64) {
+    match criterion {
+        Criterion::Feature => (saddle.ascending_mean(), -saddle.descending_mean()),
+        Criterion::Persistence => {
+            let f = keys.edge[saddle.edge.idx()];
+            (f, -f)
+        }
+    }
+}
+
 /// A cancelled saddle as a link between two initial trees of one forest (set
 /// elements; the boundary for a missing face), with its node in each (its
 /// vertices, or its faces) and its edge.
@@ -903,7 +915,7 @@ fn saddle_ends(mesh: &Mesh, gradient: &Gradient, saddles: &[Saddle]) -> Vec<Ends
     let maximum = numbering(mesh.face_count(), &mut gradient.maxima.iter().map(|f| f.0));
     let boundary = gradient.maxima.len() as u32;
     saddles
-        .iter()
+        .par_iter()
         .map(|saddle| Ends {
             minima: saddle
                 .vertices
