@@ -9,7 +9,7 @@ use std::collections::{BinaryHeap, VecDeque};
 
 use rayon::prelude::*;
 
-use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
+use crate::mesh::{EdgeId, Mesh};
 
 use super::cells::{Integral, Saddle};
 use super::disjoint::DisjointSets;
@@ -433,14 +433,9 @@ impl<'a> Hierarchy<'a> {
     /// those of the initial gradient.
     pub fn gradient(&self) -> &Gradient {
         self.current.get_or_init(|| {
-            let mut gradient = self.initial.clone();
-            for (v, edge) in self.attachments(Kind::Minimum) {
-                gradient.hang_vertex(self.mesh, VertexId(v), edge);
-            }
-            for (f, edge) in self.attachments(Kind::Maximum) {
-                gradient.hang_face(self.mesh, FaceId(f), edge);
-            }
-            gradient
+            let minima = self.attachments(Kind::Minimum);
+            let maxima = self.attachments(Kind::Maximum);
+            self.initial.rehung(self.mesh, &minima, &maxima)
         })
     }
 

@@ -125,31 +125,72 @@ impl Gradient {
         matching.into_gradient()
     }
 
-    /// Reverse the primal path from `start` to its minimum and hang `start` on
-    /// `edge` (whose other end leads to another tree's root).
-    pub fn hang_vertex(&mut self, mesh: &Mesh, start: VertexId, edge: EdgeId) {
-        let mut current = start;
-        let mut incoming = edge;
-        while let Some((e, next)) = self.vertex_step(mesh, current) {
-            self.vertex_parent[current.idx()] = incoming;
-            incoming = e;
-            current = next;
+    /// The gradient with its trees re-hung (the cancellations of §2.1): for each
+    /// `(v, edge)` of `vertex_attachments` the primal path from vertex v to its
+    /// minimum reversed and v hung on `edge` (whose other end leads to another
+    /// tree's root), and likewise the dual paths of `face_attachments` (across
+    /// `edge` lies another tree, or the boundary). The two forests are re-hung
+    /// side by side; roots, critical cells and edge roles are copied as they are.
+    pub fn rehung(
+        &self,
+        mesh: &Mesh,
+        vertex_attachments: &[(u32, EdgeId)],
+        face_attachments: &[(u32, EdgeId)],
+    ) -> Gradient {
+        let vertex_across = |v: u32, e: EdgeId| {
+            let [a, b] = mesh.edge_vertices(e);
+            Some(if a.0 == v { b.0 } else { a.0 })
+        };
+        let face_across = |f: u32, e: EdgeId| {
+            let h = mesh.edge_halfedge(e, 0);
+            let (g0, g1) = (mesh.face(h), mesh.face(mesh.twin(h)));
+            let next = if g0.0 == f { g1 } else { g0 };
+            next.is_valid().then_some(next.0)
+        };
+        let (vertex_parent, face_parent) = rayon::join(
+            || rehang(&self.vertex_parent, vertex_attachments, vertex_across),
+            || rehang(&self.face_parent, face_attachments, face_across),
+        );
+        Gradient {
+            edge_role: self.edge_role.clone(),
+            vertex_parent,
+            face_parent,
+            vertex_root: self.vertex_root.clone(),
+            face_root: self.face_root.clone(),
+            minima: self.minima.clone(),
+            maxima: self.maxima.clone(),
+            saddles: self.saddles.clone(),
         }
-        self.vertex_parent[current.idx()] = incoming;
     }
+}
 
-    /// Reverse the dual path from `start` to its maximum and hang `start` on
-    /// `edge` (across which lies another tree, or the boundary).
-    pub fn hang_face(&mut self, mesh: &Mesh, start: FaceId, edge: EdgeId) {
-        let mut current = start;
-        let mut incoming = edge;
-        while let Some((e, next)) = self.face_step(mesh, current) {
-            self.face_parent[current.idx()] = incoming;
-            incoming = e;
-            current = next;
+/// The forest `parent` (the edge from each node towards its root) with, for
+/// each `(start, edge)` of `attachments`, the path from `start` to its root
+/// reversed and `start` hung on `edge`. `across(node, e)` is the node across edge
+/// `e`, `None` where the path leaves the mesh.
+fn rehang(
+    parent: &[EdgeId],
+    attachments: &[(u32, EdgeId)],
+    across: impl Fn(u32, EdgeId) -> Option<u32>,
+) -> Vec<EdgeId> {
+    let mut parent = parent.to_vec();
+    for &(start, edge) in attachments {
+        let (mut current, mut incoming) = (start, edge);
+        loop {
+            let e = parent[current as usize];
+            let next = if e.is_valid() {
+                across(current, e)
+            } else {
+                None
+            };
+            parent[current as usize] = incoming;
+            match next {
+                Some(next) => (current, incoming) = (next, e),
+                None => break,
+            }
         }
-        self.face_parent[current.idx()] = incoming;
     }
+    parent
 }
 
 /// The pairing of elements with edges under construction. Nodes are numbered
