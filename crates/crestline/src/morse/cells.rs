@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, FaceId, Mesh, VertexId};
 
-use super::gradient::{Gradient, Keys};
+use super::gradient::{face_across, vertex_across, Gradient, Keys};
 
 /// The integral of the indicator over a part of the surface or a line, and its
 /// measure (area or length): their ratio is the part's mean indicator.
@@ -76,10 +76,7 @@ impl Gradient {
     /// The next vertex towards the minimum, with the edge leading there.
     pub fn vertex_step(&self, mesh: &Mesh, v: VertexId) -> Option<(EdgeId, VertexId)> {
         let e = self.vertex_parent[v.idx()];
-        e.is_valid().then(|| {
-            let [a, b] = mesh.edge_vertices(e);
-            (e, if a == v { b } else { a })
-        })
+        e.is_valid().then(|| (e, vertex_across(mesh, v, e)))
     }
 
     /// The next face towards the maximum, with the edge crossed; `None` at a
@@ -89,9 +86,7 @@ impl Gradient {
         if !e.is_valid() {
             return None;
         }
-        let h = mesh.edge_halfedge(e, 0);
-        let (g0, g1) = (mesh.face(h), mesh.face(mesh.twin(h)));
-        let next = if g0 == f { g1 } else { g0 };
+        let next = face_across(mesh, f, e);
         next.is_valid().then_some((e, next))
     }
 }

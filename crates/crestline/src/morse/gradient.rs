@@ -137,19 +137,18 @@ impl Gradient {
         vertex_attachments: &[(u32, EdgeId)],
         face_attachments: &[(u32, EdgeId)],
     ) -> Gradient {
-        let vertex_across = |v: u32, e: EdgeId| {
-            let [a, b] = mesh.edge_vertices(e);
-            Some(if a.0 == v { b.0 } else { a.0 })
-        };
-        let face_across = |f: u32, e: EdgeId| {
-            let h = mesh.edge_halfedge(e, 0);
-            let (g0, g1) = (mesh.face(h), mesh.face(mesh.twin(h)));
-            let next = if g0.0 == f { g1 } else { g0 };
-            next.is_valid().then_some(next.0)
-        };
         let (vertex_parent, face_parent) = rayon::join(
-            || rehang(&self.vertex_parent, vertex_attachments, vertex_across),
-            || rehang(&self.face_parent, face_attachments, face_across),
+            || {
+                rehang(&self.vertex_parent, vertex_attachments, |v, e| {
+                    Some(vertex_across(mesh, VertexId(v), e).0)
+                })
+            },
+            || {
+                rehang(&self.face_parent, face_attachments, |f, e| {
+                    let next = face_across(mesh, FaceId(f), e);
+                    next.is_valid().then_some(next.0)
+                })
+            },
         );
         Gradient {
             edge_role: self.edge_role.clone(),
@@ -161,6 +160,28 @@ impl Gradient {
             maxima: self.maxima.clone(),
             saddles: self.saddles.clone(),
         }
+    }
+}
+
+/// The other end of edge `e` from its end `v`.
+pub(super) fn vertex_across(mesh: &Mesh, v: VertexId, e: EdgeId) -> VertexId {
+    let [a, b] = mesh.edge_vertices(e);
+    if a == v {
+        b
+    } else {
+        a
+    }
+}
+
+/// The face on the other side of edge `e` from its side `f`
+/// ([`FaceId::INVALID`] across the boundary).
+pub(super) fn face_across(mesh: &Mesh, f: FaceId, e: EdgeId) -> FaceId {
+    let h = mesh.edge_halfedge(e, 0);
+    let (g0, g1) = (mesh.face(h), mesh.face(mesh.twin(h)));
+    if g0 == f {
+        g1
+    } else {
+        g0
     }
 }
 
@@ -403,27 +424,8 @@ impl<'a> Matching<'a> {
         let mut vertex_parent = self.pair;
         let face_parent = vertex_parent.split_off(vertex_count);
         let (vertex_root, face_root) = rayon::join(
-            || {
-                roots_of(&vertex_parent, |v, e| {
-                    let [a, b] = mesh.edge_vertices(e);
-                    if a.0 == v {
-                        b.0
-                    } else {
-                        a.0
-                    }
-                })
-            },
-            || {
-                roots_of(&face_parent, |f, e| {
-                    let h = mesh.edge_halfedge(e, 0);
-                    let (g0, g1) = (mesh.face(h).0, mesh.face(mesh.twin(h)).0);
-                    if g0 == f {
-                        g1
-                    } else {
-                        g0
-                    }
-                })
-            },
+            || roots_of(&vertex_parent, |v, e| vertex_across(mesh, VertexId(v), e).0),
+            || roots_of(&face_parent, |f, e| face_across(mesh, FaceId(f), e).0),
         );
         let unpaired = |parent: &[EdgeId]| -> Vec<u32> {
             (0..parent.len() as u32)

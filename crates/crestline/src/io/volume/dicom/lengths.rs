@@ -56,13 +56,23 @@ struct Walk<'a> {
     little: bool,
 }
 
-/// One element header: tag, explicit VR (if any), the size of one of its values
-/// ([`value_unit`]) and length.
+/// One element header: tag, explicit VR (if any) and length.
 struct ElementHeader {
     tag: (u16, u16),
     vr: Option<VR>,
-    unit: usize,
     length: u32,
+}
+
+impl ElementHeader {
+    /// The size in bytes of one of its values ([`value_unit`]): by its explicit
+    /// VR, or the dictionary's for an implicit one; an item's is a byte.
+    fn unit(&self) -> usize {
+        match (self.vr, self.tag.0) {
+            (Some(vr), _) => value_unit(vr),
+            (None, 0xfffe) => 1,
+            (None, _) => value_unit(implicit_vr(self.tag)),
+        }
+    }
 }
 
 impl Walk<'_> {
@@ -154,14 +164,9 @@ impl Walk<'_> {
         let tag = (self.u16()?, self.u16()?);
         if tag.0 == 0xfffe || !self.explicit {
             let length = self.u32()?;
-            let unit = match tag.0 {
-                0xfffe => 1,
-                _ => value_unit(implicit_vr(tag)),
-            };
             return Ok(ElementHeader {
                 tag,
                 vr: None,
-                unit,
                 length,
             });
         }
@@ -175,7 +180,6 @@ impl Walk<'_> {
         Ok(ElementHeader {
             tag,
             vr: Some(vr),
-            unit: value_unit(vr),
             length,
         })
     }
@@ -199,12 +203,13 @@ impl Walk<'_> {
     /// values ([`value_unit`]), moving past it.
     fn value(&mut self, header: &ElementHeader) -> Result<&[u8]> {
         self.remaining(header)?;
-        if !(header.length as usize).is_multiple_of(header.unit) {
+        let unit = header.unit();
+        if !(header.length as usize).is_multiple_of(unit) {
             let (group, element) = header.tag;
             return Err(Error::Parse(format!(
                 "its element ({group:04X},{element:04X}) at byte {} has a length of {} bytes, \
-                 not a whole number of its {}-byte values (a corrupt file)",
-                self.at, header.length, header.unit
+                 not a whole number of its {unit}-byte values (a corrupt file)",
+                self.at, header.length
             )));
         }
         let start = self.at;
