@@ -141,7 +141,7 @@ impl<'a> Cg<'a> {
     /// Sets r = b − A x and p = P⁻¹ r (P the preconditioner); returns ‖r‖.
     fn restart(&mut self, x: &[f64]) -> f64 {
         self.matrix.residual(x, self.b, &mut self.r);
-        self.preconditioner.apply(self.matrix, &self.r, &mut self.p);
+        self.preconditioner.apply(&self.r, &mut self.p);
         dot(&self.r, &self.r).sqrt()
     }
 
@@ -179,7 +179,7 @@ impl<'a> Cg<'a> {
                 rr
             })
             .collect();
-        self.preconditioner.apply(self.matrix, &self.r, &mut self.q);
+        self.preconditioner.apply(&self.r, &mut self.q);
         (dot(&self.r, &self.q), sums.iter().sum())
     }
 

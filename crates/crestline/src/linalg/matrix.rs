@@ -126,15 +126,38 @@ impl SymmetricBuilder {
 /// Row indices are 32 bits wide, as the mesh's vertex ids: the iterative solver
 /// streams them every sweep, and a third fewer bytes per entry are a third less
 /// time where memory bandwidth decides.
+///
+/// The values are `f64`, or `f32` in the multigrid preconditioner's copies
+/// ([`SymmetricMatrix::compact`]), which it streams every sweep.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SymmetricMatrix {
+pub struct SymmetricMatrix<T: Entry = f64> {
     n: usize,
     col_ptr: Arc<[usize]>,
     row_idx: Arc<[u32]>,
-    values: Vec<f64>,
+    values: Vec<T>,
 }
 
+/// The type of a stored matrix entry, read as `f64`.
+pub trait Entry: Copy + Into<f64> + PartialEq + std::fmt::Debug + Send + Sync {}
+
+impl Entry for f64 {}
+impl Entry for f32 {}
+
 impl SymmetricMatrix {
+    /// The matrix with its values rounded to `f32` and its pattern shared: two
+    /// thirds of the bytes per entry (a 4-byte row index and a 4-byte value), for
+    /// a preconditioner, which needs the matrix only approximately.
+    pub fn compact(&self) -> SymmetricMatrix<f32> {
+        SymmetricMatrix {
+            n: self.n,
+            col_ptr: self.col_ptr.clone(),
+            row_idx: self.row_idx.clone(),
+            values: self.values.iter().map(|&v| v as f32).collect(),
+        }
+    }
+}
+
+impl<T: Entry> SymmetricMatrix<T> {
     /// A matrix from its compressed columns: `col_ptr` (n + 1 offsets), the row of
     /// every entry and its value. Errors if the arrays do not describe an `n × n`
     /// matrix with sorted, distinct rows in every column. Shared offsets and rows
@@ -143,8 +166,8 @@ impl SymmetricMatrix {
         n: usize,
         col_ptr: impl Into<Arc<[usize]>>,
         row_idx: impl Into<Arc<[u32]>>,
-        values: Vec<f64>,
-    ) -> Result<SymmetricMatrix> {
+        values: Vec<T>,
+    ) -> Result<SymmetricMatrix<T>> {
         let (col_ptr, row_idx) = (col_ptr.into(), row_idx.into());
         let bad = |what: String| Err(Error::Argument(what));
         if col_ptr.len() != n + 1 {
@@ -191,7 +214,7 @@ impl SymmetricMatrix {
         self.row_idx[range.clone()]
             .iter()
             .map(|&i| i as usize)
-            .zip(self.values[range].iter().copied())
+            .zip(self.values[range].iter().map(|&v| v.into()))
     }
 
     /// Every stored entry as `(row, column, value)`, column by column.
@@ -202,7 +225,7 @@ impl SymmetricMatrix {
 
     /// The compressed columns: offsets, rows and values (e.g. to hand the matrix to
     /// another solver).
-    pub fn csc(&self) -> (&[usize], &[u32], &[f64]) {
+    pub fn csc(&self) -> (&[usize], &[u32], &[T]) {
         (&self.col_ptr, &self.row_idx, &self.values)
     }
 
@@ -264,7 +287,7 @@ impl SymmetricMatrix {
         self.row_idx[range.clone()]
             .iter()
             .zip(&self.values[range])
-            .map(|(&j, v)| v * x[j as usize])
+            .map(|(&j, &v)| v.into() * x[j as usize])
             .sum()
     }
 }

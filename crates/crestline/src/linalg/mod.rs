@@ -34,7 +34,7 @@ pub use cg::CgSettings;
 pub use cholesky::{CholeskyAnalysis, CholeskyFactor};
 #[cfg(test)]
 use matrix::SymmetricBuilder;
-pub use matrix::SymmetricMatrix;
+pub use matrix::{Entry, SymmetricMatrix};
 pub use multigrid::Multigrid;
 
 use crate::Result;
