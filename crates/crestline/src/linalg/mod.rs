@@ -23,6 +23,7 @@ mod cg;
 mod cholesky;
 mod matrix;
 mod multigrid;
+mod stiff_blocks;
 
 #[cfg(test)]
 mod tests;
@@ -48,10 +49,10 @@ const CHUNK: usize = 8192;
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
 /// conjugate gradient method. On two cores the factorization is the faster on
 /// every mesh measured (both fields, 3 steps; `examples/bench_smoothing.rs`):
-/// smoothing stage 0.6 s against 6.0 s on the Stanford dragon (435k vertices),
-/// 3.5 s against 25.5 s on the dragon ×4 (1.7M), plus its symbolic analysis
+/// smoothing stage 0.66 s against 5.7 s on the Stanford dragon (435k vertices),
+/// 3.5 s against 19.1 s on the dragon ×4 (1.7M), plus its symbolic analysis
 /// (0.5 and 2.6 s), because a V-cycle moves more bytes than a solve with the
-/// factor and the iteration takes about 18 (dragon) to 22 (×4) of them. But the factor's fill grows
+/// factor and the iteration takes about 14 of them per solve (×4). But the factor's fill grows
 /// faster than the mesh: the dragon ×16 (7M vertices) needed 17.7 GB for ridges
 /// with the factorization, and the dragon ×64 would not fit in 24 GiB, while the
 /// multigrid hierarchy takes about twice the matrix. From 2M unknowns on, memory

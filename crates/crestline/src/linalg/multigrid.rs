@@ -17,7 +17,9 @@
 //! The finest level's prolongator is smoothed, the coarser ones are plain
 //! aggregations; one V-cycle is [`SWEEPS`] forward Gauss–Seidel sweeps, the
 //! coarse correction and as many backward sweeps, a symmetric positive definite
-//! preconditioner; the coarsest level is factored.
+//! preconditioner; the coarsest level is factored. Small groups of stiffly
+//! coupled unknowns are relaxed together ([`StiffBlocks`]), and the operators are
+//! stored in `f32` ([`Level`]).
 //!
 //! The matrices are not M-matrices: the sign-aware Laplacian (§5.1) has
 //! off-diagonal entries −t w σ_pq of either sign. Its near-kernel is not the
@@ -26,6 +28,7 @@
 
 use rayon::prelude::*;
 
+use super::stiff_blocks::{Relax, StiffBlocks, MAX_BLOCK};
 use super::{CholeskyFactor, Entry, SymmetricMatrix, CHUNK};
 use crate::{Error, Result};
 
@@ -119,6 +122,7 @@ struct Level {
     coarse: SymmetricMatrix<f32>,
     /// Its reciprocal divisors of the smoother ([`sweep_inverse`]).
     coarse_inverse: Vec<f64>,
+    coarse_blocks: Option<StiffBlocks>,
 }
 
 /// The multigrid hierarchy of a matrix.
@@ -128,6 +132,8 @@ pub struct Multigrid {
     fine: SymmetricMatrix<f32>,
     /// The fine level's reciprocal divisors of the smoother ([`sweep_inverse`]).
     fine_inverse: Vec<f64>,
+    /// The fine level's stiffly coupled unknowns, relaxed together.
+    fine_blocks: Option<StiffBlocks>,
     levels: Vec<Level>,
     /// The factorization of the coarsest matrix, if there is a level below the
     /// fine one.
@@ -158,6 +164,7 @@ impl Multigrid {
             levels.push(Level {
                 prolongator: prolongator.compact(),
                 coarse_inverse: sweep_inverse(&coarse),
+                coarse_blocks: StiffBlocks::new(&coarse, sweep_piece(coarse.size())),
                 coarse: coarse.compact(),
             });
             coarsest = Some(coarse);
@@ -165,6 +172,7 @@ impl Multigrid {
         Ok(Multigrid {
             fine: matrix.compact(),
             fine_inverse,
+            fine_blocks: StiffBlocks::new(matrix, sweep_piece(matrix.size())),
             levels,
             coarsest: coarsest.as_ref().map(CholeskyFactor::new).transpose()?,
         })
@@ -186,6 +194,11 @@ impl Multigrid {
 
     fn cycle(&self, l: usize, a: &SymmetricMatrix<f32>, inverse: &[f64], b: &[f64], x: &mut [f64]) {
         x.fill(0.0);
+        let blocks = if l == 0 {
+            self.fine_blocks.as_ref()
+        } else {
+            self.levels[l - 1].coarse_blocks.as_ref()
+        };
         let Some(level) = self.levels.get(l) else {
             // Below the last level lies the coarsest, factored; without levels the
             // fine matrix is only smoothed.
@@ -196,8 +209,8 @@ impl Multigrid {
                 }
                 _ => {
                     let mut before = vec![0.0; b.len()];
-                    gauss_seidel(a, inverse, b, x, &mut before, false);
-                    gauss_seidel(a, inverse, b, x, &mut before, true);
+                    gauss_seidel(a, inverse, blocks, b, x, &mut before, false);
+                    gauss_seidel(a, inverse, blocks, b, x, &mut before, true);
                 }
             }
             return;
@@ -205,7 +218,7 @@ impl Multigrid {
         // The sweeps' copy of x, and the residual between them.
         let mut scratch = vec![0.0; b.len()];
         for _ in 0..SWEEPS {
-            gauss_seidel(a, inverse, b, x, &mut scratch, false);
+            gauss_seidel(a, inverse, blocks, b, x, &mut scratch, false);
         }
         a.residual(x, b, &mut scratch);
         let coarse_b = multiply_transposed(&level.prolongator, &scratch, level.coarse.size());
@@ -219,7 +232,7 @@ impl Multigrid {
         );
         add_product(&level.prolongator, &coarse_x, x);
         for _ in 0..SWEEPS {
-            gauss_seidel(a, inverse, b, x, &mut scratch, true);
+            gauss_seidel(a, inverse, blocks, b, x, &mut scratch, true);
         }
     }
 }
@@ -316,12 +329,15 @@ fn sweep_inverse(a: &SymmetricMatrix) -> Vec<f64> {
 /// One hybrid Gauss–Seidel sweep on A x = b, forward or `backward`: Gauss–Seidel
 /// within each of [`SWEEP_PIECES`] pieces of rows, relaxed in parallel, and
 /// Jacobi between them (the other pieces' values from before the sweep), with
-/// the `inverse` divisors of [`sweep_inverse`]; `before` (of x's length) is
+/// the `inverse` divisors of [`sweep_inverse`] and the `blocks` of stiffly
+/// coupled unknowns relaxed together (at their first member, with the inverse of
+/// their diagonal block); `before` (of x's length) is
 /// overwritten with x as it was before the sweep. The backward sweep is the
 /// forward one's adjoint, so a V-cycle with one of each stays symmetric.
 fn gauss_seidel(
     a: &SymmetricMatrix<f32>,
     inverse: &[f64],
+    blocks: Option<&StiffBlocks>,
     b: &[f64],
     x: &mut [f64],
     before: &mut [f64],
@@ -337,8 +353,9 @@ fn gauss_seidel(
     x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
         let start = k * piece;
         let end = start + own.len();
-        let mut relax = |i: usize| {
-            // Column i is row i: the matrix is symmetric. The sum includes a_ii x_i.
+        // b_i − (A x)_i, with x_j from this piece as relaxed so far. Column i is
+        // row i: the matrix is symmetric. The sum includes a_ii x_i.
+        let residual = |own: &[f64], i: usize| {
             let entries = col_ptr[i]..col_ptr[i + 1];
             let mut sum = 0.0;
             for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
@@ -349,7 +366,21 @@ fn gauss_seidel(
                 };
                 sum += f64::from(a_ij) * x_j;
             }
-            own[i - start] += (b[i] - sum) * inverse[i];
+            b[i] - sum
+        };
+        let mut relax = |i: usize| match blocks.map_or(Relax::Single, |blocks| blocks.at(i)) {
+            Relax::Single => own[i - start] += residual(own, i) * inverse[i],
+            Relax::Block { members, inverse } => {
+                let mut r = [0.0; MAX_BLOCK];
+                for (r, &m) in r.iter_mut().zip(members) {
+                    *r = residual(own, m as usize);
+                }
+                let k = members.len();
+                for (row, &m) in inverse.chunks_exact(k).zip(members) {
+                    own[m as usize - start] += row.iter().zip(&r).map(|(a, r)| a * r).sum::<f64>();
+                }
+            }
+            Relax::Follower => {}
         };
         if backward {
             (start..end).rev().for_each(&mut relax);
