@@ -122,6 +122,7 @@ struct Level {
     coarse: SymmetricMatrix<f32>,
     /// Its reciprocal divisors of the smoother ([`sweep_inverse`]).
     coarse_inverse: Vec<f64>,
+    /// Its stiffly coupled unknowns, relaxed together.
     coarse_blocks: Option<StiffBlocks>,
 }
 
