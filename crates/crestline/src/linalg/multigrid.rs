@@ -118,23 +118,25 @@ impl Rows {
 struct Level {
     /// P, fine rows × coarse columns.
     prolongator: Rows<f32>,
-    /// Pᵀ A P.
-    coarse: SymmetricMatrix<f32>,
-    /// Its reciprocal divisors of the smoother ([`sweep_inverse`]).
-    coarse_inverse: Vec<f64>,
-    /// Its stiffly coupled unknowns, relaxed together.
-    coarse_blocks: Option<StiffBlocks>,
+    /// Pᵀ A P and its smoother.
+    coarse: Smoother,
+}
+
+/// What the hybrid Gauss–Seidel sweep ([`Smoother::sweep`]) of one level reads:
+/// its matrix in `f32` (see [`Level`]), the reciprocal divisors of
+/// [`sweep_inverse`] and the stiffly coupled unknowns it relaxes together.
+#[derive(Clone, Debug)]
+struct Smoother {
+    matrix: SymmetricMatrix<f32>,
+    inverse: Vec<f64>,
+    blocks: Option<StiffBlocks>,
 }
 
 /// The multigrid hierarchy of a matrix.
 #[derive(Clone, Debug)]
 pub struct Multigrid {
-    /// The fine matrix in `f32`, for the smoother (see [`Level`]).
-    fine: SymmetricMatrix<f32>,
-    /// The fine level's reciprocal divisors of the smoother ([`sweep_inverse`]).
-    fine_inverse: Vec<f64>,
-    /// The fine level's stiffly coupled unknowns, relaxed together.
-    fine_blocks: Option<StiffBlocks>,
+    /// The fine matrix's smoother.
+    fine: Smoother,
     levels: Vec<Level>,
     /// The factorization of the coarsest matrix, if there is a level below the
     /// fine one.
@@ -146,7 +148,6 @@ impl Multigrid {
     /// diagonal).
     pub fn new(matrix: &SymmetricMatrix) -> Result<Multigrid> {
         positive_diagonal(matrix)?;
-        let fine_inverse = sweep_inverse(matrix);
         let mut levels: Vec<Level> = Vec::new();
         // The coarsest level so far, in f64: the next one is computed from it.
         let mut coarsest: Option<SymmetricMatrix> = None;
@@ -164,16 +165,12 @@ impl Multigrid {
             }
             levels.push(Level {
                 prolongator: prolongator.compact(),
-                coarse_inverse: sweep_inverse(&coarse),
-                coarse_blocks: StiffBlocks::new(&coarse, sweep_piece(coarse.size())),
-                coarse: coarse.compact(),
+                coarse: Smoother::new(&coarse),
             });
             coarsest = Some(coarse);
         }
         Ok(Multigrid {
-            fine: matrix.compact(),
-            fine_inverse,
-            fine_blocks: StiffBlocks::new(matrix, sweep_piece(matrix.size())),
+            fine: Smoother::new(matrix),
             levels,
             coarsest: coarsest.as_ref().map(CholeskyFactor::new).transpose()?,
         })
@@ -190,16 +187,12 @@ impl Multigrid {
     /// preconditioner is symmetric positive definite (as the conjugate gradient
     /// method needs).
     pub fn apply(&self, r: &[f64], z: &mut [f64]) {
-        self.cycle(0, &self.fine, &self.fine_inverse, r, z);
+        self.cycle(0, &self.fine, r, z);
     }
 
-    fn cycle(&self, l: usize, a: &SymmetricMatrix<f32>, inverse: &[f64], b: &[f64], x: &mut [f64]) {
+    /// One V-cycle from level `l`, whose smoother is `smoother`.
+    fn cycle(&self, l: usize, smoother: &Smoother, b: &[f64], x: &mut [f64]) {
         x.fill(0.0);
-        let blocks = if l == 0 {
-            self.fine_blocks.as_ref()
-        } else {
-            self.levels[l - 1].coarse_blocks.as_ref()
-        };
         let Some(level) = self.levels.get(l) else {
             // Below the last level lies the coarsest, factored; without levels the
             // fine matrix is only smoothed.
@@ -210,8 +203,8 @@ impl Multigrid {
                 }
                 _ => {
                     let mut before = vec![0.0; b.len()];
-                    gauss_seidel(a, inverse, blocks, b, x, &mut before, false);
-                    gauss_seidel(a, inverse, blocks, b, x, &mut before, true);
+                    smoother.sweep(b, x, &mut before, false);
+                    smoother.sweep(b, x, &mut before, true);
                 }
             }
             return;
@@ -219,21 +212,15 @@ impl Multigrid {
         // The sweeps' copy of x, and the residual between them.
         let mut scratch = vec![0.0; b.len()];
         for _ in 0..SWEEPS {
-            gauss_seidel(a, inverse, blocks, b, x, &mut scratch, false);
+            smoother.sweep(b, x, &mut scratch, false);
         }
-        a.residual(x, b, &mut scratch);
+        smoother.matrix.residual(x, b, &mut scratch);
         let coarse_b = multiply_transposed(&level.prolongator, &scratch, level.coarse.size());
         let mut coarse_x = vec![0.0; coarse_b.len()];
-        self.cycle(
-            l + 1,
-            &level.coarse,
-            &level.coarse_inverse,
-            &coarse_b,
-            &mut coarse_x,
-        );
+        self.cycle(l + 1, &level.coarse, &coarse_b, &mut coarse_x);
         add_product(&level.prolongator, &coarse_x, x);
         for _ in 0..SWEEPS {
-            gauss_seidel(a, inverse, blocks, b, x, &mut scratch, true);
+            smoother.sweep(b, x, &mut scratch, true);
         }
     }
 }
@@ -327,68 +314,78 @@ fn sweep_inverse(a: &SymmetricMatrix) -> Vec<f64> {
         .collect()
 }
 
-/// One hybrid Gauss–Seidel sweep on A x = b, forward or `backward`: Gauss–Seidel
-/// within each of [`SWEEP_PIECES`] pieces of rows, relaxed in parallel, and
-/// Jacobi between them (the other pieces' values from before the sweep), with
-/// the `inverse` divisors of [`sweep_inverse`] and the `blocks` of stiffly
-/// coupled unknowns relaxed together (at their first member, with the inverse of
-/// their diagonal block); `before` (of x's length) is
-/// overwritten with x as it was before the sweep. The backward sweep is the
-/// forward one's adjoint, so a V-cycle with one of each stays symmetric.
-fn gauss_seidel(
-    a: &SymmetricMatrix<f32>,
-    inverse: &[f64],
-    blocks: Option<&StiffBlocks>,
-    b: &[f64],
-    x: &mut [f64],
-    before: &mut [f64],
-    backward: bool,
-) {
-    let (col_ptr, row_idx, values) = a.csc();
-    before
-        .par_chunks_mut(CHUNK)
-        .zip(x.par_chunks(CHUNK))
-        .for_each(|(before, x)| before.copy_from_slice(x));
-    let before = &*before;
-    let piece = sweep_piece(b.len());
-    x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
-        let start = k * piece;
-        let end = start + own.len();
-        // b_i − (A x)_i, with x_j from this piece as relaxed so far. Column i is
-        // row i: the matrix is symmetric. The sum includes a_ii x_i.
-        let residual = |own: &[f64], i: usize| {
-            let entries = col_ptr[i]..col_ptr[i + 1];
-            let mut sum = 0.0;
-            for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
-                let j = j as usize;
-                let x_j = match j.checked_sub(start) {
-                    Some(k) if k < own.len() => own[k],
-                    _ => before[j],
-                };
-                sum += f64::from(a_ij) * x_j;
-            }
-            b[i] - sum
-        };
-        let mut relax = |i: usize| match blocks.map_or(Relax::Single, |blocks| blocks.at(i)) {
-            Relax::Single => own[i - start] += residual(own, i) * inverse[i],
-            Relax::Block { members, inverse } => {
-                let mut r = [0.0; MAX_BLOCK];
-                for (r, &m) in r.iter_mut().zip(members) {
-                    *r = residual(own, m as usize);
-                }
-                let k = members.len();
-                for (row, &m) in inverse.chunks_exact(k).zip(members) {
-                    own[m as usize - start] += row.iter().zip(&r).map(|(a, r)| a * r).sum::<f64>();
-                }
-            }
-            Relax::Follower => {}
-        };
-        if backward {
-            (start..end).rev().for_each(&mut relax);
-        } else {
-            (start..end).for_each(&mut relax);
+impl Smoother {
+    /// The smoother of `a`: its `f32` copy, divisors and stiff blocks.
+    fn new(a: &SymmetricMatrix) -> Smoother {
+        Smoother {
+            matrix: a.compact(),
+            inverse: sweep_inverse(a),
+            blocks: StiffBlocks::new(a, sweep_piece(a.size())),
         }
-    });
+    }
+
+    /// The size of its matrix.
+    fn size(&self) -> usize {
+        self.matrix.size()
+    }
+
+    /// One hybrid Gauss–Seidel sweep on A x = b, forward or `backward`: Gauss–Seidel
+    /// within each of [`SWEEP_PIECES`] pieces of rows, relaxed in parallel, and
+    /// Jacobi between them (the other pieces' values from before the sweep), with
+    /// the divisors of [`sweep_inverse`] and the blocks of stiffly coupled unknowns
+    /// relaxed together (at their first member, with the inverse of their diagonal
+    /// block); `before` (of x's length) is
+    /// overwritten with x as it was before the sweep. The backward sweep is the
+    /// forward one's adjoint, so a V-cycle with one of each stays symmetric.
+    fn sweep(&self, b: &[f64], x: &mut [f64], before: &mut [f64], backward: bool) {
+        let (col_ptr, row_idx, values) = self.matrix.csc();
+        let (inverse, blocks) = (&self.inverse, self.blocks.as_ref());
+        before
+            .par_chunks_mut(CHUNK)
+            .zip(x.par_chunks(CHUNK))
+            .for_each(|(before, x)| before.copy_from_slice(x));
+        let before = &*before;
+        let piece = sweep_piece(b.len());
+        x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
+            let start = k * piece;
+            let end = start + own.len();
+            // b_i − (A x)_i, with x_j from this piece as relaxed so far. Column i is
+            // row i: the matrix is symmetric. The sum includes a_ii x_i.
+            let residual = |own: &[f64], i: usize| {
+                let entries = col_ptr[i]..col_ptr[i + 1];
+                let mut sum = 0.0;
+                for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
+                    let j = j as usize;
+                    let x_j = match j.checked_sub(start) {
+                        Some(k) if k < own.len() => own[k],
+                        _ => before[j],
+                    };
+                    sum += f64::from(a_ij) * x_j;
+                }
+                b[i] - sum
+            };
+            let mut relax = |i: usize| match blocks.map_or(Relax::Single, |blocks| blocks.at(i)) {
+                Relax::Single => own[i - start] += residual(own, i) * inverse[i],
+                Relax::Block { members, inverse } => {
+                    let mut r = [0.0; MAX_BLOCK];
+                    for (r, &m) in r.iter_mut().zip(members) {
+                        *r = residual(own, m as usize);
+                    }
+                    let k = members.len();
+                    for (row, &m) in inverse.chunks_exact(k).zip(members) {
+                        own[m as usize - start] +=
+                            row.iter().zip(&r).map(|(a, r)| a * r).sum::<f64>();
+                    }
+                }
+                Relax::Follower => {}
+            };
+            if backward {
+                (start..end).rev().for_each(&mut relax);
+            } else {
+                (start..end).for_each(&mut relax);
+            }
+        });
+    }
 }
 
 /// The next level of `a`, its prolongator and Galerkin matrix, or `None` if
