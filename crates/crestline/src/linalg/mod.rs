@@ -190,6 +190,25 @@ impl SpdSolver {
         Ok(())
     }
 
+    /// Overwrites each of `x` with the solution of `A x = b` for its `b`: with
+    /// one factorization for all, in parallel (the direct method), or by one
+    /// iteration each from the `x` given, falling back as
+    /// [`solve`](Self::solve) does.
+    ///
+    /// # Panics
+    /// As [`solve`](Self::solve).
+    pub fn solve_each(&mut self, b: &[Vec<f64>], x: &mut [Vec<f64>]) -> Result<()> {
+        assert_eq!(b.len(), x.len(), "as many right-hand sides as solutions");
+        if self.method == Solver::Iterative {
+            return b.iter().zip(x).try_for_each(|(b, x)| self.solve(b, x));
+        }
+        for (x, b) in x.iter_mut().zip(b) {
+            x.copy_from_slice(b);
+        }
+        self.factor()?.solve_columns_in_place(x);
+        Ok(())
+    }
+
     /// The factorization of the current matrix, computed if not yet done (reusing
     /// the analysis of the previous factorization or of [`analyze`](Self::analyze)).
     fn factor(&mut self) -> Result<&CholeskyFactor> {

@@ -28,6 +28,7 @@
 
 pub(crate) use crate::chain;
 mod border;
+pub(crate) mod direction_field;
 mod extractor;
 pub(crate) mod fair;
 mod indexing;
@@ -58,6 +59,7 @@ use crate::{Error, Point, Result, Space};
 
 pub use crate::chain::{chain, Chain};
 pub use border::{write_border, BorderSurface};
+pub use direction_field::DirectionField;
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;

@@ -6,15 +6,15 @@
 //! exactly zero counts as the smallest positive number in its vertex's own frame,
 //! so that both triangles of an edge agree on whether it is crossed. Edge (p, q) is
 //! crossed iff e(p) and σ_pq e(q) differ in sign, at t = e(p) / (e(p) − σ_pq e(q)),
-//! σ_pq = sign⟨d(p), d(q)⟩ for a direction field d and 1 without one: the same point
+//! σ_pq the sign between a direction field's d(p) and d(q)
+//! ([`DirectionField::sign`]) and 1 without one: the same point
 //! seen from both triangles, so segments chain exactly by edge id.
 
 use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, FaceId, Mesh};
-use crate::Vector;
 
-use super::SurfaceLocation;
+use super::{DirectionField, SurfaceLocation};
 
 /// A point of a traced line on a mesh: where a zero set crosses an edge, or the
 /// barycenter of a face where three lines meet (a trisector of a singular face).
@@ -26,16 +26,6 @@ pub enum LinePoint {
     Face(FaceId),
 }
 
-/// σ_pq = sign⟨d(p), d(q)⟩ (+1 for orthogonal directions): the sign that carries a
-/// value given relative to d(q) into the frame of d(p).
-pub fn direction_sign(d: &[Vector], p: usize, q: usize) -> f64 {
-    if d[p].dot(&d[q]) >= 0.0 {
-        1.0
-    } else {
-        -1.0
-    }
-}
-
 /// A piecewise linear function on the vertices of a mesh whose zero set is traced,
 /// optionally signed relative to a per-vertex direction field.
 #[derive(Clone, Debug)]
@@ -43,7 +33,7 @@ pub struct ZeroSet<'a> {
     /// Values per vertex, exact zeros replaced by the smallest positive number.
     values: Vec<f64>,
     /// The directions the values' signs refer to, if any.
-    directions: Option<&'a [Vector]>,
+    directions: Option<DirectionField<'a>>,
 }
 
 impl<'a> ZeroSet<'a> {
@@ -57,7 +47,7 @@ impl<'a> ZeroSet<'a> {
 
     /// The zero set of `values` whose signs are relative to the sign-ambiguous
     /// `directions` (e.g. extremalities along principal directions).
-    pub fn with_directions(values: Vec<f64>, directions: &'a [Vector]) -> ZeroSet<'a> {
+    pub fn with_directions(values: Vec<f64>, directions: DirectionField<'a>) -> ZeroSet<'a> {
         ZeroSet {
             values: without_zeros(values),
             directions: Some(directions),
@@ -72,7 +62,7 @@ impl<'a> ZeroSet<'a> {
     /// The value at `q` carried into the frame of `p`: σ_pq e(q).
     pub fn value_seen_from(&self, p: usize, q: usize) -> f64 {
         match self.directions {
-            Some(d) => direction_sign(d, p, q) * self.values[q],
+            Some(d) => d.sign(p, q) * self.values[q],
             None => self.values[q],
         }
     }

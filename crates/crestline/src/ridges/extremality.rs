@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
-use crate::lines::zero_set::direction_sign;
+use crate::lines::DirectionField;
 use crate::mesh::{FaceId, Mesh};
 use crate::Vector;
 
@@ -51,6 +51,11 @@ impl Principal {
             Principal::Max => &field.d_max,
             Principal::Min => &field.d_min,
         }
+    }
+
+    /// This field's directions with the normals they are tangent to.
+    pub fn direction_field(self, field: &CurvatureField) -> DirectionField<'_> {
+        DirectionField::new(self.directions(field), &field.normal)
     }
 }
 
@@ -105,14 +110,14 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
 }
 
 /// Whether face `f` is regular for the direction field `d` (Definition 1): the
-/// directions at its corners can be signed so that all pairs have positive inner
-/// products, i.e. σ12 σ23 σ31 = +1.
-pub fn is_regular(mesh: &Mesh, d: &[Vector], f: FaceId) -> bool {
+/// directions at its corners can be signed so that all pairs agree
+/// ([`DirectionField::sign`]), i.e. σ12 σ23 σ31 = +1.
+pub fn is_regular(mesh: &Mesh, d: DirectionField, f: FaceId) -> bool {
     let [a, b, c] = mesh.face_vertices(f).map(|v| v.idx());
-    direction_sign(d, a, b) * direction_sign(d, b, c) * direction_sign(d, c, a) > 0.0
+    d.sign(a, b) * d.sign(b, c) * d.sign(c, a) > 0.0
 }
 
 /// Regularity of every face for the direction field `d`.
-pub fn regular_faces(mesh: &Mesh, d: &[Vector]) -> Vec<bool> {
+pub fn regular_faces(mesh: &Mesh, d: DirectionField) -> Vec<bool> {
     mesh.par_faces().map(|f| is_regular(mesh, d, f)).collect()
 }

@@ -48,6 +48,7 @@ use crate::curvature::{
 };
 pub use crate::linalg::Solver;
 use crate::lines::chain::chain;
+use crate::lines::direction_field::gauge_between;
 use crate::lines::fair::fair_polyline;
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::zero_set::LinePoint;
@@ -373,9 +374,9 @@ impl ExtremalityTracer {
             match fitted_smoothing_factors(work, field) {
                 Some(factors) if self.smooth_steps > 0 => {
                     let reweighted = smoother.reweighted(work, &factors)?;
-                    self.smooth_extremalities(&reweighted, field, &mut values)
+                    self.smooth_extremalities(work, &reweighted, field, &mut values)
                 }
-                _ => self.smooth_extremalities(smoother, field, &mut values),
+                _ => self.smooth_extremalities(work, smoother, field, &mut values),
             }
         })?;
         let mut lines = FeatureLines::new(String::new());
@@ -461,21 +462,37 @@ impl ExtremalityTracer {
         )?))
     }
 
-    /// The implicit smoothing (§5.1) of the extremality `values` of every field.
-    /// Factored systems are solved in parallel, one field per thread: they share
-    /// one ordering and symbolic analysis (`smoother`'s), their factorizations
-    /// are independent. Iterated systems (large meshes) are solved one field at a
-    /// time, each in parallel, which halves the solver's memory.
+    /// The implicit smoothing (§5.1) of the extremality `values` of every field on
+    /// `work`. The two principal fields' systems are one matrix up to a
+    /// per-vertex sign ([`gauge_between`]): the valleys' values are carried into
+    /// the ridges' gauge, both are smoothed with one factorization or one
+    /// multigrid hierarchy, and carried back. Where the fields' signs do not
+    /// agree so (directions a caller gave, not orthogonal), each field has its
+    /// own system: factored ones in parallel, one field per thread, sharing the
+    /// ordering (`smoother`'s); iterated ones one at a time, each in parallel,
+    /// which halves the solver's memory.
     fn smooth_extremalities(
         &self,
+        work: &Mesh,
         smoother: &smoothing::ExtremalitySmoother,
         field: &CurvatureField,
         values: &mut [Vec<f64>],
     ) -> Result<()> {
-        let smooth = |(&which, values): (&Principal, &mut Vec<f64>)| {
-            smoother.smooth(which.directions(field), values, self.smooth_steps)
-        };
+        let steps = self.smooth_steps;
         let fields = self.kinds.fields();
+        if let ([Principal::Max, Principal::Min], [max, min]) = (fields, &mut *values) {
+            let ridges = Principal::Max.direction_field(field);
+            let valleys = Principal::Min.direction_field(field);
+            if let Some(gauge) = gauge_between(work, ridges, valleys) {
+                regauge(min, &gauge);
+                smoother.smooth(ridges, &mut [max, min], steps)?;
+                regauge(min, &gauge);
+                return Ok(());
+            }
+        }
+        let smooth = |(&which, values): (&Principal, &mut Vec<f64>)| {
+            smoother.smooth(which.direction_field(field), &mut [values], steps)
+        };
         if smoother.iterates() {
             fields.iter().zip(values.iter_mut()).try_for_each(smooth)
         } else {
@@ -501,8 +518,7 @@ impl ExtremalityTracer {
             Principal::Max => ("ridges", LineKind::Ridge),
             Principal::Min => ("valleys", LineKind::Valley),
         };
-        let directions = which.directions(field);
-        let regular = regular_faces(work, directions);
+        let regular = regular_faces(work, which.direction_field(field));
         let singular = regular.iter().filter(|&&r| !r).count();
         observer.measure(
             &format!("{name}_singular_share"),
@@ -569,6 +585,14 @@ fn with_extremalities(
             let along = along_line(samples);
             line.with_values(which.extremality_name(), along)
         })
+}
+
+/// `values` times the per-vertex signs `gauge`: a field's values carried into
+/// another choice of its directions' signs (and back, the signs being ±1).
+fn regauge(values: &mut [f64], gauge: &[f64]) {
+    for (v, g) in values.iter_mut().zip(gauge) {
+        *v *= g;
+    }
 }
 
 /// The fit residual ([`CurvatureField::fit_residual`]) at and above which fitted

@@ -6,9 +6,9 @@ use std::sync::Arc;
 
 use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
-use crate::{Error, Result, Vector};
+use crate::{Error, Result};
 
-use crate::lines::zero_set::direction_sign;
+use crate::lines::DirectionField;
 use crate::mesh::morton::{morton_order, ranks};
 
 /// The smallest lumped mass, as a fraction of the time step t (an area, like the
@@ -234,9 +234,10 @@ fn implicit_terms(
 }
 
 /// `steps` implicit steps (M + tK) e' = M e of the extremality `e`, with the
-/// sign-aware Laplacian (Δe)(p) = Σ_q w_pq (σ_pq e(q) − e(p)), σ_pq =
-/// sign⟨d(p), d(q)⟩ (§5.1): the result does not depend on the arbitrary signs of
-/// the directions `d`. `t = tau · h̄²` (h̄ the mean edge length), so `tau` is
+/// sign-aware Laplacian (Δe)(p) = Σ_q w_pq (σ_pq e(q) − e(p)) (§5.1), σ_pq the
+/// sign between the directions `d` at p and q, the one transported into the
+/// other's tangent plane ([`DirectionField::sign`]): the result does not depend
+/// on the arbitrary signs of the directions. `t = tau · h̄²` (h̄ the mean edge length), so `tau` is
 /// dimensionless. Optional per-vertex `weights` (≥ 0) make the smoothing
 /// inhomogeneous (§6): edge (p, q) is scaled by (w_p + w_q) / 2. The matrix is
 /// the same for every step: one sparse Cholesky factorization serves them all,
@@ -245,20 +246,22 @@ fn implicit_terms(
 #[cfg(test)]
 pub fn smooth_extremality(
     mesh: &Mesh,
-    d: &[Vector],
+    d: DirectionField,
     e: &mut [f64],
     steps: usize,
     tau: f64,
     weights: Option<&[f64]>,
 ) -> Result<()> {
-    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(d, e, steps)
+    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(d, &mut [e], steps)
 }
 
 /// `smooth_extremality` for several fields of one mesh: the matrices differ only
 /// in the signs σ_pq, so they share their pattern, weights and masses (computed
 /// once, when the smoother is made) and a direct solver's ordering and symbolic
-/// analysis (computed once, [`analyzed`](Self::analyzed)). Fields can then be
-/// smoothed in parallel.
+/// analysis (computed once, [`analyzed`](Self::analyzed)). Fields whose signs
+/// are the same (up to a per-vertex sign, as the two principal directions',
+/// [`crate::lines::direction_field::gauge_between`]) share one matrix too:
+/// [`smooth`](Self::smooth) them together.
 #[derive(Clone)]
 pub struct ExtremalitySmoother {
     pattern: SystemPattern,
@@ -335,22 +338,31 @@ impl ExtremalitySmoother {
         self.solver.solver().resolve(self.mass.len()) == Solver::Iterative
     }
 
-    /// Smooth `e`, whose signs follow the directions `d`, by `steps` implicit steps.
-    pub fn smooth(&self, d: &[Vector], e: &mut [f64], steps: usize) -> Result<()> {
-        if steps == 0 {
+    /// Smooth each of `fields` (values per vertex whose signs follow the
+    /// directions `d`) by `steps` implicit steps, with one system for all: one
+    /// factorization, or one multigrid hierarchy.
+    pub fn smooth(&self, d: DirectionField, fields: &mut [&mut [f64]], steps: usize) -> Result<()> {
+        if steps == 0 || fields.is_empty() {
             return Ok(());
         }
         let mut solver = self.solver.clone();
-        solver.set_matrix(self.system(|p, q| direction_sign(d, p, q))?)?;
+        solver.set_matrix(self.system(|p, q| d.sign(p, q))?)?;
         let mass = self.pattern.to_unknowns(self.mass.clone());
-        let mut x = self.pattern.to_unknowns(e.to_vec());
-        let mut rhs = vec![0.0; e.len()];
+        let mut x: Vec<Vec<f64>> = fields
+            .iter()
+            .map(|e| self.pattern.to_unknowns(e.to_vec()))
+            .collect();
+        let mut rhs = vec![vec![0.0; mass.len()]; fields.len()];
         for _ in 0..steps {
-            mass_times(&mass, &x, &mut rhs);
-            // x holds the previous step's solution: the iteration's warm start.
-            solver.solve(&rhs, &mut x)?;
+            for (rhs, x) in rhs.iter_mut().zip(&x) {
+                mass_times(&mass, x, rhs);
+            }
+            // x holds the previous step's solutions: the iteration's warm starts.
+            solver.solve_each(&rhs, &mut x)?;
         }
-        self.pattern.to_vertices(&x, e);
+        for (x, e) in x.iter().zip(fields.iter_mut()) {
+            self.pattern.to_vertices(x, e);
+        }
         Ok(())
     }
 }

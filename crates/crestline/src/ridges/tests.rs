@@ -1,15 +1,18 @@
 //! The extremality, its smoothing and the tracing of its zero set, below the
-//! public tracer: independence of the principal directions' signs, and chains that
-//! use every traced segment once.
+//! public tracer: independence of the principal directions' signs, one system
+//! for both principal fields, and chains that use every traced segment once.
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
 use super::extremality::{extremality, regular_faces, Principal};
-use super::smoothing::smooth_extremality;
+use super::smoothing::{smooth_extremality, ExtremalitySmoother};
 use super::trace::{trace, Extremality};
+use super::{ExtremalityTracer, Solver};
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
 use crate::lines::chain::chain;
+use crate::lines::direction_field::gauge_between;
+use crate::lines::DirectionField;
 use crate::mesh::generate::{self, Sampling};
 use crate::Point;
 
@@ -28,7 +31,15 @@ fn smoothed_extremality_does_not_depend_on_direction_signs() {
     }
     let smoothed = |field: &crate::curvature::CurvatureField| {
         let mut e = extremality(&mesh, field, Principal::Max);
-        smooth_extremality(&mesh, &field.d_max, &mut e, 3, 2.0, None).unwrap();
+        smooth_extremality(
+            &mesh,
+            Principal::Max.direction_field(field),
+            &mut e,
+            3,
+            2.0,
+            None,
+        )
+        .unwrap();
         e
     };
     let (a, b) = (smoothed(&reference), smoothed(&flipped));
@@ -54,7 +65,7 @@ fn chained_lines_have_no_gaps() {
         .mesh;
     let field = ShapeOperator.estimate(&mesh).unwrap();
     for which in [Principal::Max, Principal::Min] {
-        let directions = which.directions(&field);
+        let directions = which.direction_field(&field);
         let mut e = extremality(&mesh, &field, which);
         smooth_extremality(&mesh, directions, &mut e, 3, 2.0, None).unwrap();
         let regular = regular_faces(&mesh, directions);
@@ -98,4 +109,87 @@ fn chained_lines_have_no_gaps() {
             }
         }
     }
+}
+
+#[test]
+fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
+    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(3))
+        .unwrap()
+        .mesh;
+    let mut field = ShapeOperator.estimate(&mesh).unwrap();
+    // Arbitrary signs of the valleys' directions: the gauge has to undo them.
+    let mut rng = StdRng::seed_from_u64(7);
+    for d in field.d_min.iter_mut() {
+        if rng.random_bool(0.5) {
+            *d = -*d;
+        }
+    }
+    let [ridges, valleys] = [Principal::Max, Principal::Min].map(|w| w.direction_field(&field));
+    let gauge = gauge_between(&mesh, ridges, valleys).expect("principal fields share signs");
+    let turned = gauge.iter().filter(|&&g| g < 0.0).count();
+    assert!(turned > mesh.vertex_count() / 3, "{turned} turned");
+    let initial = [Principal::Max, Principal::Min].map(|w| extremality(&mesh, &field, w));
+    let scale = initial[1].iter().fold(0.0f64, |m, e| m.max(e.abs()));
+    // The iteration stops at a relative residual of 10⁻⁷, with another
+    // preconditioner when each field has its own system.
+    for (solver, tolerance) in [(Solver::Direct, 1e-10), (Solver::Iterative, 1e-5)] {
+        let tracer = ExtremalityTracer {
+            solver,
+            ..ExtremalityTracer::default()
+        };
+        let smoother = ExtremalitySmoother::new(&mesh, tracer.smooth_time, None, solver)
+            .unwrap()
+            .analyzed()
+            .unwrap();
+        let mut shared = initial.to_vec();
+        tracer
+            .smooth_extremalities(&mesh, &smoother, &field, &mut shared)
+            .unwrap();
+        for (which, (shared, initial)) in [ridges, valleys].iter().zip(shared.iter().zip(&initial))
+        {
+            let mut own = initial.clone();
+            smoother
+                .smooth(*which, &mut [&mut own], tracer.smooth_steps)
+                .unwrap();
+            let worst = own
+                .iter()
+                .zip(shared)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(
+                worst <= tolerance * scale,
+                "{solver}: {worst:e} of {scale:e}"
+            );
+            let moved = own
+                .iter()
+                .zip(initial)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(moved > 0.01 * scale, "{solver}: smoothing changed nothing");
+        }
+    }
+}
+
+#[test]
+fn fields_whose_signs_disagree_are_not_gauged_together() {
+    let mesh = generate::torus(1.0, 0.35, 5_000, Sampling::jittered(4))
+        .unwrap()
+        .mesh;
+    let field = ShapeOperator.estimate(&mesh).unwrap();
+    // Tangent directions at random angles to the principal ones.
+    let mut rng = StdRng::seed_from_u64(5);
+    let random: Vec<_> = (0..mesh.vertex_count())
+        .map(|v| {
+            let angle = rng.random_range(0.0..std::f64::consts::PI);
+            field.d_max[v] * angle.cos() + field.d_min[v] * angle.sin()
+        })
+        .collect();
+    let ridges = Principal::Max.direction_field(&field);
+    let other = DirectionField::new(&random, &field.normal);
+    assert!(gauge_between(&mesh, ridges, other).is_none());
+    // Turned by a fixed angle, a field keeps its signs: one system serves both.
+    let turned: Vec<_> = (0..mesh.vertex_count())
+        .map(|v| field.d_max[v] * 0.6 + field.d_min[v] * 0.8)
+        .collect();
+    let turned = DirectionField::new(&turned, &field.normal);
+    let gauge = gauge_between(&mesh, ridges, turned).expect("signs agree");
+    assert!(gauge.iter().all(|&g| g == 1.0));
 }

@@ -6,7 +6,8 @@
 use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
-use crate::lines::zero_set::{direction_sign, LinePoint, ZeroSet};
+use crate::lines::zero_set::{LinePoint, ZeroSet};
+use crate::lines::DirectionField;
 use crate::mesh::{EdgeId, FaceId, Mesh};
 use crate::Vector;
 
@@ -19,7 +20,7 @@ pub struct Extremality<'a> {
     /// e per vertex, signed relative to the field's principal directions.
     pub zero_set: ZeroSet<'a>,
     /// The field's principal directions.
-    pub directions: &'a [Vector],
+    pub directions: DirectionField<'a>,
     /// Whether each face is regular for the directions (Definition 1).
     pub regular: &'a [bool],
     /// Whether to apply the feature conditions (eqs. 5, 6); without them every
@@ -36,7 +37,7 @@ impl<'a> Extremality<'a> {
         regular: &'a [bool],
         feature_conditions: bool,
     ) -> Self {
-        let directions = which.directions(field);
+        let directions = which.direction_field(field);
         Extremality {
             which,
             zero_set: ZeroSet::with_directions(values, directions),
@@ -73,9 +74,9 @@ pub fn trace(mesh: &Mesh, field: &CurvatureField, ext: &Extremality<'_>) -> Vec<
 fn is_feature(mesh: &Mesh, field: &CurvatureField, ext: &Extremality<'_>, f: FaceId) -> bool {
     let corners = mesh.face_vertices(f).map(|v| v.idx());
     let d = ext.directions;
-    let signs = corners.map(|c| direction_sign(d, corners[0], c));
+    let signs = corners.map(|c| d.sign(corners[0], c));
     let oriented_values = corners.map(|c| ext.zero_set.value_seen_from(corners[0], c));
-    let direction_sum: Vector = (0..3).map(|i| d[corners[i]] * signs[i]).sum();
+    let direction_sum: Vector = (0..3).map(|i| d.at(corners[i]) * signs[i]).sum();
     let slope = face_gradient(mesh, f, oriented_values).dot(&direction_sum);
     let k_max: f64 = corners.iter().map(|&c| field.k_max[c]).sum();
     let k_min: f64 = corners.iter().map(|&c| field.k_min[c]).sum();
