@@ -46,8 +46,8 @@ impl<'a> DirectionField<'a> {
 
     /// σ_pq = sign⟨d(p), R_pq d(q)⟩ (+1 for orthogonal directions), R_pq the
     /// smallest rotation taking n(q) to n(p): the sign that carries a value given
-    /// relative to d(q) into the frame of d(p). Symmetric in p and q. Where the
-    /// normals are opposite or not usable (zero), d(q) is compared as it is.
+    /// relative to d(q) into the frame of d(p). Symmetric in p and q. Where a
+    /// normal is zero, d(q) is compared as it is.
     pub fn sign(&self, p: usize, q: usize) -> f64 {
         if self.alignment(p, q) >= 0.0 {
             1.0
@@ -72,18 +72,35 @@ impl<'a> DirectionField<'a> {
 const TIE: f64 = 1e-9;
 
 /// `v` turned by the smallest rotation taking the direction of `from` to that of
-/// `to` (Rodrigues' formula with axis `from × to`), or `v` itself where the two
-/// are opposite or one of them is zero.
+/// `to` (Rodrigues' formula with axis `from × to`); where the two are opposite,
+/// by a half turn about an axis normal to `from` chosen from `from` alone, so
+/// that every field is carried alike (one edge of the dragon ×16 joins opposite
+/// normals); `v` itself where one of them is zero.
 fn transport(from: Vector, to: Vector, v: Vector) -> Vector {
     let (Some(from), Some(to)) = (from.try_normalize(0.0), to.try_normalize(0.0)) else {
         return v;
     };
     let cos = from.dot(&to);
-    if cos.is_nan() || cos <= -1.0 + 1e-9 {
+    if cos.is_nan() {
         return v;
+    }
+    if cos <= -1.0 + OPPOSITE {
+        let axis = half_turn_axis(from);
+        return axis * (2.0 * axis.dot(&v)) - v;
     }
     let axis = from.cross(&to);
     v * cos + axis.cross(&v) + axis * (axis.dot(&v) / (1.0 + cos))
+}
+
+/// Unit normals whose inner product is within this of −1 are opposite: Rodrigues'
+/// formula divides by 1 + cos.
+const OPPOSITE: f64 = 1e-6;
+
+/// A unit axis normal to the unit vector `n`: n × e, e the coordinate axis least
+/// aligned with n.
+fn half_turn_axis(n: Vector) -> Vector {
+    let k = n.iamin();
+    n.cross(&Vector::ith(k, 1.0)).normalize()
 }
 
 /// The per-vertex signs g (±1) with σ^b_pq = g_p g_q σ^a_pq on every edge of
@@ -147,7 +164,7 @@ mod tests {
     }
 
     #[test]
-    fn directions_along_a_fold_and_on_a_plane_keep_their_plain_sign() {
+    fn directions_along_a_fold_on_a_plane_and_across_opposite_normals() {
         // Along the fold's axis the rotation leaves a direction unchanged.
         let (_, n) = across_fold(2.0);
         let d = [Vector::x(), -Vector::x()];
@@ -159,8 +176,18 @@ mod tests {
         // Unusable normals: compared as they are.
         let n = [Vector::zeros(), Vector::z()];
         assert_eq!(DirectionField::new(&d, &n).sign(1, 0), 1.0);
-        let n = [Vector::z(), -Vector::z()];
-        let d = [Vector::x(), -Vector::x()];
-        assert_eq!(DirectionField::new(&d, &n).sign(0, 1), -1.0);
+        // Opposite normals: a half turn, the same for every field, so that a
+        // direction and its normal's cross product with it keep one sign.
+        let n = [Vector::new(0.3, 0.1, 1.0), -Vector::new(0.3, 0.1, 1.0)];
+        for angle in [0.0_f64, 0.7, 1.9, 3.0] {
+            let t = Vector::new(angle.cos(), angle.sin(), 0.0);
+            let d = [n[0].cross(&t), n[1].cross(&Vector::new(0.2, 1.0, 0.4))];
+            let turned = [n[0].cross(&d[0]), n[1].cross(&d[1])];
+            assert_eq!(
+                DirectionField::new(&d, &n).sign(0, 1),
+                DirectionField::new(&turned, &n).sign(0, 1),
+                "angle {angle}"
+            );
+        }
     }
 }
