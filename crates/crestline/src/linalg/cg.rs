@@ -2,7 +2,7 @@
 
 use rayon::prelude::*;
 
-use super::{Multigrid, SymmetricMatrix, CHUNK};
+use super::{Lanes, Multigrid, SymmetricMatrix, CHUNK};
 #[cfg(test)]
 use crate::Result;
 
@@ -35,15 +35,16 @@ impl Default for CgSettings {
     }
 }
 
-/// The outcome of [`conjugate_gradient`].
+/// The outcome of [`conjugate_gradient`]: of the worst vector, when several are
+/// solved at once.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CgReport {
     /// Iterations run.
     pub iterations: usize,
     /// The true relative residual ‖b − A x‖ / ‖b‖ of the returned `x` (recomputed,
-    /// not the recurrence's estimate).
+    /// not the recurrence's estimate), the largest over the vectors.
     pub relative_residual: f64,
-    /// Whether it is below [`CgSettings::tolerance`].
+    /// Whether it is below [`CgSettings::tolerance`] for every vector.
     pub converged: bool,
 }
 
@@ -65,34 +66,37 @@ pub struct CgReport {
 /// # Panics
 /// If `b` or `x` does not have the matrix's size.
 #[cfg(test)]
-pub fn conjugate_gradient(
+pub fn conjugate_gradient<V: Lanes>(
     matrix: &SymmetricMatrix,
-    b: &[f64],
-    x: &mut [f64],
+    b: &[V],
+    x: &mut [V],
     settings: CgSettings,
 ) -> Result<CgReport> {
     let multigrid = Multigrid::new(matrix)?;
     Ok(Cg::new(matrix, &multigrid, b).run(x, settings))
 }
 
-/// The state of one preconditioned conjugate gradient solve.
-pub(super) struct Cg<'a> {
+/// The state of one preconditioned conjugate gradient solve, of one vector or of
+/// several interleaved ([`Lanes`]), run in lockstep: each vector has its own
+/// step lengths, and a vector that has converged stops moving (its steps are 0)
+/// while the others go on.
+pub(super) struct Cg<'a, V: Lanes> {
     matrix: &'a SymmetricMatrix,
     preconditioner: &'a Multigrid,
-    b: &'a [f64],
+    b: &'a [V],
     /// Residual b − A x.
-    r: Vec<f64>,
+    r: Vec<V>,
     /// Search direction.
-    p: Vec<f64>,
+    p: Vec<V>,
     /// A p, then scratch.
-    q: Vec<f64>,
+    q: Vec<V>,
 }
 
-impl<'a> Cg<'a> {
+impl<'a, V: Lanes> Cg<'a, V> {
     pub(super) fn new(
         matrix: &'a SymmetricMatrix,
         preconditioner: &'a Multigrid,
-        b: &'a [f64],
+        b: &'a [V],
     ) -> Self {
         let n = matrix.size();
         assert_eq!(
@@ -105,58 +109,67 @@ impl<'a> Cg<'a> {
             matrix,
             preconditioner,
             b,
-            r: vec![0.0; n],
-            p: vec![0.0; n],
-            q: vec![0.0; n],
+            r: vec![V::default(); n],
+            p: vec![V::default(); n],
+            q: vec![V::default(); n],
         }
     }
 
-    /// Iterates from `x` until the tolerance or the cap.
-    pub(super) fn run(&mut self, x: &mut [f64], settings: CgSettings) -> CgReport {
+    /// Iterates from `x` until the tolerance (for every vector) or the cap.
+    pub(super) fn run(&mut self, x: &mut [V], settings: CgSettings) -> CgReport {
         assert_eq!(x.len(), self.b.len(), "initial guess of the wrong length");
-        let b_norm = dot(self.b, self.b).sqrt();
-        if b_norm == 0.0 {
-            x.fill(0.0);
-            return CgReport {
-                iterations: 0,
-                relative_residual: 0.0,
-                converged: true,
-            };
+        let b_norm = norms(dot(self.b, self.b));
+        // A zero right-hand side has the solution 0.
+        let zero: Vec<usize> = (0..V::COUNT).filter(|&k| b_norm.lane(k) == 0.0).collect();
+        for v in x.iter_mut() {
+            zero.iter().for_each(|&k| v.set_lane(k, 0.0));
         }
-        let target = settings.tolerance * b_norm;
+        let target = b_norm * settings.tolerance;
         let mut iterations = 0;
         loop {
-            let residual = self.restart(x);
-            if residual <= target || iterations >= settings.max_iterations {
+            let residual = norms(self.restart(x));
+            let done: Vec<bool> = (0..V::COUNT)
+                .map(|k| residual.lane(k) <= target.lane(k))
+                .collect();
+            if done.iter().all(|&d| d) || iterations >= settings.max_iterations {
+                let relative = (0..V::COUNT)
+                    .filter(|k| !zero.contains(k))
+                    .map(|k| residual.lane(k) / b_norm.lane(k))
+                    .fold(0.0, f64::max);
                 return CgReport {
                     iterations,
-                    relative_residual: residual / b_norm,
-                    converged: residual <= target,
+                    relative_residual: relative,
+                    converged: done.iter().all(|&d| d),
                 };
             }
-            iterations += self.iterate(x, target, settings.max_iterations - iterations);
+            iterations += self.iterate(x, target, done, settings.max_iterations - iterations);
         }
     }
 
-    /// Sets r = b − A x and p = P⁻¹ r (P the preconditioner); returns ‖r‖.
-    fn restart(&mut self, x: &[f64]) -> f64 {
+    /// Sets r = b − A x and p = P⁻¹ r (P the preconditioner); returns rᵀr.
+    fn restart(&mut self, x: &[V]) -> V {
         self.matrix.residual(x, self.b, &mut self.r);
         self.preconditioner.apply(&self.r, &mut self.p);
-        dot(&self.r, &self.r).sqrt()
+        dot(&self.r, &self.r)
     }
 
     /// At most `budget` iterations from the state [`restart`](Self::restart) left,
-    /// until the recurrence's residual is at most `target`; returns how many ran.
-    fn iterate(&mut self, x: &mut [f64], target: f64, budget: usize) -> usize {
+    /// until the recurrence's residual of every vector is at most its `target`
+    /// (the vectors `done` already do not move); returns how many ran.
+    fn iterate(&mut self, x: &mut [V], target: V, mut done: Vec<bool>, budget: usize) -> usize {
         let mut rz = dot(&self.r, &self.p);
         for iteration in 1..=budget {
             self.matrix.mul_vec(&self.p, &mut self.q);
-            let alpha = rz / dot(&self.p, &self.q);
+            let alpha = unless_done(rz.over(dot(&self.p, &self.q)), &done);
             let (next_rz, rr) = self.step(x, alpha);
-            if rr.sqrt() <= target {
+            let rr = norms(rr);
+            for (k, done) in done.iter_mut().enumerate() {
+                *done |= rr.lane(k) <= target.lane(k);
+            }
+            if done.iter().all(|&d| d) {
                 return iteration;
             }
-            let beta = next_rz / rz;
+            let beta = unless_done(next_rz.over(rz), &done);
             rz = next_rz;
             self.update_direction(beta);
         }
@@ -164,44 +177,73 @@ impl<'a> Cg<'a> {
     }
 
     /// x += α p, r −= α q, and z = P⁻¹ r kept in q; returns (rᵀz, rᵀr).
-    fn step(&mut self, x: &mut [f64], alpha: f64) -> (f64, f64) {
-        let sums: Vec<f64> = x
+    fn step(&mut self, x: &mut [V], alpha: V) -> (V, V) {
+        let sums: Vec<V> = x
             .par_chunks_mut(CHUNK)
             .zip(self.r.par_chunks_mut(CHUNK))
             .zip(self.p.par_chunks(CHUNK).zip(self.q.par_chunks(CHUNK)))
             .map(|((x, r), (p, q))| {
-                let mut rr = 0.0;
+                let mut rr = V::default();
                 for k in 0..x.len() {
-                    x[k] += alpha * p[k];
-                    r[k] -= alpha * q[k];
-                    rr += r[k] * r[k];
+                    x[k] += alpha.times(p[k]);
+                    r[k] -= alpha.times(q[k]);
+                    rr += r[k].times(r[k]);
                 }
                 rr
             })
             .collect();
         self.preconditioner.apply(&self.r, &mut self.q);
-        (dot(&self.r, &self.q), sums.iter().sum())
+        (dot(&self.r, &self.q), sum(&sums))
     }
 
     /// p = z + β p, with z = P⁻¹ r held in q.
-    fn update_direction(&mut self, beta: f64) {
+    fn update_direction(&mut self, beta: V) {
         self.p
             .par_chunks_mut(CHUNK)
             .zip(self.q.par_chunks(CHUNK))
             .for_each(|(p, z)| {
-                for (p, z) in p.iter_mut().zip(z) {
-                    *p = z + beta * *p;
+                for (p, &z) in p.iter_mut().zip(z) {
+                    *p = z + beta.times(*p);
                 }
             });
     }
 }
 
-/// The dot product `aᵀb`, summed per chunk in parallel and the chunks in order.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let sums: Vec<f64> = a
+/// The step `v` with the lanes of the vectors `done` set to 0 (they may be NaN:
+/// a converged vector's search direction can vanish).
+fn unless_done<V: Lanes>(mut v: V, done: &[bool]) -> V {
+    for (k, &done) in done.iter().enumerate() {
+        if done {
+            v.set_lane(k, 0.0);
+        }
+    }
+    v
+}
+
+/// The square root of every lane.
+fn norms<V: Lanes>(mut squares: V) -> V {
+    for k in 0..V::COUNT {
+        squares.set_lane(k, squares.lane(k).sqrt());
+    }
+    squares
+}
+
+/// The dot products `aᵀb` of every lane, summed per chunk in parallel and the
+/// chunks in order.
+fn dot<V: Lanes>(a: &[V], b: &[V]) -> V {
+    let sums: Vec<V> = a
         .par_chunks(CHUNK)
         .zip(b.par_chunks(CHUNK))
-        .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>())
+        .map(|(a, b)| {
+            a.iter()
+                .zip(b)
+                .fold(V::default(), |sum, (&x, &y)| sum + x.times(y))
+        })
         .collect();
-    sums.iter().sum()
+    sum(&sums)
+}
+
+/// The sum of `parts`, in order.
+fn sum<V: Lanes>(parts: &[V]) -> V {
+    parts.iter().fold(V::default(), |total, &part| total + part)
 }

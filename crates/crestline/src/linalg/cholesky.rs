@@ -8,7 +8,8 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Par, Side};
 use rayon::prelude::*;
 
-use super::SymmetricMatrix;
+use super::lanes::{lane, set_lane};
+use super::{Lanes, SymmetricMatrix};
 use crate::{Error, Result};
 
 /// The lower triangle of a square sparse matrix in compressed column form, the
@@ -165,13 +166,28 @@ impl CholeskyFactor {
         );
     }
 
-    /// Overwrites each of `columns` (right-hand sides b) with the solution of
-    /// `A x = b`, the columns in parallel.
+    /// `x` = A⁻¹ `b` for every vector of the interleaved `b` ([`Lanes`]), the
+    /// vectors solved in parallel.
     ///
     /// # Panics
-    /// If a column's length is not [`size`](Self::size).
-    pub fn solve_columns_in_place(&self, columns: &mut [Vec<f64>]) {
-        columns.par_iter_mut().for_each(|c| self.solve_in_place(c));
+    /// If `b` or `x` does not have length [`size`](Self::size).
+    pub fn solve_lanes<V: Lanes>(&self, b: &[V], x: &mut [V]) {
+        assert_eq!(
+            b.len(),
+            x.len(),
+            "right-hand side and solution differ in length"
+        );
+        let columns: Vec<Vec<f64>> = (0..V::COUNT)
+            .into_par_iter()
+            .map(|k| {
+                let mut column = lane(b, k);
+                self.solve_in_place(&mut column);
+                column
+            })
+            .collect();
+        for (k, column) in columns.iter().enumerate() {
+            set_lane(x, k, column);
+        }
     }
 
     /// The solution of `A x = rhs`.

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::CHUNK;
+use super::{Lanes, CHUNK};
 use crate::{Error, Result};
 
 /// Assembles a symmetric `n × n` sparse matrix from entries that may repeat;
@@ -245,7 +245,7 @@ impl<T: Entry> SymmetricMatrix<T> {
     ///
     /// # Panics
     /// If `x` or `y` does not have length [`size`](Self::size).
-    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+    pub fn mul_vec<V: Lanes>(&self, x: &[V], y: &mut [V]) {
         assert!(
             x.len() == self.n && y.len() == self.n,
             "product of a {n}×{n} matrix with vectors of length {} and {}",
@@ -264,7 +264,7 @@ impl<T: Entry> SymmetricMatrix<T> {
     ///
     /// # Panics
     /// If `x`, `b` or `r` does not have length [`size`](Self::size).
-    pub fn residual(&self, x: &[f64], b: &[f64], r: &mut [f64]) {
+    pub fn residual<V: Lanes>(&self, x: &[V], b: &[V], r: &mut [V]) {
         assert!(
             x.len() == self.n && b.len() == self.n && r.len() == self.n,
             "residual of a {n}×{n} system with vectors of length {}, {} and {}",
@@ -282,12 +282,11 @@ impl<T: Entry> SymmetricMatrix<T> {
     }
 
     /// Row `i` of the matrix times `x`.
-    fn row_dot(&self, i: usize, x: &[f64]) -> f64 {
+    fn row_dot<V: Lanes>(&self, i: usize, x: &[V]) -> V {
         let range = self.col_ptr[i]..self.col_ptr[i + 1];
         self.row_idx[range.clone()]
             .iter()
             .zip(&self.values[range])
-            .map(|(&j, &v)| v.into() * x[j as usize])
-            .sum()
+            .fold(V::default(), |sum, (&j, &v)| sum + x[j as usize] * v.into())
     }
 }

@@ -21,6 +21,7 @@
 
 mod cg;
 mod cholesky;
+mod lanes;
 mod matrix;
 mod multigrid;
 mod stiff_blocks;
@@ -33,6 +34,7 @@ use cg::conjugate_gradient;
 use cg::Cg;
 pub use cg::CgSettings;
 pub use cholesky::{CholeskyAnalysis, CholeskyFactor};
+pub use lanes::{Lanes, Pair};
 #[cfg(test)]
 use matrix::SymmetricBuilder;
 pub use matrix::{Entry, SymmetricMatrix};
@@ -167,15 +169,17 @@ impl SpdSolver {
         Ok(())
     }
 
-    /// Overwrites `x` with the solution of `A x = b`; the iterative method starts
-    /// from the `x` given. If it does not converge within the cap, the system is
+    /// Overwrites `x` with the solution of `A x = b`, for one vector or several
+    /// interleaved ([`Lanes`]: the iteration then serves all of them with each
+    /// pass over the matrix and its hierarchy); the iterative method starts from
+    /// the `x` given. If it does not converge within the cap, the system is
     /// solved by the factorization instead, and so are the next ones with the
     /// same matrix.
     ///
     /// # Panics
     /// Without a matrix ([`set_matrix`](Self::set_matrix)), or if `b` or `x` does
     /// not have its size.
-    pub fn solve(&mut self, b: &[f64], x: &mut [f64]) -> Result<()> {
+    pub fn solve<V: Lanes>(&mut self, b: &[V], x: &mut [V]) -> Result<()> {
         let matrix = self.matrix.as_ref().expect("no matrix to solve with");
         if self.method == Solver::Iterative {
             let multigrid = self.multigrid.as_ref().expect("made with the matrix");
@@ -185,27 +189,7 @@ impl SpdSolver {
             }
             self.method = Solver::Direct;
         }
-        x.copy_from_slice(b);
-        self.factor()?.solve_in_place(x);
-        Ok(())
-    }
-
-    /// Overwrites each of `x` with the solution of `A x = b` for its `b`: with
-    /// one factorization for all, in parallel (the direct method), or by one
-    /// iteration each from the `x` given, falling back as
-    /// [`solve`](Self::solve) does.
-    ///
-    /// # Panics
-    /// As [`solve`](Self::solve).
-    pub fn solve_each(&mut self, b: &[Vec<f64>], x: &mut [Vec<f64>]) -> Result<()> {
-        assert_eq!(b.len(), x.len(), "as many right-hand sides as solutions");
-        if self.method == Solver::Iterative {
-            return b.iter().zip(x).try_for_each(|(b, x)| self.solve(b, x));
-        }
-        for (x, b) in x.iter_mut().zip(b) {
-            x.copy_from_slice(b);
-        }
-        self.factor()?.solve_columns_in_place(x);
+        self.factor()?.solve_lanes(b, x);
         Ok(())
     }
 

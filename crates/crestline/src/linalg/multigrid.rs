@@ -29,7 +29,7 @@
 use rayon::prelude::*;
 
 use super::stiff_blocks::{Relax, StiffBlocks, MAX_BLOCK};
-use super::{CholeskyFactor, Entry, SymmetricMatrix, CHUNK};
+use super::{CholeskyFactor, Entry, Lanes, SymmetricMatrix, CHUNK};
 use crate::{Error, Result};
 
 /// Strength threshold θ: a_ij is a strong coupling when a_ij² ≥ θ² a_ii a_jj
@@ -186,23 +186,20 @@ impl Multigrid {
     /// and as many backward ones after the coarse correction, so the
     /// preconditioner is symmetric positive definite (as the conjugate gradient
     /// method needs).
-    pub fn apply(&self, r: &[f64], z: &mut [f64]) {
+    pub fn apply<V: Lanes>(&self, r: &[V], z: &mut [V]) {
         self.cycle(0, &self.fine, r, z);
     }
 
     /// One V-cycle from level `l`, whose smoother is `smoother`.
-    fn cycle(&self, l: usize, smoother: &Smoother, b: &[f64], x: &mut [f64]) {
-        x.fill(0.0);
+    fn cycle<V: Lanes>(&self, l: usize, smoother: &Smoother, b: &[V], x: &mut [V]) {
+        x.fill(V::default());
         let Some(level) = self.levels.get(l) else {
             // Below the last level lies the coarsest, factored; without levels the
             // fine matrix is only smoothed.
             match &self.coarsest {
-                Some(factor) if l > 0 => {
-                    x.copy_from_slice(b);
-                    factor.solve_in_place(x);
-                }
+                Some(factor) if l > 0 => factor.solve_lanes(b, x),
                 _ => {
-                    let mut before = vec![0.0; b.len()];
+                    let mut before = vec![V::default(); b.len()];
                     smoother.sweep(b, x, &mut before, false);
                     smoother.sweep(b, x, &mut before, true);
                 }
@@ -210,13 +207,13 @@ impl Multigrid {
             return;
         };
         // The sweeps' copy of x, and the residual between them.
-        let mut scratch = vec![0.0; b.len()];
+        let mut scratch = vec![V::default(); b.len()];
         for _ in 0..SWEEPS {
             smoother.sweep(b, x, &mut scratch, false);
         }
         smoother.matrix.residual(x, b, &mut scratch);
         let coarse_b = multiply_transposed(&level.prolongator, &scratch, level.coarse.size());
-        let mut coarse_x = vec![0.0; coarse_b.len()];
+        let mut coarse_x = vec![V::default(); coarse_b.len()];
         self.cycle(l + 1, &level.coarse, &coarse_b, &mut coarse_x);
         add_product(&level.prolongator, &coarse_x, x);
         for _ in 0..SWEEPS {
@@ -239,10 +236,12 @@ fn positive_diagonal(matrix: &SymmetricMatrix) -> Result<()> {
 }
 
 /// y += R x, in parallel over rows.
-fn add_product(rows: &Rows<f32>, x: &[f64], y: &mut [f64]) {
+fn add_product<V: Lanes>(rows: &Rows<f32>, x: &[V], y: &mut [V]) {
     y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
         for (k, y) in out.iter_mut().enumerate() {
-            *y += rows.row(c * CHUNK + k).map(|(j, v)| v * x[j]).sum::<f64>();
+            *y += rows
+                .row(c * CHUNK + k)
+                .fold(V::default(), |sum, (j, v)| sum + x[j] * v);
         }
     });
 }
@@ -253,26 +252,26 @@ const TRANSPOSED_PIECES: usize = 8;
 
 /// y = Rᵀ x for R with `columns` columns, without storing Rᵀ: fixed pieces of
 /// R's rows each scatter into their own vector, summed in order.
-fn multiply_transposed(rows: &Rows<f32>, x: &[f64], columns: usize) -> Vec<f64> {
+fn multiply_transposed<V: Lanes>(rows: &Rows<f32>, x: &[V], columns: usize) -> Vec<V> {
     let piece = rows.len().div_ceil(TRANSPOSED_PIECES).max(1);
-    let parts: Vec<Vec<f64>> = x
+    let parts: Vec<Vec<V>> = x
         .par_chunks(piece)
         .enumerate()
         .map(|(k, x_piece)| {
-            let mut y = vec![0.0; columns];
+            let mut y = vec![V::default(); columns];
             for (offset, &x_i) in x_piece.iter().enumerate() {
                 for (c, v) in rows.row(k * piece + offset) {
-                    y[c] += v * x_i;
+                    y[c] += x_i * v;
                 }
             }
             y
         })
         .collect();
-    let mut y = vec![0.0; columns];
+    let mut y = vec![V::default(); columns];
     y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
         let start = c * CHUNK;
         for part in &parts {
-            for (y, p) in out.iter_mut().zip(&part[start..]) {
+            for (y, &p) in out.iter_mut().zip(&part[start..]) {
                 *y += p;
             }
         }
@@ -337,7 +336,7 @@ impl Smoother {
     /// block); `before` (of x's length) is
     /// overwritten with x as it was before the sweep. The backward sweep is the
     /// forward one's adjoint, so a V-cycle with one of each stays symmetric.
-    fn sweep(&self, b: &[f64], x: &mut [f64], before: &mut [f64], backward: bool) {
+    fn sweep<V: Lanes>(&self, b: &[V], x: &mut [V], before: &mut [V], backward: bool) {
         let (col_ptr, row_idx, values) = self.matrix.csc();
         let (inverse, blocks) = (&self.inverse, self.blocks.as_ref());
         before
@@ -351,30 +350,32 @@ impl Smoother {
             let end = start + own.len();
             // b_i − (A x)_i, with x_j from this piece as relaxed so far. Column i is
             // row i: the matrix is symmetric. The sum includes a_ii x_i.
-            let residual = |own: &[f64], i: usize| {
+            let residual = |own: &[V], i: usize| {
                 let entries = col_ptr[i]..col_ptr[i + 1];
-                let mut sum = 0.0;
+                let mut sum = V::default();
                 for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
                     let j = j as usize;
                     let x_j = match j.checked_sub(start) {
                         Some(k) if k < own.len() => own[k],
                         _ => before[j],
                     };
-                    sum += f64::from(a_ij) * x_j;
+                    sum += x_j * f64::from(a_ij);
                 }
                 b[i] - sum
             };
             let mut relax = |i: usize| match blocks.map_or(Relax::Single, |blocks| blocks.at(i)) {
                 Relax::Single => own[i - start] += residual(own, i) * inverse[i],
                 Relax::Block { members, inverse } => {
-                    let mut r = [0.0; MAX_BLOCK];
+                    let mut r = [V::default(); MAX_BLOCK];
                     for (r, &m) in r.iter_mut().zip(members) {
                         *r = residual(own, m as usize);
                     }
                     let k = members.len();
                     for (row, &m) in inverse.chunks_exact(k).zip(members) {
-                        own[m as usize - start] +=
-                            row.iter().zip(&r).map(|(a, r)| a * r).sum::<f64>();
+                        own[m as usize - start] += row
+                            .iter()
+                            .zip(&r)
+                            .fold(V::default(), |sum, (&a, &r)| sum + r * a);
                     }
                 }
                 Relax::Follower => {}

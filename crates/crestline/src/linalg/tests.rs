@@ -5,8 +5,8 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{
-    conjugate_gradient, CgSettings, CholeskyFactor, Multigrid, Solver, SpdSolver, SymmetricBuilder,
-    SymmetricMatrix, ITERATIVE_MIN_SIZE,
+    conjugate_gradient, CgSettings, CholeskyFactor, Multigrid, Pair, Solver, SpdSolver,
+    SymmetricBuilder, SymmetricMatrix, ITERATIVE_MIN_SIZE,
 };
 use crate::mesh::generate::{self, Sampling};
 use crate::mesh::{EdgeId, Mesh};
@@ -413,4 +413,70 @@ fn block_relaxation_speeds_up_moderately_stiff_systems() {
     let report = conjugate_gradient(&matrix, &rhs, &mut x, CgSettings::default()).unwrap();
     assert!(report.converged, "{report:?}");
     assert!(report.iterations <= 15, "{} iterations", report.iterations);
+}
+
+#[test]
+fn two_right_hand_sides_in_lockstep_are_solved_as_each_alone() {
+    let (matrix, first) = sphere_system();
+    let second: Vec<f64> = (0..first.len()).map(|i| (0.37 * i as f64).cos()).collect();
+    // The second starts near its solution: it converges first.
+    let near: Vec<f64> = CholeskyFactor::new(&matrix)
+        .unwrap()
+        .solve(&second)
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x * (1.0 + 1e-6 * (i as f64).sin()))
+        .collect();
+    let settings = CgSettings::default();
+    let alone = |b: &[f64], start: &[f64]| {
+        let mut x = start.to_vec();
+        let report = conjugate_gradient(&matrix, b, &mut x, settings).unwrap();
+        (x, report.iterations)
+    };
+    let (x0, n0) = alone(&first, &vec![0.0; first.len()]);
+    let (x1, n1) = alone(&second, &near);
+    assert!(n1 < n0, "{n1} iterations against {n0}");
+    let b: Vec<Pair> = first
+        .iter()
+        .zip(&second)
+        .map(|(&a, &b)| Pair([a, b]))
+        .collect();
+    let mut x: Vec<Pair> = near.iter().map(|&x| Pair([0.0, x])).collect();
+    let report = conjugate_gradient(&matrix, &b, &mut x, settings).unwrap();
+    assert!(report.converged && report.relative_residual <= settings.tolerance);
+    assert_eq!(report.iterations, n0);
+    // The vector that converged first stopped where it converged alone.
+    for (k, alone) in [x0, x1].iter().enumerate() {
+        let lane: Vec<f64> = x.iter().map(|x| x.0[k]).collect();
+        let scale = alone.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            max_abs_difference(&lane, alone) <= 1e-12 * scale,
+            "lane {k}"
+        );
+    }
+}
+
+#[test]
+fn a_vector_solved_already_or_zero_does_not_move_in_lockstep() {
+    let (matrix, rhs) = sphere_system();
+    let exact = CholeskyFactor::new(&matrix).unwrap().solve(&rhs);
+    for other in [0.0, 1.0] {
+        // Lane 0: the exact solution as the start; lane 1: a zero right-hand
+        // side (other = 0) or the system again from zero.
+        let b: Vec<Pair> = rhs.iter().map(|&v| Pair([v, other * v])).collect();
+        let mut x: Vec<Pair> = exact.iter().map(|&v| Pair([v, 0.0])).collect();
+        let report = conjugate_gradient(&matrix, &b, &mut x, CgSettings::default()).unwrap();
+        assert!(report.converged, "{report:?}");
+        assert!(
+            x.iter().zip(&exact).all(|(x, &e)| x.0[0] == e),
+            "lane 0 moved"
+        );
+        let lane: Vec<f64> = x.iter().map(|x| x.0[1]).collect();
+        assert!(lane.iter().all(|v| v.is_finite()));
+        if other == 0.0 {
+            assert!(lane.iter().all(|&v| v == 0.0));
+        } else {
+            assert!(relative_residual(&matrix, &lane, &rhs) <= 1e-10);
+        }
+    }
 }

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use crate::linalg::{CgSettings, Solver, SpdSolver, SymmetricMatrix};
+use crate::linalg::{CgSettings, Lanes, Pair, Solver, SpdSolver, SymmetricMatrix};
 use crate::mesh::{EdgeId, Mesh};
 use crate::{Error, Result};
 
@@ -158,23 +158,34 @@ impl SystemPattern {
         }
     }
 
-    /// `values` (one per vertex) in the order of the unknowns.
-    fn to_unknowns(&self, values: Vec<f64>) -> Vec<f64> {
-        match &self.order {
-            Some(order) => order.iter().map(|&v| values[v as usize]).collect(),
-            None => values,
-        }
+    /// The vertex of unknown `i`.
+    fn vertex(&self, i: usize) -> usize {
+        self.order.as_ref().map_or(i, |order| order[i] as usize)
     }
 
-    /// `unknowns` (in their order) written to `values`, one per vertex.
-    fn to_vertices(&self, unknowns: &[f64], values: &mut [f64]) {
-        match &self.order {
-            Some(order) => {
-                for (&v, &x) in order.iter().zip(unknowns) {
-                    values[v as usize] = x;
+    /// `fields` (one value per vertex each) in the order of the unknowns,
+    /// interleaved ([`Lanes`]: as many fields as lanes).
+    fn to_unknowns<V: Lanes>(&self, fields: &[&[f64]]) -> Vec<V> {
+        (0..self.diagonal.len())
+            .map(|i| {
+                let v = self.vertex(i);
+                let mut x = V::default();
+                for (k, field) in fields.iter().enumerate() {
+                    x.set_lane(k, field[v]);
                 }
+                x
+            })
+            .collect()
+    }
+
+    /// `unknowns` (in their order, interleaved) written to `fields`, one value
+    /// per vertex each.
+    fn to_vertices<V: Lanes>(&self, unknowns: &[V], fields: &mut [&mut [f64]]) {
+        for (i, x) in unknowns.iter().enumerate() {
+            let v = self.vertex(i);
+            for (k, field) in fields.iter_mut().enumerate() {
+                field[v] = x.lane(k);
             }
-            None => values.copy_from_slice(unknowns),
         }
     }
 
@@ -347,22 +358,33 @@ impl ExtremalitySmoother {
         }
         let mut solver = self.solver.clone();
         solver.set_matrix(self.system(|p, q| d.sign(p, q))?)?;
-        let mass = self.pattern.to_unknowns(self.mass.clone());
-        let mut x: Vec<Vec<f64>> = fields
-            .iter()
-            .map(|e| self.pattern.to_unknowns(e.to_vec()))
-            .collect();
-        let mut rhs = vec![vec![0.0; mass.len()]; fields.len()];
+        match fields {
+            // Two fields in lockstep: every pass over the matrix serves both.
+            [a, b] => self.run_steps::<Pair>(&mut solver, &mut [a, b], steps),
+            _ => fields
+                .iter_mut()
+                .try_for_each(|e| self.run_steps::<f64>(&mut solver, &mut [e], steps)),
+        }
+    }
+
+    /// `steps` implicit steps of the `fields` (as many as `V` has lanes) with the
+    /// system `solver` holds.
+    fn run_steps<V: Lanes>(
+        &self,
+        solver: &mut SpdSolver,
+        fields: &mut [&mut [f64]],
+        steps: usize,
+    ) -> Result<()> {
+        let mass = self.pattern.to_unknowns::<f64>(&[&self.mass]);
+        let values: Vec<&[f64]> = fields.iter().map(|e| &e[..]).collect();
+        let mut x = self.pattern.to_unknowns::<V>(&values);
+        let mut rhs = vec![V::default(); x.len()];
         for _ in 0..steps {
-            for (rhs, x) in rhs.iter_mut().zip(&x) {
-                mass_times(&mass, x, rhs);
-            }
-            // x holds the previous step's solutions: the iteration's warm starts.
-            solver.solve_each(&rhs, &mut x)?;
+            mass_times(&mass, &x, &mut rhs);
+            // x holds the previous step's solution: the iteration's warm start.
+            solver.solve(&rhs, &mut x)?;
         }
-        for (x, e) in x.iter().zip(fields.iter_mut()) {
-            self.pattern.to_vertices(x, e);
-        }
+        self.pattern.to_vertices(&x, fields);
         Ok(())
     }
 }
@@ -377,8 +399,8 @@ fn for_time_step(solver: Solver, tau: f64) -> Solver {
 }
 
 /// `out = M x` for the lumped (diagonal) mass matrix M.
-fn mass_times(mass: &[f64], x: &[f64], out: &mut [f64]) {
-    for ((o, x), m) in out.iter_mut().zip(x).zip(mass) {
+fn mass_times<V: Lanes>(mass: &[f64], x: &[V], out: &mut [V]) {
+    for ((o, &x), &m) in out.iter_mut().zip(x).zip(mass) {
         *o = x * m;
     }
 }
@@ -431,17 +453,17 @@ fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mes
     for _ in 0..steps {
         let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
         solver.set_matrix(pattern.matrix(&mass, &weights, |_, _| 1.0)?)?;
-        let mass = pattern.to_unknowns(mass);
+        let mass = pattern.to_unknowns::<f64>(&[&mass]);
         let mut next = current.positions().to_vec();
         let mut coordinate = vec![0.0; next.len()];
         for axis in 0..3 {
             let position: Vec<f64> = current.positions().iter().map(|p| p[axis]).collect();
             // The current coordinate is the iteration's warm start.
-            let mut x = pattern.to_unknowns(position);
+            let mut x = pattern.to_unknowns::<f64>(&[&position]);
             let mut rhs = vec![0.0; x.len()];
             mass_times(&mass, &x, &mut rhs);
             solver.solve(&rhs, &mut x)?;
-            pattern.to_vertices(&x, &mut coordinate);
+            pattern.to_vertices(&x, &mut [&mut coordinate]);
             for (p, &x) in next.iter_mut().zip(&coordinate) {
                 p[axis] = x;
             }
