@@ -49,16 +49,14 @@ const CHUNK: usize = 8192;
 
 /// Systems with fewer unknowns than this are solved with the sparse Cholesky
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
-/// conjugate gradient method. On two cores the factorization is the faster on
-/// every mesh measured (both fields, 3 steps; `examples/bench_smoothing.rs`):
-/// smoothing stage 0.66 s against 5.7 s on the Stanford dragon (435k vertices),
-/// 3.5 s against 19.1 s on the dragon ×4 (1.7M), plus its symbolic analysis
-/// (0.5 and 2.6 s), because a V-cycle moves more bytes than a solve with the
-/// factor and the iteration takes about 14 of them per solve (×4). But the factor's fill grows
-/// faster than the mesh: the dragon ×16 (7M vertices) needed 17.7 GB for ridges
-/// with the factorization, and the dragon ×64 would not fit in 24 GiB, while the
-/// multigrid hierarchy takes about twice the matrix. From 2M unknowns on, memory
-/// decides.
+/// conjugate gradient method. On two cores the factorization is the faster up to
+/// the dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3 steps):
+/// 5.9 s against 11.0 s iterated, plus its ordering (about 2.6 s, overlapped with
+/// the curvature), because a V-cycle moves more bytes than a solve with the
+/// factor. But the factor's fill grows faster than the mesh: on the dragon ×16
+/// (7M vertices) the factored ridges need 10.4 GB and 103 s (smoothing 74 s,
+/// ordering 19 s), the iterated ones 4.9 GB and 72 s (smoothing 53 s), and the
+/// dragon ×64 would not fit in 24 GiB factored.
 pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 
 /// How the sparse symmetric positive definite systems of the implicit smoothing

@@ -9,19 +9,27 @@ use super::extremality::{extremality, regular_faces, Principal};
 use super::smoothing::{smooth_extremality, ExtremalitySmoother};
 use super::trace::{trace, Extremality};
 use super::{ExtremalityTracer, Solver};
+use crate::curvature::CurvatureField;
 use crate::curvature::{CurvatureEstimator, ShapeOperator};
 use crate::lines::chain::chain;
 use crate::lines::direction_field::gauge_between;
 use crate::lines::DirectionField;
 use crate::mesh::generate::{self, Sampling};
+use crate::mesh::Mesh;
 use crate::Point;
+
+/// A jittered torus of about `vertices` vertices and its shape-operator curvature.
+fn torus_and_curvature(vertices: usize, seed: u64) -> (Mesh, CurvatureField) {
+    let mesh = generate::torus(1.0, 0.35, vertices, Sampling::jittered(seed))
+        .unwrap()
+        .mesh;
+    let field = ShapeOperator.estimate(&mesh).unwrap();
+    (mesh, field)
+}
 
 #[test]
 fn smoothed_extremality_does_not_depend_on_direction_signs() {
-    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(6))
-        .unwrap()
-        .mesh;
-    let reference = ShapeOperator.estimate(&mesh).unwrap();
+    let (mesh, reference) = torus_and_curvature(20_000, 6);
     let mut flipped = reference.clone();
     let mut rng = StdRng::seed_from_u64(99);
     for d in flipped.d_max.iter_mut() {
@@ -60,10 +68,7 @@ fn smoothed_extremality_does_not_depend_on_direction_signs() {
 
 #[test]
 fn chained_lines_have_no_gaps() {
-    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(2))
-        .unwrap()
-        .mesh;
-    let field = ShapeOperator.estimate(&mesh).unwrap();
+    let (mesh, field) = torus_and_curvature(20_000, 2);
     for which in [Principal::Max, Principal::Min] {
         let directions = which.direction_field(&field);
         let mut e = extremality(&mesh, &field, which);
@@ -113,10 +118,7 @@ fn chained_lines_have_no_gaps() {
 
 #[test]
 fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
-    let mesh = generate::torus(1.0, 0.35, 20_000, Sampling::jittered(3))
-        .unwrap()
-        .mesh;
-    let mut field = ShapeOperator.estimate(&mesh).unwrap();
+    let (mesh, mut field) = torus_and_curvature(20_000, 3);
     // Arbitrary signs of the valleys' directions: the gauge has to undo them.
     let mut rng = StdRng::seed_from_u64(7);
     for d in field.d_min.iter_mut() {
@@ -170,10 +172,7 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
 
 #[test]
 fn fields_whose_signs_disagree_are_not_gauged_together() {
-    let mesh = generate::torus(1.0, 0.35, 5_000, Sampling::jittered(4))
-        .unwrap()
-        .mesh;
-    let field = ShapeOperator.estimate(&mesh).unwrap();
+    let (mesh, field) = torus_and_curvature(5_000, 4);
     // Tangent directions at random angles to the principal ones.
     let mut rng = StdRng::seed_from_u64(5);
     let random: Vec<_> = (0..mesh.vertex_count())
