@@ -49,11 +49,7 @@ impl<'a> DirectionField<'a> {
     /// relative to d(q) into the frame of d(p). Symmetric in p and q. Where a
     /// normal is zero, d(q) is compared as it is.
     pub fn sign(&self, p: usize, q: usize) -> f64 {
-        if self.alignment(p, q) >= 0.0 {
-            1.0
-        } else {
-            -1.0
-        }
+        sign_of(self.alignment(p, q))
     }
 
     /// ⟨d(p), R_pq d(q)⟩, whose sign is [`sign`](Self::sign)'s.
@@ -103,26 +99,25 @@ fn half_turn_axis(n: Vector) -> Vector {
     n.cross(&Vector::ith(k, 1.0)).normalize()
 }
 
+/// +1 for `x` ≥ 0, else −1.
+fn sign_of(x: f64) -> f64 {
+    if x >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
 /// The per-vertex signs g (±1) with σ^b_pq = g_p g_q σ^a_pq on every edge of
 /// `mesh` but ties ([`TIE`]), taking b's direction at p as g_p n(p) × a's, if
-/// the two fields have the same normals and such signs exist: always for
-/// principal directions (d_min = ±n × d_max, and the transport commutes with
-/// n × ·). A value v relative to b is then g_p v relative to n × a, and the
-/// smoothing system of a serves b ([`crate::ridges`]). `None` otherwise.
+/// such signs exist: always for principal directions with one normal field
+/// (d_min = ±n × d_max, and the transport commutes with n × ·). A value v
+/// relative to b is then g_p v relative to n × a, and the smoothing system of a
+/// serves b ([`crate::ridges`]). `None` otherwise.
 pub fn gauge_between(mesh: &Mesh, a: DirectionField, b: DirectionField) -> Option<Vec<f64>> {
-    if a.normals.as_ptr() != b.normals.as_ptr() || a.normals.len() != b.normals.len() {
-        return None;
-    }
     let gauge: Vec<f64> = (0..a.directions.len())
         .into_par_iter()
-        .map(|p| {
-            let turned = a.normals[p].cross(&a.directions[p]);
-            if b.directions[p].dot(&turned) >= 0.0 {
-                1.0
-            } else {
-                -1.0
-            }
-        })
+        .map(|p| sign_of(b.at(p).dot(&a.normals[p].cross(&a.at(p)))))
         .collect();
     let agree = (0..mesh.edge_count() as u32).into_par_iter().all(|e| {
         let [p, q] = mesh.edge_vertices(EdgeId(e)).map(|v| v.idx());

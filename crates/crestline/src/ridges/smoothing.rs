@@ -358,29 +358,30 @@ impl ExtremalitySmoother {
         }
         let mut solver = self.solver.clone();
         solver.set_matrix(self.system(|p, q| d.sign(p, q))?)?;
+        let mass = self.pattern.to_unknowns::<f64>(&[&self.mass]);
         match fields {
             // Two fields in lockstep: every pass over the matrix serves both.
-            [a, b] => self.run_steps::<Pair>(&mut solver, &mut [a, b], steps),
+            [a, b] => self.run_steps::<Pair>(&mut solver, &mass, &mut [a, b], steps),
             _ => fields
                 .iter_mut()
-                .try_for_each(|e| self.run_steps::<f64>(&mut solver, &mut [e], steps)),
+                .try_for_each(|e| self.run_steps::<f64>(&mut solver, &mass, &mut [e], steps)),
         }
     }
 
     /// `steps` implicit steps of the `fields` (as many as `V` has lanes) with the
-    /// system `solver` holds.
+    /// system `solver` holds, whose masses are `mass` (in the unknowns' order).
     fn run_steps<V: Lanes>(
         &self,
         solver: &mut SpdSolver,
+        mass: &[f64],
         fields: &mut [&mut [f64]],
         steps: usize,
     ) -> Result<()> {
-        let mass = self.pattern.to_unknowns::<f64>(&[&self.mass]);
         let values: Vec<&[f64]> = fields.iter().map(|e| &e[..]).collect();
         let mut x = self.pattern.to_unknowns::<V>(&values);
         let mut rhs = vec![V::default(); x.len()];
         for _ in 0..steps {
-            mass_times(&mass, &x, &mut rhs);
+            mass_times(mass, &x, &mut rhs);
             // x holds the previous step's solution: the iteration's warm start.
             solver.solve(&rhs, &mut x)?;
         }

@@ -9,8 +9,7 @@ use super::extremality::{extremality, regular_faces, Principal};
 use super::smoothing::{smooth_extremality, ExtremalitySmoother};
 use super::trace::{trace, Extremality};
 use super::{ExtremalityTracer, Solver};
-use crate::curvature::CurvatureField;
-use crate::curvature::{CurvatureEstimator, ShapeOperator};
+use crate::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
 use crate::lines::chain::chain;
 use crate::lines::direction_field::gauge_between;
 use crate::lines::DirectionField;
@@ -37,7 +36,7 @@ fn smoothed_extremality_does_not_depend_on_direction_signs() {
             *d = -*d;
         }
     }
-    let smoothed = |field: &crate::curvature::CurvatureField| {
+    let smoothed = |field: &CurvatureField| {
         let mut e = extremality(&mesh, field, Principal::Max);
         smooth_extremality(
             &mesh,

@@ -75,7 +75,9 @@ fn is_feature(mesh: &Mesh, field: &CurvatureField, ext: &Extremality<'_>, f: Fac
     let corners = mesh.face_vertices(f).map(|v| v.idx());
     let d = ext.directions;
     let signs = corners.map(|c| d.sign(corners[0], c));
-    let oriented_values = corners.map(|c| ext.zero_set.value_seen_from(corners[0], c));
+    // The values seen from the first corner (`ZeroSet::value_seen_from`), with the
+    // signs already at hand.
+    let oriented_values = [0, 1, 2].map(|i| signs[i] * ext.zero_set.value(corners[i]));
     let direction_sum: Vector = (0..3).map(|i| d.at(corners[i]) * signs[i]).sum();
     let slope = face_gradient(mesh, f, oriented_values).dot(&direction_sum);
     let k_max: f64 = corners.iter().map(|&c| field.k_max[c]).sum();
