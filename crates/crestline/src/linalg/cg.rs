@@ -2,7 +2,7 @@
 
 use rayon::prelude::*;
 
-use super::{Lanes, Multigrid, SymmetricMatrix, CHUNK};
+use super::{CycleBuffers, Lanes, Multigrid, SymmetricMatrix, CHUNK};
 #[cfg(test)]
 use crate::Result;
 
@@ -51,8 +51,8 @@ pub struct CgReport {
 /// Solves `A x = b` for a symmetric positive definite `matrix` by the conjugate
 /// gradient method preconditioned by a multigrid V-cycle ([`Multigrid`]; Saad,
 /// *Iterative Methods for Sparse Linear Systems*, Algorithm 9.1), starting from
-/// the given `x` (a warm start: the previous smoothing step's solution) and
-/// overwriting it. Matrix-vector products and vector updates run in parallel;
+/// the multiple of the given `x` (a warm start: the previous smoothing step's
+/// solution) closest to the solution in the energy norm, and overwriting it. Matrix-vector products and vector updates run in parallel;
 /// sums are reduced in a fixed order, so the result does not depend on the
 /// number of threads.
 ///
@@ -90,6 +90,8 @@ pub(super) struct Cg<'a, V: Lanes> {
     p: Vec<V>,
     /// A p, then scratch.
     q: Vec<V>,
+    /// The preconditioner's vectors.
+    buffers: CycleBuffers<V>,
 }
 
 impl<'a, V: Lanes> Cg<'a, V> {
@@ -112,6 +114,7 @@ impl<'a, V: Lanes> Cg<'a, V> {
             r: vec![V::default(); n],
             p: vec![V::default(); n],
             q: vec![V::default(); n],
+            buffers: preconditioner.buffers(),
         }
     }
 
@@ -125,6 +128,7 @@ impl<'a, V: Lanes> Cg<'a, V> {
             zero.iter().for_each(|&k| v.set_lane(k, 0.0));
         }
         let target = b_norm * settings.tolerance;
+        self.scale_start(x, target);
         let mut iterations = 0;
         loop {
             let residual = norms(self.restart(x));
@@ -146,10 +150,35 @@ impl<'a, V: Lanes> Cg<'a, V> {
         }
     }
 
+    /// Replaces the start `x` by its multiple α x closest to the solution x* in
+    /// the energy norm: ‖x* − α x‖²_A = x*ᵀb − 2α xᵀb + α² xᵀAx is least at
+    /// α = xᵀb / xᵀAx (per vector). Never worse than `x` itself (α = 1 is a
+    /// candidate), and much better when `x` is the previous smoothing step of a
+    /// rough field: the Stanford dragon ×4's unsmoothed extremalities have
+    /// α ≈ 10⁻⁷ (the Laplacian of the field, large on the scan's slivers, dwarfs
+    /// it: zero is the better start), the first step's result α ≈ 0.01, the
+    /// second's 0.36; the three solves take 9, 11 and 9 iterations instead of 16,
+    /// 13 and 10. A vector whose start already meets its `target` residual, or
+    /// with xᵀAx = 0, is left as it is.
+    fn scale_start(&mut self, x: &mut [V], target: V) {
+        self.matrix.residual(x, self.b, &mut self.r);
+        let residual = norms(dot(&self.r, &self.r));
+        self.matrix.mul_vec(x, &mut self.q);
+        let mut alpha = dot(x, self.b).over(dot(x, &self.q));
+        for k in 0..V::COUNT {
+            if residual.lane(k) <= target.lane(k) || !alpha.lane(k).is_finite() {
+                alpha.set_lane(k, 1.0);
+            }
+        }
+        x.par_chunks_mut(CHUNK)
+            .for_each(|x| x.iter_mut().for_each(|v| *v = alpha.times(*v)));
+    }
+
     /// Sets r = b − A x and p = P⁻¹ r (P the preconditioner); returns rᵀr.
     fn restart(&mut self, x: &[V]) -> V {
         self.matrix.residual(x, self.b, &mut self.r);
-        self.preconditioner.apply(&self.r, &mut self.p);
+        self.preconditioner
+            .apply(&self.r, &mut self.p, &mut self.buffers);
         dot(&self.r, &self.r)
     }
 
@@ -192,7 +221,8 @@ impl<'a, V: Lanes> Cg<'a, V> {
                 rr
             })
             .collect();
-        self.preconditioner.apply(&self.r, &mut self.q);
+        self.preconditioner
+            .apply(&self.r, &mut self.q, &mut self.buffers);
         (dot(&self.r, &self.q), sum(&sums))
     }
 

@@ -38,7 +38,7 @@ pub use lanes::{Lanes, Pair};
 #[cfg(test)]
 use matrix::SymmetricBuilder;
 pub use matrix::{Entry, SymmetricMatrix};
-pub use multigrid::Multigrid;
+pub use multigrid::{CycleBuffers, Multigrid};
 
 use crate::Result;
 

@@ -118,8 +118,26 @@ impl Rows {
 struct Level {
     /// P, fine rows × coarse columns.
     prolongator: Rows<f32>,
+    /// Pᵀ, stored so that the restriction gathers a row per coarse unknown in
+    /// parallel rather than scattering the fine ones into per-thread copies.
+    restrictor: Rows<f32>,
     /// Pᵀ A P and its smoother.
     coarse: Smoother,
+}
+
+/// The vectors one V-cycle works in, per level ([`Multigrid::buffers`]): made
+/// once per solve rather than allocated (and their pages zeroed by the system)
+/// at every cycle.
+pub struct CycleBuffers<V> {
+    levels: Vec<LevelBuffers<V>>,
+}
+
+/// A level's vectors: the sweeps' copy of x and the residual between them (fine
+/// size), and the coarse right-hand side and solution.
+struct LevelBuffers<V> {
+    scratch: Vec<V>,
+    coarse_b: Vec<V>,
+    coarse_x: Vec<V>,
 }
 
 /// What the hybrid Gauss–Seidel sweep ([`Smoother::sweep`]) of one level reads:
@@ -164,6 +182,7 @@ impl Multigrid {
                 break;
             }
             levels.push(Level {
+                restrictor: prolongator.transpose(coarse.size()).compact(),
                 prolongator: prolongator.compact(),
                 coarse: Smoother::new(&coarse),
             });
@@ -186,14 +205,44 @@ impl Multigrid {
     /// and as many backward ones after the coarse correction, so the
     /// preconditioner is symmetric positive definite (as the conjugate gradient
     /// method needs).
-    pub fn apply<V: Lanes>(&self, r: &[V], z: &mut [V]) {
-        self.cycle(0, &self.fine, r, z);
+    ///
+    /// `buffers` are [`buffers`](Self::buffers) of this hierarchy.
+    pub fn apply<V: Lanes>(&self, r: &[V], z: &mut [V], buffers: &mut CycleBuffers<V>) {
+        self.cycle(0, &self.fine, r, z, &mut buffers.levels);
     }
 
-    /// One V-cycle from level `l`, whose smoother is `smoother`.
-    fn cycle<V: Lanes>(&self, l: usize, smoother: &Smoother, b: &[V], x: &mut [V]) {
+    /// The vectors [`apply`](Self::apply) works in, for vectors of `V`.
+    pub fn buffers<V: Lanes>(&self) -> CycleBuffers<V> {
+        let mut fine_size = self.fine.size();
+        let levels = self
+            .levels
+            .iter()
+            .map(|level| {
+                let coarse_size = level.coarse.size();
+                let buffers = LevelBuffers {
+                    scratch: vec![V::default(); fine_size],
+                    coarse_b: vec![V::default(); coarse_size],
+                    coarse_x: vec![V::default(); coarse_size],
+                };
+                fine_size = coarse_size;
+                buffers
+            })
+            .collect();
+        CycleBuffers { levels }
+    }
+
+    /// One V-cycle from level `l`, whose smoother is `smoother`, with the buffers
+    /// of level `l` and below.
+    fn cycle<V: Lanes>(
+        &self,
+        l: usize,
+        smoother: &Smoother,
+        b: &[V],
+        x: &mut [V],
+        buffers: &mut [LevelBuffers<V>],
+    ) {
         x.fill(V::default());
-        let Some(level) = self.levels.get(l) else {
+        let (Some(level), [own, below @ ..]) = (self.levels.get(l), buffers) else {
             // Below the last level lies the coarsest, factored; without levels the
             // fine matrix is only smoothed.
             match &self.coarsest {
@@ -206,18 +255,23 @@ impl Multigrid {
             }
             return;
         };
-        // The sweeps' copy of x, and the residual between them.
-        let mut scratch = vec![V::default(); b.len()];
+        let scratch = &mut own.scratch;
         for _ in 0..SWEEPS {
-            smoother.sweep(b, x, &mut scratch, false);
+            smoother.sweep(b, x, scratch, false);
         }
-        smoother.matrix.residual(x, b, &mut scratch);
-        let coarse_b = multiply_transposed(&level.prolongator, &scratch, level.coarse.size());
-        let mut coarse_x = vec![V::default(); coarse_b.len()];
-        self.cycle(l + 1, &level.coarse, &coarse_b, &mut coarse_x);
-        add_product(&level.prolongator, &coarse_x, x);
+        smoother.matrix.residual(x, b, scratch);
+        own.coarse_b.fill(V::default());
+        add_product(&level.restrictor, scratch, &mut own.coarse_b);
+        self.cycle(
+            l + 1,
+            &level.coarse,
+            &own.coarse_b,
+            &mut own.coarse_x,
+            below,
+        );
+        add_product(&level.prolongator, &own.coarse_x, x);
         for _ in 0..SWEEPS {
-            smoother.sweep(b, x, &mut scratch, true);
+            smoother.sweep(b, x, scratch, true);
         }
     }
 }
@@ -244,39 +298,6 @@ fn add_product<V: Lanes>(rows: &Rows<f32>, x: &[V], y: &mut [V]) {
                 .fold(V::default(), |sum, (j, v)| sum + x[j] * v);
         }
     });
-}
-
-/// Pieces of [`multiply_transposed`], summed in a fixed order whatever the
-/// number of threads.
-const TRANSPOSED_PIECES: usize = 8;
-
-/// y = Rᵀ x for R with `columns` columns, without storing Rᵀ: fixed pieces of
-/// R's rows each scatter into their own vector, summed in order.
-fn multiply_transposed<V: Lanes>(rows: &Rows<f32>, x: &[V], columns: usize) -> Vec<V> {
-    let piece = rows.len().div_ceil(TRANSPOSED_PIECES).max(1);
-    let parts: Vec<Vec<V>> = x
-        .par_chunks(piece)
-        .enumerate()
-        .map(|(k, x_piece)| {
-            let mut y = vec![V::default(); columns];
-            for (offset, &x_i) in x_piece.iter().enumerate() {
-                for (c, v) in rows.row(k * piece + offset) {
-                    y[c] += x_i * v;
-                }
-            }
-            y
-        })
-        .collect();
-    let mut y = vec![V::default(); columns];
-    y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
-        let start = c * CHUNK;
-        for part in &parts {
-            for (y, &p) in out.iter_mut().zip(&part[start..]) {
-                *y += p;
-            }
-        }
-    });
-    y
 }
 
 /// The pieces of rows that a Gauss–Seidel sweep relaxes in parallel: a fixed

@@ -288,11 +288,14 @@ fn the_v_cycle_is_symmetric_and_positive_definite() {
     let multigrid = Multigrid::new(&matrix).unwrap();
     assert!(multigrid.depth() >= 3, "{} levels", multigrid.depth());
     let vectors: Vec<Vec<f64>> = (0..3).map(|k| rhs(matrix.size(), k as f64)).collect();
+    // One set of buffers for every cycle: what one cycle leaves in them must not
+    // change the next.
+    let mut buffers = multigrid.buffers();
     let images: Vec<Vec<f64>> = vectors
         .iter()
         .map(|v| {
             let mut z = vec![0.0; v.len()];
-            multigrid.apply(v, &mut z);
+            multigrid.apply(v, &mut z, &mut buffers);
             z
         })
         .collect();
@@ -478,5 +481,22 @@ fn a_vector_solved_already_or_zero_does_not_move_in_lockstep() {
         } else {
             assert!(relative_residual(&matrix, &lane, &rhs) <= 1e-10);
         }
+    }
+}
+
+#[test]
+fn a_start_along_the_solution_is_scaled_onto_it() {
+    // The energy-best multiple of a start parallel to the solution is the
+    // solution: no iteration is left to do, whatever the start's length (the
+    // previous smoothing step of a rough field is far too long).
+    let (matrix, rhs) = sphere_system();
+    let exact = CholeskyFactor::new(&matrix).unwrap().solve(&rhs);
+    for scale in [1e3, -2.0, 1e-6] {
+        let mut x: Vec<f64> = exact.iter().map(|v| v * scale).collect();
+        let report = conjugate_gradient(&matrix, &rhs, &mut x, CgSettings::default()).unwrap();
+        assert!(report.converged, "{report:?}");
+        assert_eq!(report.iterations, 0, "start scaled by {scale}");
+        let size = exact.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(max_abs_difference(&x, &exact) <= 1e-9 * size);
     }
 }
