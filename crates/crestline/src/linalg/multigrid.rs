@@ -148,6 +148,8 @@ struct Smoother {
     matrix: SymmetricMatrix<f32>,
     inverse: Vec<f64>,
     blocks: Option<StiffBlocks>,
+    /// The unknowns that rows of another piece of the sweep read, increasing.
+    interface: Vec<u32>,
 }
 
 /// The multigrid hierarchy of a matrix.
@@ -309,6 +311,21 @@ fn sweep_piece(n: usize) -> usize {
     n.div_ceil(SWEEP_PIECES).max(1)
 }
 
+/// The unknowns of `a` that a row in another piece of the hybrid sweep couples
+/// to ([`sweep_piece`]), increasing: the only values the sweep must keep from
+/// before it. Along the Morton curve the pieces are compact patches of the
+/// surface, so this is their rims (1.5% of the dragon ×4's unknowns on the
+/// fine level, 6.5% on the next), and copying it instead of the whole vector
+/// before every sweep spares a pass over x (the ×4's smoothing 7.8 → 7.4 s).
+fn interface(a: &SymmetricMatrix) -> Vec<u32> {
+    let piece = sweep_piece(a.size());
+    (0..a.size())
+        .into_par_iter()
+        .filter(|&i| a.column(i).any(|(j, _)| j / piece != i / piece))
+        .map(|i| i as u32)
+        .collect()
+}
+
 /// The reciprocal divisors of the hybrid sweep ([`gauss_seidel`]; multiplying
 /// keeps a division off the sweep's chain of dependent rows): 1 / d_i, d_i = a_ii
 /// plus Σ |a_ij| over
@@ -341,6 +358,7 @@ impl Smoother {
             matrix: a.compact(),
             inverse: sweep_inverse(a),
             blocks: StiffBlocks::new(a, sweep_piece(a.size())),
+            interface: interface(a),
         }
     }
 
@@ -354,16 +372,16 @@ impl Smoother {
     /// Jacobi between them (the other pieces' values from before the sweep), with
     /// the divisors of [`sweep_inverse`] and the blocks of stiffly coupled unknowns
     /// relaxed together (at their first member, with the inverse of their diagonal
-    /// block); `before` (of x's length) is
-    /// overwritten with x as it was before the sweep. The backward sweep is the
+    /// block); `before` (of x's length) receives the values of x at the
+    /// [`interface`] as they were before the sweep. The backward sweep is the
     /// forward one's adjoint, so a V-cycle with one of each stays symmetric.
     fn sweep<V: Lanes>(&self, b: &[V], x: &mut [V], before: &mut [V], backward: bool) {
         let (col_ptr, row_idx, values) = self.matrix.csc();
         let (inverse, blocks) = (&self.inverse, self.blocks.as_ref());
-        before
-            .par_chunks_mut(CHUNK)
-            .zip(x.par_chunks(CHUNK))
-            .for_each(|(before, x)| before.copy_from_slice(x));
+        // Only the interface is read from `before`: the rest may hold anything.
+        for &j in &self.interface {
+            before[j as usize] = x[j as usize];
+        }
         let before = &*before;
         let piece = sweep_piece(b.len());
         x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
