@@ -59,7 +59,7 @@ use crate::{Error, Point, Result, Space};
 
 pub use crate::chain::{chain, Chain};
 pub use border::{write_border, BorderSurface};
-pub use direction_field::DirectionField;
+pub use direction_field::{DirectionField, EdgeSigns};
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
 pub use json::{read_json, write_json, FORMAT};
 pub use location::SurfaceLocation;

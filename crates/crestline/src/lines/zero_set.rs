@@ -7,14 +7,14 @@
 //! so that both triangles of an edge agree on whether it is crossed. Edge (p, q) is
 //! crossed iff e(p) and σ_pq e(q) differ in sign, at t = e(p) / (e(p) − σ_pq e(q)),
 //! σ_pq the sign between a direction field's d(p) and d(q)
-//! ([`DirectionField::sign`]) and 1 without one: the same point
+//! ([`super::DirectionField::sign`], per edge [`EdgeSigns`]) and 1 without one: the same point
 //! seen from both triangles, so segments chain exactly by edge id.
 
 use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, FaceId, Mesh};
 
-use super::{DirectionField, SurfaceLocation};
+use super::{EdgeSigns, SurfaceLocation};
 
 /// A point of a traced line on a mesh: where a zero set crosses an edge, or the
 /// barycenter of a face where three lines meet (a trisector of a singular face).
@@ -32,8 +32,8 @@ pub enum LinePoint {
 pub struct ZeroSet<'a> {
     /// Values per vertex, exact zeros replaced by the smallest positive number.
     values: Vec<f64>,
-    /// The directions the values' signs refer to, if any.
-    directions: Option<DirectionField<'a>>,
+    /// The signs σ between the directions the values' signs refer to, if any.
+    signs: Option<&'a EdgeSigns>,
 }
 
 impl<'a> ZeroSet<'a> {
@@ -41,16 +41,17 @@ impl<'a> ZeroSet<'a> {
     pub fn new(values: Vec<f64>) -> ZeroSet<'static> {
         ZeroSet {
             values: without_zeros(values),
-            directions: None,
+            signs: None,
         }
     }
 
-    /// The zero set of `values` whose signs are relative to the sign-ambiguous
-    /// `directions` (e.g. extremalities along principal directions).
-    pub fn with_directions(values: Vec<f64>, directions: DirectionField<'a>) -> ZeroSet<'a> {
+    /// The zero set of `values` whose signs are relative to sign-ambiguous
+    /// directions (e.g. extremalities along principal directions) whose edges'
+    /// signs are `signs`.
+    pub fn with_signs(values: Vec<f64>, signs: &'a EdgeSigns) -> ZeroSet<'a> {
         ZeroSet {
             values: without_zeros(values),
-            directions: Some(directions),
+            signs: Some(signs),
         }
     }
 
@@ -59,19 +60,17 @@ impl<'a> ZeroSet<'a> {
         self.values[v]
     }
 
-    /// The value at `q` carried into the frame of `p`: σ_pq e(q).
-    pub fn value_seen_from(&self, p: usize, q: usize) -> f64 {
-        match self.directions {
-            Some(d) => d.sign(p, q) * self.values[q],
-            None => self.values[q],
-        }
+    /// σ of edge `e`: 1 without directions.
+    pub fn sign(&self, e: EdgeId) -> f64 {
+        self.signs.map_or(1.0, |signs| signs.sign(e))
     }
 
     /// Where the zero set crosses edge `e`, as the parameter t ∈ (0, 1) from its
     /// first to its second vertex ([`Mesh::edge_vertices`]), or `None`.
     pub fn crossing(&self, mesh: &Mesh, e: EdgeId) -> Option<f64> {
         let [p, q] = mesh.edge_vertices(e).map(|v| v.idx());
-        let (a, b) = (self.values[p], self.value_seen_from(p, q));
+        // The value at q carried into the frame of p: σ_pq e(q).
+        let (a, b) = (self.values[p], self.sign(e) * self.values[q]);
         ((a > 0.0) != (b > 0.0)).then(|| a / (a - b))
     }
 

@@ -4,7 +4,7 @@
 use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
-use crate::lines::DirectionField;
+use crate::lines::{DirectionField, EdgeSigns};
 use crate::mesh::{FaceId, Mesh};
 use crate::Vector;
 
@@ -109,15 +109,22 @@ pub fn extremality(mesh: &Mesh, field: &CurvatureField, which: Principal) -> Vec
         .collect()
 }
 
-/// Whether face `f` is regular for the direction field `d` (Definition 1): the
-/// directions at its corners can be signed so that all pairs agree
-/// ([`DirectionField::sign`]), i.e. σ12 σ23 σ31 = +1.
-pub fn is_regular(mesh: &Mesh, d: DirectionField, f: FaceId) -> bool {
-    let [a, b, c] = mesh.face_vertices(f).map(|v| v.idx());
-    d.sign(a, b) * d.sign(b, c) * d.sign(c, a) > 0.0
+/// Whether face `f` is regular for the direction field whose edge signs are
+/// `signs` (Definition 1): the directions at its corners can be signed so that
+/// all pairs agree ([`DirectionField::sign`]), i.e. σ12 σ23 σ31 = +1.
+pub fn is_regular(mesh: &Mesh, signs: &EdgeSigns, f: FaceId) -> bool {
+    let product: f64 = mesh
+        .face_halfedges(f)
+        .iter()
+        .map(|&h| signs.sign(mesh.edge(h)))
+        .product();
+    product > 0.0
 }
 
-/// Regularity of every face for the direction field `d`.
-pub fn regular_faces(mesh: &Mesh, d: DirectionField) -> Vec<bool> {
-    mesh.par_faces().map(|f| is_regular(mesh, d, f)).collect()
+/// Regularity of every face for the direction field whose edge signs are
+/// `signs`.
+pub fn regular_faces(mesh: &Mesh, signs: &EdgeSigns) -> Vec<bool> {
+    mesh.par_faces()
+        .map(|f| is_regular(mesh, signs, f))
+        .collect()
 }

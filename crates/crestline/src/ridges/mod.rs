@@ -53,7 +53,8 @@ use crate::lines::fair::fair_polyline;
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::zero_set::LinePoint;
 use crate::lines::{
-    FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation, SurfaceWithCurvature,
+    EdgeSigns, FeatureLines, LineExtractor, LineKind, Polyline, SurfaceLocation,
+    SurfaceWithCurvature,
 };
 use crate::mesh::{Mesh, VertexId};
 use crate::progress::{stage, try_stage, Observer};
@@ -370,20 +371,33 @@ impl ExtremalityTracer {
                 })
                 .collect::<Vec<_>>()
         });
+        // σ on every edge, per field: the smoothing and the tracing read them.
+        let signs: Vec<EdgeSigns> = stage(observer, "edge signs", || {
+            fields
+                .iter()
+                .map(|which| EdgeSigns::new(work, which.direction_field(field)))
+                .collect()
+        });
         try_stage(observer, "smoothing", || {
             match fitted_smoothing_factors(work, field) {
                 Some(factors) if self.smooth_steps > 0 => {
                     let reweighted = smoother.reweighted(work, &factors)?;
-                    self.smooth_extremalities(work, &reweighted, field, &mut values)
+                    self.smooth_extremalities(work, &reweighted, field, &signs, &mut values)
                 }
-                _ => self.smooth_extremalities(work, smoother, field, &mut values),
+                _ => self.smooth_extremalities(work, smoother, field, &signs, &mut values),
             }
         })?;
         let mut lines = FeatureLines::new(String::new());
         lines.space = input.space();
-        for (&which, field_values) in fields.iter().zip(&values) {
-            let traced =
-                self.trace_field(work, field, which, field_values.clone(), input, observer);
+        for ((&which, field_values), signs) in fields.iter().zip(&values).zip(&signs) {
+            let traced = self.trace_field(
+                work,
+                field,
+                (which, signs),
+                field_values.clone(),
+                input,
+                observer,
+            );
             for line in traced {
                 lines.push(with_extremalities(line, work, field, fields, &values));
             }
@@ -466,7 +480,8 @@ impl ExtremalityTracer {
     /// `work`. The two principal fields' systems are one matrix up to a
     /// per-vertex sign ([`gauge_between`]): the valleys' values are carried into
     /// the ridges' gauge, both are smoothed with one factorization or one
-    /// multigrid hierarchy, and carried back. Where the fields' signs do not
+    /// multigrid hierarchy, and carried back. `signs` are the fields' edge
+    /// signs, one per field of [`Self::kinds`]. Where the fields' signs do not
     /// agree so (directions a caller gave, not orthogonal), each field has its
     /// own system: factored ones in parallel, one field per thread, sharing the
     /// ordering (`smoother`'s); iterated ones one at a time, each in parallel,
@@ -476,6 +491,7 @@ impl ExtremalityTracer {
         work: &Mesh,
         smoother: &smoothing::ExtremalitySmoother,
         field: &CurvatureField,
+        signs: &[EdgeSigns],
         values: &mut [Vec<f64>],
     ) -> Result<()> {
         let steps = self.smooth_steps;
@@ -485,31 +501,32 @@ impl ExtremalityTracer {
             let valleys = Principal::Min.direction_field(field);
             if let Some(gauge) = gauge_between(work, ridges, valleys) {
                 regauge(min, &gauge);
-                smoother.smooth(ridges, &mut [max, min], steps)?;
+                smoother.smooth(&signs[0], &mut [max, min], steps)?;
                 regauge(min, &gauge);
                 return Ok(());
             }
         }
-        let smooth = |(&which, values): (&Principal, &mut Vec<f64>)| {
-            smoother.smooth(which.direction_field(field), &mut [values], steps)
+        let smooth = |(signs, values): (&EdgeSigns, &mut Vec<f64>)| {
+            smoother.smooth(signs, &mut [values], steps)
         };
         if smoother.iterates() {
-            fields.iter().zip(values.iter_mut()).try_for_each(smooth)
+            signs.iter().zip(values.iter_mut()).try_for_each(smooth)
         } else {
-            fields
+            signs
                 .par_iter()
                 .zip(values.par_iter_mut())
                 .try_for_each(smooth)
         }
     }
 
-    /// Tracing and chaining of the smoothed extremality `values` of one field on
-    /// `work`; line points are placed on `input` (the same edge and parameter).
+    /// Tracing and chaining of the smoothed extremality `values` of one field
+    /// (with its edge signs) on `work`; line points are placed on `input` (the
+    /// same edge and parameter).
     fn trace_field(
         &self,
         work: &Mesh,
         field: &CurvatureField,
-        which: Principal,
+        (which, signs): (Principal, &EdgeSigns),
         values: Vec<f64>,
         input: &Mesh,
         observer: &mut dyn Observer,
@@ -518,13 +535,20 @@ impl ExtremalityTracer {
             Principal::Max => ("ridges", LineKind::Ridge),
             Principal::Min => ("valleys", LineKind::Valley),
         };
-        let regular = regular_faces(work, which.direction_field(field));
+        let regular = regular_faces(work, signs);
         let singular = regular.iter().filter(|&&r| !r).count();
         observer.measure(
             &format!("{name}_singular_share"),
             singular as f64 / regular.len() as f64,
         );
-        let ext = Extremality::new(which, values, field, &regular, self.feature_conditions);
+        let ext = Extremality::new(
+            which,
+            values,
+            field,
+            signs,
+            &regular,
+            self.feature_conditions,
+        );
         let segments = stage(observer, &format!("{name}: tracing"), || {
             trace::trace(work, field, &ext)
         });

@@ -10,7 +10,9 @@ use rayon::prelude::*;
 use crate::mesh::{EdgeId, Mesh, VertexId};
 use crate::{Error, Result};
 
+#[cfg(test)]
 use crate::lines::DirectionField;
+use crate::lines::EdgeSigns;
 use crate::mesh::morton::{morton_order, ranks};
 
 /// The smallest lumped mass, as a fraction of the time step t (an area, like the
@@ -185,24 +187,26 @@ impl SystemPattern {
     }
 
     /// The matrix with `mass` (per vertex) on the diagonal plus, for every edge
-    /// (p, q) with weight w = `weights[e]` and sign σ = `sign(p, q)`, K_pp += w,
+    /// e = (p, q) with weight w = `weights[e]` and sign σ = `sign(e)`, K_pp += w,
     /// K_qq += w and K_pq += −σ w, K_qp += −σ w (summed in edge order), over the
     /// unknowns.
     fn matrix(
         &self,
         mass: &[f64],
         weights: &[f64],
-        sign: impl Fn(usize, usize) -> f64,
+        sign: impl Fn(EdgeId) -> f64,
     ) -> Result<SymmetricMatrix> {
         let mut values = vec![0.0; self.row_idx.len()];
         for (&slot, &m) in self.diagonal.iter().zip(mass) {
             values[slot] = m;
         }
-        for ((&w, slots), &[p, q]) in weights.iter().zip(&self.edges).zip(&self.ends) {
+        for (e, ((&w, slots), &[p, q])) in
+            weights.iter().zip(&self.edges).zip(&self.ends).enumerate()
+        {
             let (p, q) = (p as usize, q as usize);
             values[self.diagonal[p]] += w;
             values[self.diagonal[q]] += w;
-            let off = -w * sign(p, q);
+            let off = -w * sign(EdgeId(e as u32));
             values[slots[0] as usize] += off;
             values[slots[1] as usize] += off;
         }
@@ -287,7 +291,8 @@ pub fn smooth_extremality(
     tau: f64,
     weights: Option<&[f64]>,
 ) -> Result<()> {
-    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(d, &mut [e], steps)
+    let signs = EdgeSigns::new(mesh, d);
+    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(&signs, &mut [e], steps)
 }
 
 /// `smooth_extremality` for several fields of one mesh: the matrices differ only
@@ -339,7 +344,7 @@ impl ExtremalitySmoother {
         }
         // The signs change neither the pattern nor what Auto chooses (it looks at
         // magnitudes): analyse the system with every σ = +1.
-        let unsigned = self.system(|_, _| 1.0)?;
+        let unsigned = self.system(|_| 1.0)?;
         self.solver.analyze(&unsigned)?;
         Ok(self)
     }
@@ -365,8 +370,8 @@ impl ExtremalitySmoother {
         })
     }
 
-    /// M + t K with the signs `sigma(p, q)`.
-    fn system(&self, sigma: impl Fn(usize, usize) -> f64) -> Result<SymmetricMatrix> {
+    /// M + t K with the signs `sigma(e)` of the edges.
+    fn system(&self, sigma: impl Fn(EdgeId) -> f64) -> Result<SymmetricMatrix> {
         self.pattern.matrix(&self.mass, &self.weights, sigma)
     }
 
@@ -376,15 +381,15 @@ impl ExtremalitySmoother {
         self.solver.solver().resolve(self.mass.len()) == Solver::Iterative
     }
 
-    /// Smooth each of `fields` (values per vertex whose signs follow the
-    /// directions `d`) by `steps` implicit steps, with one system for all: one
-    /// factorization, or one multigrid hierarchy.
-    pub fn smooth(&self, d: DirectionField, fields: &mut [&mut [f64]], steps: usize) -> Result<()> {
+    /// Smooth each of `fields` (values per vertex whose signs follow directions
+    /// whose edges' signs are `signs`) by `steps` implicit steps, with one system
+    /// for all: one factorization, or one multigrid hierarchy.
+    pub fn smooth(&self, signs: &EdgeSigns, fields: &mut [&mut [f64]], steps: usize) -> Result<()> {
         if steps == 0 || fields.is_empty() {
             return Ok(());
         }
         let mut solver = self.solver.clone();
-        solver.set_matrix(self.system(|p, q| d.sign(p, q))?)?;
+        solver.set_matrix(self.system(|e| signs.sign(e))?)?;
         let mass = self.pattern.to_unknowns::<f64>(&[&self.mass]);
         match fields {
             // Two fields in lockstep: every pass over the matrix serves both.
@@ -480,7 +485,7 @@ fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mes
     let mut solver = SpdSolver::new(solver, CgSettings::default());
     for _ in 0..steps {
         let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
-        solver.set_matrix(pattern.matrix(&mass, &weights, |_, _| 1.0)?)?;
+        solver.set_matrix(pattern.matrix(&mass, &weights, |_| 1.0)?)?;
         let mass = pattern.to_unknowns::<f64>(&[&mass]);
         let mut next = current.positions().to_vec();
         let mut coordinate = vec![0.0; next.len()];

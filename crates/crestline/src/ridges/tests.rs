@@ -12,7 +12,7 @@ use super::{ExtremalityTracer, Solver};
 use crate::curvature::{CurvatureEstimator, CurvatureField, ShapeOperator};
 use crate::lines::chain::chain;
 use crate::lines::direction_field::gauge_between;
-use crate::lines::DirectionField;
+use crate::lines::{DirectionField, EdgeSigns};
 use crate::mesh::generate::{self, Sampling};
 use crate::mesh::Mesh;
 use crate::Point;
@@ -72,8 +72,9 @@ fn chained_lines_have_no_gaps() {
         let directions = which.direction_field(&field);
         let mut e = extremality(&mesh, &field, which);
         smooth_extremality(&mesh, directions, &mut e, 3, 2.0, None).unwrap();
-        let regular = regular_faces(&mesh, directions);
-        let ext = Extremality::new(which, e, &field, &regular, false);
+        let signs = EdgeSigns::new(&mesh, directions);
+        let regular = regular_faces(&mesh, &signs);
+        let ext = Extremality::new(which, e, &field, &signs, &regular, false);
         let segments = trace(&mesh, &field, &ext);
         assert!(segments.len() > 100);
         let chains = chain(&segments, |_| (Point::origin(), 0.0), 0.0);
@@ -129,6 +130,7 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
     let gauge = gauge_between(&mesh, ridges, valleys).expect("principal fields share signs");
     let turned = gauge.iter().filter(|&&g| g < 0.0).count();
     assert!(turned > mesh.vertex_count() / 3, "{turned} turned");
+    let signs = [ridges, valleys].map(|d| EdgeSigns::new(&mesh, d));
     let initial = [Principal::Max, Principal::Min].map(|w| extremality(&mesh, &field, w));
     let scale = initial[1].iter().fold(0.0f64, |m, e| m.max(e.abs()));
     // The iteration stops at a relative residual of 10⁻⁷, with another
@@ -144,13 +146,12 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
             .unwrap();
         let mut shared = initial.to_vec();
         tracer
-            .smooth_extremalities(&mesh, &smoother, &field, &mut shared)
+            .smooth_extremalities(&mesh, &smoother, &field, &signs, &mut shared)
             .unwrap();
-        for (which, (shared, initial)) in [ridges, valleys].iter().zip(shared.iter().zip(&initial))
-        {
+        for (signs, (shared, initial)) in signs.iter().zip(shared.iter().zip(&initial)) {
             let mut own = initial.clone();
             smoother
-                .smooth(*which, &mut [&mut own], tracer.smooth_steps)
+                .smooth(signs, &mut [&mut own], tracer.smooth_steps)
                 .unwrap();
             let worst = own
                 .iter()

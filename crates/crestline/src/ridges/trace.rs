@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::curvature::CurvatureField;
 use crate::lines::zero_set::{LinePoint, ZeroSet};
-use crate::lines::DirectionField;
+use crate::lines::{DirectionField, EdgeSigns};
 use crate::mesh::{EdgeId, FaceId, Mesh};
 use crate::Vector;
 
@@ -21,6 +21,8 @@ pub struct Extremality<'a> {
     pub zero_set: ZeroSet<'a>,
     /// The field's principal directions.
     pub directions: DirectionField<'a>,
+    /// Their signs σ on every edge.
+    pub signs: &'a EdgeSigns,
     /// Whether each face is regular for the directions (Definition 1).
     pub regular: &'a [bool],
     /// Whether to apply the feature conditions (eqs. 5, 6); without them every
@@ -29,19 +31,21 @@ pub struct Extremality<'a> {
 }
 
 impl<'a> Extremality<'a> {
-    /// Wrap smoothed extremality values for tracing.
+    /// Wrap smoothed extremality values for tracing; `signs` are those of the
+    /// field's directions.
     pub fn new(
         which: Principal,
         values: Vec<f64>,
         field: &'a CurvatureField,
+        signs: &'a EdgeSigns,
         regular: &'a [bool],
         feature_conditions: bool,
     ) -> Self {
-        let directions = which.direction_field(field);
         Extremality {
             which,
-            zero_set: ZeroSet::with_directions(values, directions),
-            directions,
+            zero_set: ZeroSet::with_signs(values, signs),
+            directions: which.direction_field(field),
+            signs,
             regular,
             feature_conditions,
         }
@@ -74,9 +78,15 @@ pub fn trace(mesh: &Mesh, field: &CurvatureField, ext: &Extremality<'_>) -> Vec<
 fn is_feature(mesh: &Mesh, field: &CurvatureField, ext: &Extremality<'_>, f: FaceId) -> bool {
     let corners = mesh.face_vertices(f).map(|v| v.idx());
     let d = ext.directions;
-    let signs = corners.map(|c| d.sign(corners[0], c));
-    // The values seen from the first corner (`ZeroSet::value_seen_from`), with the
-    // signs already at hand.
+    // σ from the first corner to each: halfedge 0 joins corners 0 and 1,
+    // halfedge 2 corners 2 and 0.
+    let [h0, _, h2] = mesh.face_halfedges(f);
+    let signs = [
+        1.0,
+        ext.signs.sign(mesh.edge(h0)),
+        ext.signs.sign(mesh.edge(h2)),
+    ];
+    // The values seen from the first corner.
     let oriented_values = [0, 1, 2].map(|i| signs[i] * ext.zero_set.value(corners[i]));
     let direction_sum: Vector = (0..3).map(|i| d.at(corners[i]) * signs[i]).sum();
     let slope = face_gradient(mesh, f, oriented_values).dot(&direction_sum);
