@@ -177,14 +177,14 @@ impl Multigrid {
             if n <= COARSEST_SIZE {
                 break;
             }
-            let Some((prolongator, coarse)) = coarsen(current, levels.len()) else {
+            let Some((prolongator, restrictor, coarse)) = coarsen(current, levels.len()) else {
                 break;
             };
             if coarse.size() as f64 > MIN_REDUCTION * n as f64 {
                 break;
             }
             levels.push(Level {
-                restrictor: prolongator.transpose(coarse.size()).compact(),
+                restrictor: restrictor.compact(),
                 prolongator: prolongator.compact(),
                 coarse: Smoother::new(&coarse),
             });
@@ -428,9 +428,9 @@ impl Smoother {
     }
 }
 
-/// The next level of `a`, its prolongator and Galerkin matrix, or `None` if
-/// nothing is strongly coupled.
-fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<(Rows, SymmetricMatrix)> {
+/// The next level of `a`: its prolongator P, Pᵀ and the Galerkin matrix, or
+/// `None` if nothing is strongly coupled.
+fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<(Rows, Rows, SymmetricMatrix)> {
     let diagonal = &a.diagonal();
     let (aggregate, sign, count) = aggregate(a, diagonal);
     if count == 0 {
@@ -444,8 +444,9 @@ fn coarsen(a: &SymmetricMatrix, depth: usize) -> Option<(Rows, SymmetricMatrix)>
         0.0
     };
     let prolongator = prolongator(a, diagonal, &aggregate, &sign, omega);
-    let coarse = galerkin(a, &prolongator, &prolongator.transpose(count), count);
-    Some((prolongator, coarse))
+    let restrictor = prolongator.transpose(count);
+    let coarse = galerkin(a, &prolongator, &restrictor, count);
+    Some((prolongator, restrictor, coarse))
 }
 
 /// Marks a vertex that belongs to no aggregate.
