@@ -49,14 +49,15 @@ const CHUNK: usize = 8192;
 
 /// Systems with fewer unknowns than this are solved with the sparse Cholesky
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
-/// conjugate gradient method. On two cores the factorization is the faster up to
-/// the dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3 steps):
-/// 5.9 s against 11.0 s iterated, plus its ordering (about 2.6 s, overlapped with
-/// the curvature), because a V-cycle moves more bytes than a solve with the
-/// factor. But the factor's fill grows faster than the mesh: on the dragon ×16
-/// (7M vertices) the factored ridges need 10.4 GB and 103 s (smoothing 74 s,
-/// ordering 19 s), the iterated ones 4.9 GB and 72 s (smoothing 53 s), and the
-/// dragon ×64 would not fit in 24 GiB factored.
+/// conjugate gradient method. On two cores the factorization is still the faster
+/// at the dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3
+/// steps): 4.1 s plus 2.4 s of its ordering that the curvature does not hide,
+/// against 7.4 s iterated (whole `ridges` 9.5–10.7 s against 10.7–10.9 s),
+/// because a V-cycle moves more bytes than a solve with the factor. But the
+/// factor's fill grows faster than the mesh: on the dragon ×16 (7M vertices) the
+/// factored ridges need 10.4 GB and 103 s (smoothing 74 s, ordering 19 s), the
+/// iterated ones 5.1 GB and 47 s (smoothing 35 s), and the dragon ×64 would not
+/// fit in 24 GiB factored.
 pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 
 /// How the sparse symmetric positive definite systems of the implicit smoothing
