@@ -69,6 +69,10 @@ impl<'a> DirectionField<'a> {
 #[derive(Clone, Debug)]
 pub struct EdgeSigns(Vec<i8>);
 
+/// What [`EdgeSigns`] stores of an edge whose alignment is a tie ([`TIE`]), times
+/// its sign; other edges store their sign.
+const TIED: i8 = 2;
+
 impl EdgeSigns {
     /// σ of every edge of `mesh` for the directions `d`, in parallel.
     pub fn new(mesh: &Mesh, d: DirectionField) -> EdgeSigns {
@@ -76,7 +80,13 @@ impl EdgeSigns {
             .into_par_iter()
             .map(|e| {
                 let [p, q] = mesh.edge_vertices(EdgeId(e)).map(|v| v.idx());
-                d.sign(p, q) as i8
+                let alignment = d.alignment(p, q);
+                let sign = sign_of(alignment) as i8;
+                if alignment.abs() <= TIE {
+                    sign * TIED
+                } else {
+                    sign
+                }
             })
             .collect();
         EdgeSigns(signs)
@@ -84,7 +94,13 @@ impl EdgeSigns {
 
     /// σ of edge `e` (±1).
     pub fn sign(&self, e: EdgeId) -> f64 {
-        f64::from(self.0[e.idx()])
+        f64::from(self.0[e.idx()].signum())
+    }
+
+    /// Whether the directions' alignment on edge `e` is a tie ([`TIE`]): its
+    /// sign is rounding.
+    fn is_tie(&self, e: EdgeId) -> bool {
+        self.0[e.idx()].abs() == TIED
     }
 }
 
@@ -139,16 +155,23 @@ fn sign_of(x: f64) -> f64 {
 /// such signs exist: always for principal directions with one normal field
 /// (d_min = ±n × d_max, and the transport commutes with n × ·). A value v
 /// relative to b is then g_p v relative to n × a, and the smoothing system of a
-/// serves b ([`crate::ridges`]). `None` otherwise.
-pub fn gauge_between(mesh: &Mesh, a: DirectionField, b: DirectionField) -> Option<Vec<f64>> {
+/// serves b ([`crate::ridges`]). `None` otherwise. Each field comes with its
+/// edges' signs.
+pub fn gauge_between(
+    mesh: &Mesh,
+    (a, a_signs): (DirectionField, &EdgeSigns),
+    (b, b_signs): (DirectionField, &EdgeSigns),
+) -> Option<Vec<f64>> {
     let gauge: Vec<f64> = (0..a.directions.len())
         .into_par_iter()
         .map(|p| sign_of(b.at(p).dot(&a.normals[p].cross(&a.at(p)))))
         .collect();
     let agree = (0..mesh.edge_count() as u32).into_par_iter().all(|e| {
-        let [p, q] = mesh.edge_vertices(EdgeId(e)).map(|v| v.idx());
-        let (x, y) = (a.alignment(p, q), b.alignment(p, q));
-        x.abs() <= TIE || y.abs() <= TIE || (x * y >= 0.0) == (gauge[p] * gauge[q] > 0.0)
+        let e = EdgeId(e);
+        let [p, q] = mesh.edge_vertices(e).map(|v| v.idx());
+        a_signs.is_tie(e)
+            || b_signs.is_tie(e)
+            || a_signs.sign(e) * b_signs.sign(e) == gauge[p] * gauge[q]
     });
     agree.then_some(gauge)
 }

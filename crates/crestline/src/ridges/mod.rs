@@ -499,7 +499,8 @@ impl ExtremalityTracer {
         if let ([Principal::Max, Principal::Min], [max, min]) = (fields, &mut *values) {
             let ridges = Principal::Max.direction_field(field);
             let valleys = Principal::Min.direction_field(field);
-            if let Some(gauge) = gauge_between(work, ridges, valleys) {
+            let gauge = gauge_between(work, (ridges, &signs[0]), (valleys, &signs[1]));
+            if let Some(gauge) = gauge {
                 regauge(min, &gauge);
                 smoother.smooth(&signs[0], &mut [max, min], steps)?;
                 regauge(min, &gauge);

@@ -127,10 +127,11 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
         }
     }
     let [ridges, valleys] = [Principal::Max, Principal::Min].map(|w| w.direction_field(&field));
-    let gauge = gauge_between(&mesh, ridges, valleys).expect("principal fields share signs");
+    let signs = [ridges, valleys].map(|d| EdgeSigns::new(&mesh, d));
+    let gauge = gauge_between(&mesh, (ridges, &signs[0]), (valleys, &signs[1]))
+        .expect("principal fields share signs");
     let turned = gauge.iter().filter(|&&g| g < 0.0).count();
     assert!(turned > mesh.vertex_count() / 3, "{turned} turned");
-    let signs = [ridges, valleys].map(|d| EdgeSigns::new(&mesh, d));
     let initial = [Principal::Max, Principal::Min].map(|w| extremality(&mesh, &field, w));
     let scale = initial[1].iter().fold(0.0f64, |m, e| m.max(e.abs()));
     // The iteration stops at a relative residual of 10⁻⁷, with another
@@ -183,12 +184,16 @@ fn fields_whose_signs_disagree_are_not_gauged_together() {
         .collect();
     let ridges = Principal::Max.direction_field(&field);
     let other = DirectionField::new(&random, &field.normal);
-    assert!(gauge_between(&mesh, ridges, other).is_none());
+    let signs = |d| EdgeSigns::new(&mesh, d);
+    let (ridge_signs, other_signs) = (signs(ridges), signs(other));
+    assert!(gauge_between(&mesh, (ridges, &ridge_signs), (other, &other_signs)).is_none());
     // Turned by a fixed angle, a field keeps its signs: one system serves both.
     let turned: Vec<_> = (0..mesh.vertex_count())
         .map(|v| field.d_max[v] * 0.6 + field.d_min[v] * 0.8)
         .collect();
     let turned = DirectionField::new(&turned, &field.normal);
-    let gauge = gauge_between(&mesh, ridges, turned).expect("signs agree");
+    let turned_signs = signs(turned);
+    let gauge =
+        gauge_between(&mesh, (ridges, &ridge_signs), (turned, &turned_signs)).expect("signs agree");
     assert!(gauge.iter().all(|&g| g == 1.0));
 }
