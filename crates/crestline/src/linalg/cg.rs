@@ -163,8 +163,8 @@ impl<'a, V: Lanes> Cg<'a, V> {
     fn scale_start(&mut self, x: &mut [V], target: V) {
         self.matrix.residual(x, self.b, &mut self.r);
         let residual = norms(dot(&self.r, &self.r));
-        self.matrix.mul_vec(x, &mut self.q);
-        let mut alpha = dot(x, self.b).over(dot(x, &self.q));
+        let energy = self.matrix.mul_vec(x, &mut self.q);
+        let mut alpha = dot(x, self.b).over(energy);
         for k in 0..V::COUNT {
             if residual.lane(k) <= target.lane(k) || !alpha.lane(k).is_finite() {
                 alpha.set_lane(k, 1.0);
@@ -188,8 +188,8 @@ impl<'a, V: Lanes> Cg<'a, V> {
     fn iterate(&mut self, x: &mut [V], target: V, mut done: Vec<bool>, budget: usize) -> usize {
         let mut rz = dot(&self.r, &self.p);
         for iteration in 1..=budget {
-            self.matrix.mul_vec(&self.p, &mut self.q);
-            let alpha = unless_done(rz.over(dot(&self.p, &self.q)), &done);
+            let pq = self.matrix.mul_vec(&self.p, &mut self.q);
+            let alpha = unless_done(rz.over(pq), &done);
             let (next_rz, rr) = self.step(x, alpha);
             let rr = norms(rr);
             for (k, done) in done.iter_mut().enumerate() {

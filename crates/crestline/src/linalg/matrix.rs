@@ -240,12 +240,15 @@ impl<T: Entry> SymmetricMatrix<T> {
             .collect()
     }
 
-    /// `y = A x`, in parallel over rows. Both triangles are stored, so column `i`
-    /// of the symmetric matrix is its row `i`.
+    /// `y = A x`, in parallel over rows, and returns xᵀy (per lane: summed per
+    /// chunk of rows and the chunks in order, so the same whatever the number of
+    /// threads): the conjugate gradient method needs both, and taking the inner
+    /// product while y is written spares it a pass over x and y. Both triangles
+    /// are stored, so column `i` of the symmetric matrix is its row `i`.
     ///
     /// # Panics
     /// If `x` or `y` does not have length [`size`](Self::size).
-    pub fn mul_vec<V: Lanes>(&self, x: &[V], y: &mut [V]) {
+    pub fn mul_vec<V: Lanes>(&self, x: &[V], y: &mut [V]) -> V {
         assert!(
             x.len() == self.n && y.len() == self.n,
             "product of a {n}×{n} matrix with vectors of length {} and {}",
@@ -253,11 +256,20 @@ impl<T: Entry> SymmetricMatrix<T> {
             y.len(),
             n = self.n
         );
-        y.par_chunks_mut(CHUNK).enumerate().for_each(|(c, rows)| {
-            for (k, yi) in rows.iter_mut().enumerate() {
-                *yi = self.row_dot(c * CHUNK + k, x);
-            }
-        });
+        let parts: Vec<V> = y
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .map(|(c, rows)| {
+                let mut sum = V::default();
+                for (k, yi) in rows.iter_mut().enumerate() {
+                    let i = c * CHUNK + k;
+                    *yi = self.row_dot(i, x);
+                    sum += x[i].times(*yi);
+                }
+                sum
+            })
+            .collect();
+        parts.iter().fold(V::default(), |total, &part| total + part)
     }
 
     /// `r = b − A x`, in parallel over rows.
