@@ -51,8 +51,8 @@ const CHUNK: usize = 8192;
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
 /// conjugate gradient method. On two cores the factorization is still the faster
 /// at the dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3
-/// steps): 4.1 s plus 2.4 s of its ordering that the curvature does not hide,
-/// against 7.4 s iterated (whole `ridges` 9.5–10.7 s against 10.7–10.9 s),
+/// steps): 3.5 s plus 2.5 s of its ordering that the curvature does not hide,
+/// against 7.6 s iterated (whole `ridges` 8.6 s against 10.3 s),
 /// because a V-cycle moves more bytes than a solve with the factor. But the
 /// factor's fill grows faster than the mesh: on the dragon ×16 (7M vertices) the
 /// factored ridges need 10.4 GB and 103 s (smoothing 74 s, ordering 19 s), the
