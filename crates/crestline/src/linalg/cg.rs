@@ -52,9 +52,9 @@ pub struct CgReport {
 /// gradient method preconditioned by a multigrid V-cycle ([`Multigrid`]; Saad,
 /// *Iterative Methods for Sparse Linear Systems*, Algorithm 9.1), starting from
 /// the multiple of the given `x` (a warm start: the previous smoothing step's
-/// solution) closest to the solution in the energy norm, and overwriting it. Matrix-vector products and vector updates run in parallel;
-/// sums are reduced in a fixed order, so the result does not depend on the
-/// number of threads.
+/// solution) closest to the solution in the energy norm, and overwriting it.
+/// Matrix-vector products and vector updates run in parallel; sums are reduced
+/// in a fixed order, so the result does not depend on the number of threads.
 ///
 /// When the recurrence's residual meets the tolerance, the true residual is
 /// recomputed; if rounding has let them drift apart the iteration restarts from
