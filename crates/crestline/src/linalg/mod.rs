@@ -56,7 +56,7 @@ const CHUNK: usize = 8192;
 /// because a V-cycle moves more bytes than a solve with the factor. But the
 /// factor's fill grows faster than the mesh: on the dragon ×16 (7M vertices) the
 /// factored ridges need 10.4 GB and 103 s (smoothing 74 s, ordering 19 s), the
-/// iterated ones 5.1 GB and 47 s (smoothing 35 s), and the dragon ×64 would not
+/// iterated ones 5.1 GB and 47–50 s (smoothing 35–38 s), and the dragon ×64 would not
 /// fit in 24 GiB factored.
 pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 
