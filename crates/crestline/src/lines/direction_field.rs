@@ -234,4 +234,61 @@ mod tests {
             );
         }
     }
+
+    /// A unit square of two triangles in the plane z = 0, and the mesh edge
+    /// joining vertices `a` and `b`.
+    fn square() -> (Mesh, impl Fn(u32, u32) -> EdgeId) {
+        use crate::mesh::TriangleSoup;
+        use crate::Point;
+        let soup = TriangleSoup {
+            positions: vec![
+                Point::new(0.0, 0.0, 0.0),
+                Point::new(1.0, 0.0, 0.0),
+                Point::new(1.0, 1.0, 0.0),
+                Point::new(0.0, 1.0, 0.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            ..TriangleSoup::default()
+        };
+        let (mesh, _) = crate::mesh::Mesh::from_soup(soup).unwrap();
+        let ends: Vec<[u32; 2]> = (0..mesh.edge_count() as u32)
+            .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.0))
+            .collect();
+        let edge = move |a: u32, b: u32| {
+            let e = ends
+                .iter()
+                .position(|&[p, q]| (p, q) == (a, b) || (p, q) == (b, a));
+            EdgeId(e.expect("an edge of the square") as u32)
+        };
+        (mesh, edge)
+    }
+
+    #[test]
+    fn edge_signs_mark_ties_and_the_gauge_ignores_them() {
+        let (mesh, edge) = square();
+        let normals = [Vector::z(); 4];
+        // Vertex 2's direction is orthogonal to the others': its three edges tie.
+        let a = [Vector::x(), -Vector::x(), Vector::y(), Vector::x()];
+        let signs = EdgeSigns::new(&mesh, DirectionField::new(&a, &normals));
+        assert_eq!(signs.sign(edge(0, 1)), -1.0);
+        assert_eq!(signs.sign(edge(0, 3)), 1.0);
+        assert!(!signs.is_tie(edge(0, 1)) && !signs.is_tie(edge(0, 3)));
+        for other in [0, 1, 3] {
+            assert!(signs.is_tie(edge(2, other)), "edge 2–{other}");
+            assert_eq!(signs.sign(edge(2, other)).abs(), 1.0);
+        }
+        // b = g n × a with g = (1, −1, ·, 1), except at vertex 2, whose
+        // direction is a's own (g_2 = +1, a tie itself): on edge 1–2 σ^b = +1
+        // contradicts g_1 g_2 σ^a = −1, but a ties there, so the edge is ignored.
+        let b = [Vector::y(), Vector::y(), Vector::y(), Vector::y()];
+        let b_signs = EdgeSigns::new(&mesh, DirectionField::new(&b, &normals));
+        assert_eq!(b_signs.sign(edge(0, 1)), 1.0);
+        let gauge = gauge_between(
+            &mesh,
+            (DirectionField::new(&a, &normals), &signs),
+            (DirectionField::new(&b, &normals), &b_signs),
+        )
+        .expect("the edges that disagree are ties");
+        assert_eq!([gauge[0], gauge[1], gauge[3]], [1.0, -1.0, 1.0]);
+    }
 }
