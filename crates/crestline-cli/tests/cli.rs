@@ -213,7 +213,10 @@ fn ridges_writes_every_line_format_and_reports_its_stages() {
     for stage in [
         "read",
         "build",
-        "curvature + smoothing analysis",
+        "curvature",
+        "extremality",
+        "edge signs",
+        "smoothing analysis",
         "smoothing",
         "ridges: tracing",
         "valleys: tracing",

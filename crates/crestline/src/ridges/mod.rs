@@ -40,6 +40,7 @@ mod tests;
 pub(crate) mod trace;
 
 use std::sync::Arc;
+use std::time::Instant;
 
 use rayon::prelude::*;
 
@@ -57,7 +58,7 @@ use crate::lines::{
     SurfaceWithCurvature,
 };
 use crate::mesh::{Mesh, VertexId};
-use crate::progress::{stage, try_stage, Observer};
+use crate::progress::{checkpoint, stage, try_stage, Observer, Timings};
 use crate::{Error, Result};
 
 use extremality::regular_faces;
@@ -279,22 +280,63 @@ impl ExtremalityTracer {
     /// vertices whose curvature is unreliable (`unreliable_vertices`: non-finite or
     /// outlying estimates, flagged and replaced by the built-in estimators) and line
     /// counts go to `observer`.
+    ///
+    /// The smoothing systems' ordering depends on the connectivity alone: it is
+    /// computed while the curvature, the extremalities and the edge signs are
+    /// (stages `curvature`, `extremality`, `edge signs`), and the stage
+    /// `smoothing analysis` is the time it takes beyond them.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
         let smoothed = try_stage(observer, "presmooth", || self.presmoothed(mesh))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
         let (unit, factor) = work.in_unit_frame();
-        // The smoothing systems' ordering depends on the connectivity alone: it is
-        // computed while the curvature is estimated.
-        let (field, smoother) = stage(observer, "curvature + smoothing analysis", || {
-            rayon::join(
-                || estimate_curvature(work, self.estimator.as_ref()),
-                || self.smoother(&unit),
-            )
-        });
-        let field = field.map_err(|e| e.in_stage("curvature"))?;
+        let ((field, fields), smoother) =
+            self.alongside_analysis(&unit, "curvature", observer, |log| {
+                let field = try_stage(log, "curvature", || {
+                    estimate_curvature(work, self.estimator.as_ref())
+                })?;
+                let fields = self.fields(&unit, factor, &field, log);
+                Ok((field, fields))
+            })?;
+        self.trace_on(&unit, &field, fields, &smoother, mesh, observer)
+    }
+
+    /// Runs `prepare` (which reports its stages, the first named `first`, to the
+    /// log it is given) while the smoothing systems of `work` are analysed
+    /// ([`Self::smoother`]) on another thread, then reports `prepare`'s stages and
+    /// the stage `smoothing analysis`: the time the analysis took beyond them.
+    fn alongside_analysis<T: Send>(
+        &self,
+        work: &Mesh,
+        first: &str,
+        observer: &mut dyn Observer,
+        prepare: impl FnOnce(&mut dyn Observer) -> Result<T> + Send,
+    ) -> Result<(T, smoothing::ExtremalitySmoother)> {
+        checkpoint(observer)?;
+        let start = Instant::now();
+        observer.stage_started(first);
+        let ((log, prepared), smoother) = rayon::join(
+            || {
+                let mut log = Timings::default();
+                let prepared = prepare(&mut log);
+                (log, prepared)
+            },
+            || self.smoother(work),
+        );
+        for (k, (name, seconds)) in log.stages.iter().enumerate() {
+            if k > 0 {
+                observer.stage_started(name);
+            }
+            observer.stage_finished(name, *seconds);
+        }
+        let overlapped: f64 = log.stages.iter().map(|(_, seconds)| seconds).sum();
+        observer.stage_started("smoothing analysis");
+        let rest = start.elapsed().as_secs_f64() - overlapped;
+        observer.stage_finished("smoothing analysis", rest.max(0.0));
+        let prepared = prepared?;
         let smoother = smoother.map_err(|e| e.in_stage("smoothing analysis"))?;
-        self.trace_on(&unit, factor, &field, &smoother, mesh, observer)
+        checkpoint(observer)?;
+        Ok((prepared, smoother))
     }
 
     /// The smoother of the extremalities of `work` ([`Self::smooth_time`],
@@ -330,24 +372,59 @@ impl ExtremalityTracer {
         }
         field.check(mesh)?;
         let (unit, factor) = mesh.in_unit_frame();
-        let smoother = try_stage(observer, "smoothing analysis", || self.smoother(&unit))?;
-        self.trace_on(&unit, factor, field, &smoother, mesh, observer)
+        let (fields, smoother) =
+            self.alongside_analysis(&unit, "extremality", observer, |log| {
+                Ok(self.fields(&unit, factor, field, log))
+            })?;
+        self.trace_on(&unit, field, fields, &smoother, mesh, observer)
     }
 
-    /// The lines of `work` (whose curvature is `field`) placed on `input` (the same
-    /// connectivity, e.g. before presmoothing). `work` may be scaled by any factor
-    /// (it is passed in the unit frame, [`Mesh::in_unit_frame`], scaled by `factor`,
-    /// so that areas and gradients neither overflow nor underflow): the zero sets of
-    /// the extremalities, the feature conditions and the strengths (∫ k ds with k
-    /// from `field` and lengths from `input`) do not change with the scale of
-    /// `work`. The extremalities are the field's own if it has them
+    /// The extremality of every field of [`Self::kinds`] on `work` (stage
+    /// `extremality`): the field's own if it has them
     /// ([`CurvatureField::extremality`], e.g. from [`crate::curvature::JetFit`]),
-    /// else eq. 4 on `work`.
-    fn trace_on(
+    /// else eq. 4; and the fields' signs on every edge (stage `edge signs`), which
+    /// the smoothing and the tracing read. `work` is the mesh in the unit frame,
+    /// scaled by `factor` ([`Mesh::in_unit_frame`]).
+    fn fields(
         &self,
         work: &Mesh,
         factor: f64,
         field: &CurvatureField,
+        observer: &mut dyn Observer,
+    ) -> (Vec<Vec<f64>>, Vec<EdgeSigns>) {
+        let fields = self.kinds.fields();
+        let values = stage(observer, "extremality", || {
+            fields
+                .par_iter()
+                .map(|&which| match which.given(field) {
+                    // In the unit frame: derivatives of curvature scale by 1/factor².
+                    Some(given) => given.iter().map(|e| e / (factor * factor)).collect(),
+                    None => extremality(work, field, which),
+                })
+                .collect::<Vec<_>>()
+        });
+        let signs = stage(observer, "edge signs", || {
+            fields
+                .iter()
+                .map(|which| EdgeSigns::new(work, which.direction_field(field)))
+                .collect()
+        });
+        (values, signs)
+    }
+
+    /// The lines of `work` (whose curvature is `field`, and whose extremalities and
+    /// edge signs are `fields`, from [`Self::fields`]) placed on `input` (the same
+    /// connectivity, e.g. before presmoothing). `work` may be scaled by any factor
+    /// (it is passed in the unit frame, [`Mesh::in_unit_frame`], so that areas
+    /// and gradients neither overflow nor underflow): the zero sets of
+    /// the extremalities, the feature conditions and the strengths (∫ k ds with k
+    /// from `field` and lengths from `input`) do not change with the scale of
+    /// `work`.
+    fn trace_on(
+        &self,
+        work: &Mesh,
+        field: &CurvatureField,
+        (mut values, signs): (Vec<Vec<f64>>, Vec<EdgeSigns>),
         smoother: &smoothing::ExtremalitySmoother,
         input: &Mesh,
         observer: &mut dyn Observer,
@@ -361,23 +438,6 @@ impl ExtremalityTracer {
             ));
         }
         let fields = self.kinds.fields();
-        let mut values = stage(observer, "extremality", || {
-            fields
-                .par_iter()
-                .map(|&which| match which.given(field) {
-                    // In the unit frame: derivatives of curvature scale by 1/factor².
-                    Some(given) => given.iter().map(|e| e / (factor * factor)).collect(),
-                    None => extremality(work, field, which),
-                })
-                .collect::<Vec<_>>()
-        });
-        // σ on every edge, per field: the smoothing and the tracing read them.
-        let signs: Vec<EdgeSigns> = stage(observer, "edge signs", || {
-            fields
-                .iter()
-                .map(|which| EdgeSigns::new(work, which.direction_field(field)))
-                .collect()
-        });
         try_stage(observer, "smoothing", || {
             match fitted_smoothing_factors(work, field) {
                 Some(factors) if self.smooth_steps > 0 => {
