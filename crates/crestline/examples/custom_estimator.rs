@@ -6,7 +6,9 @@
 //! It goes through the same entry point as the built-in estimators
 //! ([`estimate_curvature`], which checks the output) and the same writer.
 //!
-//! `cargo run --release --example custom_estimator [-- OUT.ply]`
+//! `cargo run --release --example custom_estimator [-- --output OUT.ply]`
+//! (an option rather than a bare path: `cargo test FILTER` runs this example
+//! with the filter as its argument)
 
 use crestline::curvature::{
     estimate_curvature, relative_rms_error, tangent_basis, write_curvature_ply, CurvatureEstimator,
@@ -70,7 +72,7 @@ fn main() -> crestline::Result<()> {
         let error = relative_rms_error(&field, &surface.exact).unwrap_or(f64::NAN);
         println!("  {name:<24} relative RMS error {:6.2}%", 100.0 * error);
     }
-    if let Some(out) = std::env::args().nth(1) {
+    if let Some(out) = std::env::args().skip_while(|a| a != "--output").nth(1) {
         let field = estimate_curvature(&surface.mesh, &EdgeCurvatureFit)?;
         write_curvature_ply(out.as_ref(), &surface.mesh, &field)?;
         println!("wrote {out}");

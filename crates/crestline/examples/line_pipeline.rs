@@ -9,7 +9,9 @@
 //! silhouettes), [`chain`] joins the segments into polylines, and each point keeps
 //! its [`SurfaceLocation`].
 //!
-//! `cargo run --release --example line_pipeline [-- OUT.csv]`
+//! `cargo run --release --example line_pipeline [-- --output OUT.csv]`
+//! (an option rather than a bare path: `cargo test FILTER` runs this example
+//! with the filter as its argument)
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -112,10 +114,13 @@ fn main() -> crestline::Result<()> {
         lines.len(),
         lines.iter().filter(|l| l.closed).count()
     );
-    let out = std::env::args().nth(1).map_or_else(
-        || std::env::temp_dir().join("crestline-iso-lines.csv"),
-        PathBuf::from,
-    );
+    let out = std::env::args()
+        .skip_while(|a| a != "--output")
+        .nth(1)
+        .map_or_else(
+            || std::env::temp_dir().join("crestline-iso-lines.csv"),
+            PathBuf::from,
+        );
     let exporters: [(&dyn LineExporter, PathBuf); 2] = [
         (&Csv, out.clone()),
         (&LineFormat::Vtk, out.with_extension("vtk")),

@@ -7,7 +7,9 @@
 //! [`LineExtractor<SurfaceWithValues>`]; each output point carries the value where
 //! it lies (`"indicator"`).
 //!
-//! `cargo run --release --example morse_user_values [-- MESH]`
+//! `cargo run --release --example morse_user_values [-- --mesh MESH]`
+//! (an option rather than a bare path: `cargo test FILTER` runs this example
+//! with the filter as its argument)
 
 use std::path::PathBuf;
 
@@ -18,10 +20,13 @@ use crestline::morse::{Criterion, MorseSmale, Simplification};
 use crestline::progress::Silent;
 
 fn main() -> crestline::Result<()> {
-    let path = std::env::args().nth(1).map_or_else(
-        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../meshes/bunny_small.obj"),
-        PathBuf::from,
-    );
+    let path = std::env::args()
+        .skip_while(|a| a != "--mesh")
+        .nth(1)
+        .map_or_else(
+            || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../meshes/bunny_small.obj"),
+            PathBuf::from,
+        );
     let (mesh, _repairs) = Mesh::from_soup(read_mesh(&path)?).map_err(|e| e.in_file(&path))?;
     let height: Vec<f64> = mesh.positions().iter().map(|p| p.y).collect();
     let extractor = MorseSmale {
