@@ -27,6 +27,7 @@ use rayon::prelude::*;
 
 use super::buckets::Buckets;
 use super::geometry::unit_scale;
+use super::shared_sets::SharedSets;
 use super::{FaceId, HalfedgeId, Mesh, ScalarProperty, TriangleSoup, VertexId};
 use crate::{Error, Point, Result};
 
@@ -540,13 +541,13 @@ fn outward_flips(
     positions: &[Point],
     report: &mut RepairReport,
 ) -> Vec<bool> {
-    let mut components = UnionFind::<u32>::new(tris.len());
-    for (c, &d) in partner.iter().enumerate() {
+    let components = SharedSets::new(tris.len());
+    partner.par_iter().enumerate().for_each(|(c, &d)| {
         if d != NONE && (c as u32) < d {
             components.union((c / 3) as u32, d / 3);
         }
-    }
-    let label = components.into_labeling();
+    });
+    let label = components.into_roots();
     let mut closed = vec![true; tris.len()];
     let mut volume = vec![0.0; tris.len()];
     for (f, t) in tris.iter().enumerate() {

@@ -27,6 +27,7 @@ pub(crate) mod geometry;
 mod ids;
 mod locality;
 pub(crate) mod morton;
+mod shared_sets;
 mod soup;
 mod topology;
 

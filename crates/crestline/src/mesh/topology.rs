@@ -1,8 +1,9 @@
 //! Global topology: boundary loops, connected components, Euler characteristic, genus.
 
-use petgraph::unionfind::UnionFind;
+use rayon::prelude::*;
 
-use super::{HalfedgeId, Mesh};
+use super::shared_sets::SharedSets;
+use super::{EdgeId, HalfedgeId, Mesh};
 
 /// Counts and topological type of one connected component of a mesh.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
@@ -44,12 +45,12 @@ impl Mesh {
 
     /// The connected component of each vertex, numbered 0.. in order of their lowest vertex.
     pub fn vertex_components(&self) -> (Vec<u32>, usize) {
-        let mut sets = UnionFind::<u32>::new(self.vertex_count());
-        for e in self.edges() {
-            let [a, b] = self.edge_vertices(e);
+        let sets = SharedSets::new(self.vertex_count());
+        (0..self.edge_count() as u32).into_par_iter().for_each(|e| {
+            let [a, b] = self.edge_vertices(EdgeId(e));
             sets.union(a.0, b.0);
-        }
-        let labels = sets.into_labeling();
+        });
+        let labels = sets.into_roots();
         let mut number = vec![u32::MAX; self.vertex_count()];
         let mut count = 0u32;
         let component = labels
