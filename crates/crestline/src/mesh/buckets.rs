@@ -137,12 +137,21 @@ struct Part {
 impl Groups {
     /// The groups, in order.
     pub(crate) fn iter(&self) -> impl Iterator<Item = &[u32]> + '_ {
-        self.parts.iter().flat_map(|part| {
-            std::iter::once(0)
-                .chain(part.ends.iter().copied())
-                .zip(&part.ends)
-                .map(|(start, &end)| &part.items[start as usize..end as usize])
-        })
+        self.parts.iter().flat_map(Part::groups)
+    }
+
+    /// The groups, in parallel (collected in order).
+    pub(crate) fn par_iter(&self) -> impl ParallelIterator<Item = &[u32]> + '_ {
+        self.parts.par_iter().flat_map_iter(Part::groups)
+    }
+}
+
+impl Part {
+    fn groups(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        std::iter::once(0)
+            .chain(self.ends.iter().copied())
+            .zip(&self.ends)
+            .map(|(start, &end)| &self.items[start as usize..end as usize])
     }
 }
 

@@ -21,6 +21,7 @@
 //! also names the directed edge from corner `i` to corner `i + 1` of that face.
 
 use std::fmt;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use petgraph::unionfind::UnionFind;
 use rayon::prelude::*;
@@ -186,13 +187,13 @@ fn build(soup: TriangleSoup, orienting: Orienting) -> Result<(Mesh, RepairReport
     let weld = weld_coincident(&positions);
     report.welded_vertices = positions.len() - weld.distinct;
     let welded: Vec<[u32; 3]> = triangles
-        .iter()
+        .par_iter()
         .map(|t| t.map(|v| weld.representative[v as usize]))
         .collect();
     // Geometric tests (zero area, signed volume) on a copy scaled by a power of two
     // into the unit frame: exact, and free of overflow and underflow at any scale.
     let factor = unit_scale(&positions);
-    let unit: Vec<Point> = positions.iter().map(|p| p * factor).collect();
+    let unit: Vec<Point> = positions.par_iter().map(|p| p * factor).collect();
     let mut tris = drop_bad_faces(&unit, positions.len(), welded, &mut report);
     if tris.is_empty() {
         return Err(Error::Mesh(
@@ -342,14 +343,15 @@ fn drop_bad_faces(
     };
     // Faces with the same corners share their lowest corner: compare within buckets.
     let lowest: Vec<u32> = tris.par_iter().map(|t| t[0].min(t[1]).min(t[2])).collect();
-    let mut keep = vec![true; tris.len()];
-    for same_corners in Buckets::new(vertex_count, &lowest)
-        .shared(sorted_key)
-        .iter()
-    {
-        settle_same_corners(&tris, same_corners.iter().copied(), &mut keep, report);
+    let same_corners = Buckets::new(vertex_count, &lowest).shared(sorted_key);
+    if same_corners.iter().next().is_none() {
+        return tris;
     }
-    tris.iter()
+    let mut keep = vec![true; tris.len()];
+    for faces in same_corners.iter() {
+        settle_same_corners(&tris, faces.iter().copied(), &mut keep, report);
+    }
+    tris.par_iter()
         .zip(&keep)
         .filter_map(|(t, &k)| k.then_some(*t))
         .collect()
@@ -431,18 +433,27 @@ fn pair_edges(tris: &[[u32; 3]], vertex_count: usize, report: &mut RepairReport)
         let (a, b) = corner_edge(tris, c as usize);
         a.max(b)
     };
-    let mut partner = vec![NONE; corner_count];
-    for edge in Buckets::new(vertex_count, &lower).shared(upper).iter() {
-        match *edge {
+    let edges = Buckets::new(vertex_count, &lower).shared(upper);
+    let paired: Vec<AtomicU32> = (0..corner_count)
+        .into_par_iter()
+        .map(|_| AtomicU32::new(NONE))
+        .collect();
+    // Every corner is on one edge: no two edges write the same slot.
+    let non_manifold: Vec<&[u32]> = edges
+        .par_iter()
+        .filter_map(|edge| match *edge {
             [c, d] => {
-                partner[c as usize] = d;
-                partner[d as usize] = c;
+                paired[c as usize].store(d, Ordering::Relaxed);
+                paired[d as usize].store(c, Ordering::Relaxed);
+                None
             }
-            _ => {
-                report.non_manifold_edges += 1;
-                pair_non_manifold(tris, edge, &mut partner);
-            }
-        }
+            _ => Some(edge),
+        })
+        .collect();
+    let mut partner: Vec<u32> = paired.into_iter().map(AtomicU32::into_inner).collect();
+    report.non_manifold_edges += non_manifold.len();
+    for edge in non_manifold {
+        pair_non_manifold(tris, edge, &mut partner);
     }
     partner
 }
