@@ -15,7 +15,11 @@
 //!    into one vertex per fan;
 //! 7. drop unreferenced vertices and connect the halfedges.
 //!
-//! Every step takes time linear in the size of the soup.
+//! Every step takes time linear in the size of the soup (the components' union–find
+//! within a logarithmic factor, `mesh/shared_sets.rs`). The bucketing by vertex, the
+//! pairing of edges and the components run in parallel; the linking of the
+//! halfedges is one sequential pass (filled in parallel from the corners it took
+//! longer on two cores: 1.0–1.1 s against 0.72 s on the dragon ×16).
 //!
 //! Faces are addressed by *corners*: corner `3f + i` is corner `i` of face `f`, and
 //! also names the directed edge from corner `i` to corner `i + 1` of that face.

@@ -6,6 +6,9 @@
 //! result is the same on any number of threads. `find` halves paths with
 //! compare-and-swap (every parent has a smaller index than its child, and a
 //! grandparent stays an ancestor, so a lost race only skips the shortcut).
+//! Without union by rank a path can grow to a logarithmic length (Tarjan and van
+//! Leeuwen 1984: path halving alone costs O(log n) per operation at worst); on
+//! meshes, whose elements are numbered along the surface, the paths stay short.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
