@@ -221,23 +221,13 @@ fn in_line(err: Error, n: usize) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{Mesh, TriangleSoup};
+    use crate::mesh::Mesh;
     use crate::{Point, Space};
 
     /// A unit square of two triangles and a ridge across it, through a vertex, an
     /// edge and a face.
     fn square_with_line() -> (Mesh, FeatureLines) {
-        let soup = TriangleSoup {
-            positions: vec![
-                Point::new(0.0, 0.0, 0.0),
-                Point::new(1.0, 0.0, 0.0),
-                Point::new(1.0, 1.0, 0.0),
-                Point::new(0.0, 1.0, 0.0),
-            ],
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            ..TriangleSoup::default()
-        };
-        let (mesh, _) = Mesh::from_soup(soup).unwrap();
+        let mesh = crate::lines::test_meshes::unit_square();
         let diagonal = (0..mesh.edge_count() as u32)
             .find(|&e| {
                 let [a, b] = mesh.edge_vertices(EdgeId(e));

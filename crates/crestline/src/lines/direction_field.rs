@@ -235,22 +235,11 @@ mod tests {
         }
     }
 
-    /// A unit square of two triangles in the plane z = 0, and the mesh edge
-    /// joining vertices `a` and `b`.
+    /// The unit square of two triangles in the plane z = 0
+    /// ([`unit_square`](crate::lines::test_meshes::unit_square)), and the mesh
+    /// edge joining vertices `a` and `b`.
     fn square() -> (Mesh, impl Fn(u32, u32) -> EdgeId) {
-        use crate::mesh::TriangleSoup;
-        use crate::Point;
-        let soup = TriangleSoup {
-            positions: vec![
-                Point::new(0.0, 0.0, 0.0),
-                Point::new(1.0, 0.0, 0.0),
-                Point::new(1.0, 1.0, 0.0),
-                Point::new(0.0, 1.0, 0.0),
-            ],
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            ..TriangleSoup::default()
-        };
-        let (mesh, _) = crate::mesh::Mesh::from_soup(soup).unwrap();
+        let mesh = crate::lines::test_meshes::unit_square();
         let ends: Vec<[u32; 2]> = (0..mesh.edge_count() as u32)
             .map(|e| mesh.edge_vertices(EdgeId(e)).map(|v| v.0))
             .collect();

@@ -41,6 +41,8 @@ pub(crate) mod oriented;
 mod pipeline;
 mod ply;
 pub(crate) mod surface_fair;
+#[cfg(test)]
+mod test_meshes;
 pub mod vertex_labels;
 mod vtk;
 mod vtk_xml;
