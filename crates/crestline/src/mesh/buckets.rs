@@ -171,7 +171,7 @@ mod tests {
             .build()
             .unwrap();
         let buckets = pool.install(|| Buckets::new(1000, &keys));
-        assert!(pool.install(|| sort_pieces(keys.len())) == 3);
+        assert_eq!(pool.install(|| sort_pieces(keys.len())), 3);
         for k in 0..1000 {
             let expected: Vec<u32> = (0..n).filter(|&i| keys[i as usize] == k as u32).collect();
             assert_eq!(buckets.get(k), expected, "bucket {k}");
