@@ -1,14 +1,19 @@
-//! Sparse Cholesky factorization (faer, supernodal, approximate minimum degree).
+//! Sparse Cholesky factorization (faer, supernodal, approximate minimum degree on
+//! matched pairs: [`super::ordering`]).
 
 use std::sync::Arc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, LltRef, SymbolicCholesky};
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymmetricOrdering,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Par, Side};
 use rayon::prelude::*;
 
 use super::lanes::{lane, set_lane};
+use super::ordering::paired_amd;
 use super::{Lanes, SymmetricMatrix};
 use crate::{Error, Result};
 
@@ -74,7 +79,7 @@ impl LowerTriangle {
     }
 }
 
-/// The fill-reducing ordering (approximate minimum degree) and symbolic analysis of
+/// The fill-reducing ordering ([`paired_amd`]) and symbolic analysis of
 /// a sparsity pattern: the costly part of a sparse Cholesky factorization, shared
 /// by the factorizations of every matrix with that pattern (the systems of both
 /// extremality fields and of every surface smoothing step, §5.1).
@@ -212,19 +217,21 @@ impl CholeskyFactor {
     }
 }
 
-/// Fill-reducing ordering and symbolic factorization of the pattern.
+/// Fill-reducing ordering ([`paired_amd`]) and symbolic factorization of the
+/// pattern.
 fn analyze(pattern: &LowerTriangle) -> Result<Arc<SymbolicCholesky<usize>>> {
+    let n = pattern.n;
+    let (order, rank) = paired_amd(n, &pattern.col_ptr, &pattern.row_idx)?;
     factorize_symbolic_cholesky(
         pattern.symbolic(),
         Side::Lower,
-        Default::default(),
+        SymmetricOrdering::Custom(PermRef::new_checked(&order, &rank, n)),
         Default::default(),
     )
     .map(Arc::new)
     .map_err(|err| {
         Error::Argument(format!(
-            "symbolic Cholesky analysis of a {n}×{n} matrix failed: {err}",
-            n = pattern.n
+            "symbolic Cholesky analysis of a {n}×{n} matrix failed: {err}"
         ))
     })
 }

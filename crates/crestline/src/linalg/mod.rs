@@ -9,7 +9,8 @@
 //!   ordering and symbolic analysis for the next factorization.
 //!
 //! Matrices are [`SymmetricMatrix`] values (compressed columns) factored by a supernodal sparse
-//! Cholesky factorization `P A Pᵀ = L Lᵀ` (faer, approximate minimum degree ordering).
+//! Cholesky factorization `P A Pᵀ = L Lᵀ` (faer; approximate minimum degree ordering of
+//! matched pairs of unknowns, `linalg/ordering.rs`).
 //!
 //! The factorization's fill grows faster than the mesh (about 40 entries per
 //! vertex on the Stanford dragon, 60 on the dragon refined ×4), so on large
@@ -24,6 +25,7 @@ mod cholesky;
 mod lanes;
 mod matrix;
 mod multigrid;
+mod ordering;
 mod stiff_blocks;
 
 #[cfg(test)]
@@ -69,7 +71,8 @@ pub enum Solver {
     /// `ITERATIVE_MIN_SIZE` in `linalg/mod.rs`).
     #[default]
     Auto,
-    /// Sparse Cholesky factorization (faer, approximate minimum degree ordering).
+    /// Sparse Cholesky factorization (faer; approximate minimum degree ordering of
+    /// matched pairs of unknowns).
     Direct,
     /// The conjugate gradient method preconditioned by a smoothed-aggregation
     /// multigrid V-cycle (`linalg/multigrid.rs`), warm-started, falling back to
