@@ -11,9 +11,11 @@
 //! has more entries, which costs the numeric factorization part of what the
 //! ordering saves. On the Stanford dragon's extremality system (437k unknowns):
 //! ordering 0.46–0.64 s instead of 0.93–1.0 s, 54 entries of L per unknown
-//! instead of 40, numeric factorization 0.62 s instead of 0.46 s; `ridges` 2.71–2.89
-//! → 2.34–2.79 s. On the dragon ×4 (1.7M): 67 entries instead of 59, `ridges`
-//! 11.8–13.6 → 10.7–12.6 s.
+//! instead of 40, numeric factorization 0.62 s instead of 0.46 s; the ridges'
+//! `smoothing analysis` stage 0.59–0.86 → 0.22–0.46 s, and the whole `ridges`,
+//! median of three interleaved runs, 2.83 → 2.39 s in one comparison, 3.06 and
+//! 2.99 → 2.86 and 3.00 s in two more (on a machine whose runs vary by 0.3 s). On
+//! the dragon ×4 (1.7M): 67 entries instead of 59, `ridges` 11.8–13.6 → 10.7–12.6 s.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
