@@ -97,7 +97,7 @@ impl CholeskyAnalysis {
     /// An [`Error::Argument`] if the matrix has a non-finite entry.
     pub fn new(matrix: &SymmetricMatrix) -> Result<CholeskyAnalysis> {
         let pattern = LowerTriangle::new(matrix)?;
-        let symbolic = analyze(&pattern)?;
+        let symbolic = analyze(&pattern, matrix)?;
         Ok(CholeskyAnalysis { pattern, symbolic })
     }
 
@@ -111,7 +111,7 @@ impl CholeskyAnalysis {
         let symbolic = if pattern.same_pattern(&self.pattern) {
             self.symbolic.clone()
         } else {
-            analyze(&pattern)?
+            analyze(&pattern, matrix)?
         };
         let numeric = factor_numeric(&symbolic, &pattern)?;
         Ok(CholeskyFactor {
@@ -217,11 +217,14 @@ impl CholeskyFactor {
     }
 }
 
-/// Fill-reducing ordering ([`paired_amd`]) and symbolic factorization of the
-/// pattern.
-fn analyze(pattern: &LowerTriangle) -> Result<Arc<SymbolicCholesky<usize>>> {
+/// Fill-reducing ordering ([`paired_amd`] of `matrix`) and symbolic
+/// factorization of `pattern`, its lower triangle.
+fn analyze(
+    pattern: &LowerTriangle,
+    matrix: &SymmetricMatrix,
+) -> Result<Arc<SymbolicCholesky<usize>>> {
     let n = pattern.n;
-    let (order, rank) = paired_amd(n, &pattern.col_ptr, &pattern.row_idx)?;
+    let (order, rank) = paired_amd(matrix)?;
     factorize_symbolic_cholesky(
         pattern.symbolic(),
         Side::Lower,

@@ -21,6 +21,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::amd;
 use faer::sparse::SymbolicSparseColMatRef;
 
+use super::SymmetricMatrix;
 use crate::{Error, Result};
 
 /// A graph in compressed rows: the neighbours of node v are
@@ -39,36 +40,17 @@ impl Graph {
         &self.adjacent[self.start[v]..self.start[v + 1]]
     }
 
-    /// The graph of the off-diagonal entries of a symmetric matrix given by its
-    /// lower triangle in compressed columns (`col_ptr`, `row_idx`: rows ≥ column).
-    fn of_lower_triangle(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Graph {
-        let off_diagonal = || {
-            (0..n).flat_map(move |j| {
-                row_idx[col_ptr[j]..col_ptr[j + 1]]
-                    .iter()
-                    .filter(move |&&i| i != j)
-                    .map(move |&i| (i, j))
-            })
-        };
-        let mut start = vec![0; n + 1];
-        for (i, j) in off_diagonal() {
-            start[i + 1] += 1;
-            start[j + 1] += 1;
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut next = start.clone();
-        let mut adjacent = vec![0; start[n]];
-        // Columns in increasing order: node i receives its neighbours j < i in
-        // order, then (from its own column) those above i in order.
-        for (i, j) in off_diagonal() {
-            adjacent[next[i]] = j;
-            next[i] += 1;
-        }
-        for (i, j) in off_diagonal() {
-            adjacent[next[j]] = i;
-            next[j] += 1;
+    /// The graph of the off-diagonal entries of the symmetric `matrix` (whose
+    /// columns hold both triangles, sorted).
+    fn of_matrix(matrix: &SymmetricMatrix) -> Graph {
+        let (col_ptr, row_idx, _) = matrix.csc();
+        let mut start = Vec::with_capacity(matrix.size() + 1);
+        let mut adjacent = Vec::with_capacity(row_idx.len());
+        start.push(0);
+        for j in 0..matrix.size() {
+            let column = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            adjacent.extend(column.iter().map(|&i| i as usize).filter(|&i| i != j));
+            start.push(adjacent.len());
         }
         Graph { start, adjacent }
     }
@@ -156,17 +138,13 @@ fn dedup_without(row: &mut [usize], skip: usize) -> usize {
     kept
 }
 
-/// The fill-reducing order of the symmetric matrix whose lower triangle has the
-/// pattern `col_ptr`, `row_idx` (compressed columns, rows ≥ column, sorted):
-/// AMD on the graph of matched pairs, each pair's unknowns listed together.
+/// The fill-reducing order of `matrix`: AMD on the graph of matched pairs, each
+/// pair's unknowns listed together.
 /// Returns the permutation and its inverse (`order[k]` is the unknown eliminated
 /// k-th, `rank[order[k]] = k`).
-pub(super) fn paired_amd(
-    n: usize,
-    col_ptr: &[usize],
-    row_idx: &[usize],
-) -> Result<(Vec<usize>, Vec<usize>)> {
-    let graph = Graph::of_lower_triangle(n, col_ptr, row_idx);
+pub(super) fn paired_amd(matrix: &SymmetricMatrix) -> Result<(Vec<usize>, Vec<usize>)> {
+    let n = matrix.size();
+    let graph = Graph::of_matrix(matrix);
     let (pair, members) = graph.pairs();
     let coarse_order = graph.quotient(&pair, &members).amd()?;
     let mut order = Vec::with_capacity(n);
@@ -191,29 +169,37 @@ mod tests {
     use faer::Side;
 
     use super::*;
+    use crate::linalg::SymmetricBuilder;
 
-    /// The lower triangle (with the diagonal) of the pattern of a `w × h` grid's
-    /// 5-point Laplacian, numbered row by row.
-    fn grid(w: usize, h: usize) -> (usize, Vec<usize>, Vec<usize>) {
+    /// A `w × h` grid's 5-point Laplacian plus the identity, numbered row by row.
+    fn grid(w: usize, h: usize) -> SymmetricMatrix {
         let n = w * h;
-        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        let mut builder = SymmetricBuilder::new(n);
         for j in 0..n {
-            row_idx.push(j);
+            builder.add_diagonal(j, 1.0);
             if (j + 1) % w != 0 {
-                row_idx.push(j + 1);
+                builder.add_edge(j, j + 1, 1.0);
             }
             if j + w < n {
-                row_idx.push(j + w);
+                builder.add_edge(j, j + w, 1.0);
             }
+        }
+        builder.build()
+    }
+
+    /// The lower triangle of `a`'s pattern in compressed columns.
+    fn lower(a: &SymmetricMatrix) -> (Vec<usize>, Vec<usize>) {
+        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        for j in 0..a.size() {
+            row_idx.extend(a.column(j).map(|(i, _)| i).filter(|&i| i >= j));
             col_ptr.push(row_idx.len());
         }
-        (n, col_ptr, row_idx)
+        (col_ptr, row_idx)
     }
 
     #[test]
     fn the_graph_holds_both_triangles_without_the_diagonal() {
-        let (n, col_ptr, row_idx) = grid(3, 2);
-        let graph = Graph::of_lower_triangle(n, &col_ptr, &row_idx);
+        let graph = Graph::of_matrix(&grid(3, 2));
         // 0 1 2
         // 3 4 5
         let expected: [&[usize]; 6] = [&[1, 3], &[0, 2, 4], &[1, 5], &[0, 4], &[1, 3, 5], &[2, 4]];
@@ -224,8 +210,9 @@ mod tests {
 
     #[test]
     fn pairs_are_adjacent_and_cover_every_node_once() {
-        let (n, col_ptr, row_idx) = grid(7, 5);
-        let graph = Graph::of_lower_triangle(n, &col_ptr, &row_idx);
+        let a = grid(7, 5);
+        let n = a.size();
+        let graph = Graph::of_matrix(&a);
         let (pair, members) = graph.pairs();
         let mut covered = vec![0; n];
         for (p, &[a, b]) in members.iter().enumerate() {
@@ -247,8 +234,8 @@ mod tests {
 
     #[test]
     fn the_quotient_joins_pairs_whose_nodes_touch() {
-        let (n, col_ptr, row_idx) = grid(7, 5);
-        let graph = Graph::of_lower_triangle(n, &col_ptr, &row_idx);
+        let a = grid(7, 5);
+        let graph = Graph::of_matrix(&a);
         let (pair, members) = graph.pairs();
         let quotient = graph.quotient(&pair, &members);
         for (p, nodes) in members.iter().enumerate() {
@@ -265,15 +252,16 @@ mod tests {
 
     #[test]
     fn the_order_is_a_permutation_with_pairs_together() {
-        let (n, col_ptr, row_idx) = grid(30, 20);
-        let (order, rank) = paired_amd(n, &col_ptr, &row_idx).unwrap();
+        let a = grid(30, 20);
+        let n = a.size();
+        let (order, rank) = paired_amd(&a).unwrap();
         let mut sorted = order.clone();
         sorted.sort_unstable();
         assert_eq!(sorted, (0..n).collect::<Vec<_>>());
         for (k, &v) in order.iter().enumerate() {
             assert_eq!(rank[v], k);
         }
-        let graph = Graph::of_lower_triangle(n, &col_ptr, &row_idx);
+        let graph = Graph::of_matrix(&a);
         let (pair, _) = graph.pairs();
         let together = order
             .windows(2)
@@ -300,8 +288,10 @@ mod tests {
     /// grows with the grid's width): the order is applied the right way round.
     #[test]
     fn the_paired_order_fills_little() {
-        let (n, col_ptr, row_idx) = grid(60, 60);
-        let (order, rank) = paired_amd(n, &col_ptr, &row_idx).unwrap();
+        let a = grid(60, 60);
+        let n = a.size();
+        let (col_ptr, row_idx) = lower(&a);
+        let (order, rank) = paired_amd(&a).unwrap();
         let paired = fill(
             n,
             &col_ptr,
