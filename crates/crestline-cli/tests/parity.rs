@@ -52,6 +52,16 @@ fn mni() -> Volume {
     read_volume(&root().join(MNI)).unwrap()
 }
 
+/// The template with every `step`-th sample along each axis, written into `dir` as
+/// NRRD: its path, and the volume read back from it. A coarser image keeps the
+/// slower image commands short; the command and the job are the same.
+fn coarse_mni(dir: &Path, step: usize) -> (PathBuf, Volume) {
+    let path = dir.join(format!("mni_every_{step}.nrrd"));
+    write_nrrd(&path, &every_nth_sample(&mni(), step));
+    let volume = read_volume(&path).unwrap();
+    (path, volume)
+}
+
 /// Two numbers equal to 1e-12 of their size.
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0)
@@ -185,7 +195,8 @@ fn iso_equals_the_job() {
 #[test]
 fn crest_lines_equal_the_job() {
     let dir = tempfile::tempdir().unwrap();
-    let volume = mni();
+    let (path, volume) = coarse_mni(dir.path(), 2);
+    let image = path.to_str().unwrap();
     let level = LEVEL.to_string();
     let defaults = jobs::CrestLinesOptions::default();
     let cases = [
@@ -210,20 +221,20 @@ fn crest_lines_equal_the_job() {
         let file = tool(
             dir.path(),
             "crests.json",
-            &[&["crest-lines", MNI, "--level", &level][..], &args].concat(),
+            &[&["crest-lines", image, "--level", &level][..], &args].concat(),
         );
         let lines = jobs::crest_lines(&volume, LEVEL, &options, &mut Silent).unwrap();
         assert_same_lines(&read_json(&file).unwrap(), &lines);
     }
 }
 
+/// The template's sampling step for crease surfaces, the slowest image command.
+const CREASE_STEP: usize = 4;
+
 #[test]
 fn crease_equals_the_job() {
     let dir = tempfile::tempdir().unwrap();
-    // Half the template's resolution keeps the test short; the job is the same.
-    let path = dir.path().join("half.nrrd");
-    write_nrrd(&path, &every_second_sample(&mni()));
-    let volume = read_volume(&path).unwrap();
+    let (path, volume) = coarse_mni(dir.path(), CREASE_STEP);
     let image = path.to_str().unwrap();
     let defaults = jobs::CreaseOptions::default();
     let cases = [
@@ -316,7 +327,8 @@ fn landmarks_of_a_mesh_equal_the_job() {
 #[test]
 fn landmarks_of_an_image_equal_the_job() {
     let dir = tempfile::tempdir().unwrap();
-    let volume = mni();
+    let (path, volume) = coarse_mni(dir.path(), 2);
+    let image = path.to_str().unwrap();
     let level = LEVEL.to_string();
     let defaults = jobs::CrestLinesOptions::default();
     let cases = [
@@ -337,7 +349,7 @@ fn landmarks_of_an_image_equal_the_job() {
         let file = tool(
             dir.path(),
             "marks.json",
-            &[&["landmarks", MNI, "--level", &level][..], &args].concat(),
+            &[&["landmarks", image, "--level", &level][..], &args].concat(),
         );
         let input = jobs::LinesFrom::Image {
             volume: &volume,
@@ -426,18 +438,18 @@ fn write_nrrd(path: &Path, volume: &Volume) {
     std::fs::write(path, bytes).unwrap();
 }
 
-/// Every second sample of `volume` along each axis, twice the spacing.
-fn every_second_sample(volume: &Volume) -> Volume {
+/// Every `step`-th sample of `volume` along each axis, `step` times the spacing.
+fn every_nth_sample(volume: &Volume, step: usize) -> Volume {
     let [nx, ny, nz] = volume.dims();
-    let half = [nx.div_ceil(2), ny.div_ceil(2), nz.div_ceil(2)];
-    let mut samples = Vec::with_capacity(half[0] * half[1] * half[2]);
-    for k in (0..nz).step_by(2) {
-        for j in (0..ny).step_by(2) {
-            for i in (0..nx).step_by(2) {
+    let dims = [nx, ny, nz].map(|n| n.div_ceil(step));
+    let mut samples = Vec::with_capacity(dims.iter().product());
+    for k in (0..nz).step_by(step) {
+        for j in (0..ny).step_by(step) {
+            for i in (0..nx).step_by(step) {
                 samples.push(volume.samples()[i + nx * (j + ny * k)]);
             }
         }
     }
-    let spacing = volume.spacing().map(|s| 2.0 * s);
-    Volume::new(half, spacing, volume.origin(), *volume.direction(), samples).unwrap()
+    let spacing = volume.spacing().map(|s| step as f64 * s);
+    Volume::new(dims, spacing, volume.origin(), *volume.direction(), samples).unwrap()
 }
