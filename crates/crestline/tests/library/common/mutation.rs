@@ -1,9 +1,8 @@
 //! Mutation fuzzing helpers shared by the reader fuzz tests: a seeded random
 //! generator, generic byte mutations of a file and the checks of an error message.
 //!
-//! Included by path (`#[path = "common/mutation.rs"] mod mutation;`) from the mesh
-//! reader fuzz test of the library and from the image fuzz test of the
-//! command-line tool, so that both mutate files the same way.
+//! A module of the library's tests' `common`, and included by path from the image
+//! fuzz test of the command-line tool, so that both mutate files the same way.
 
 // Each user takes what it needs: the mesh test checks messages with
 // `message_problem`, the tool's test its own way (path or file name).

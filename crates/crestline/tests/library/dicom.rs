@@ -14,8 +14,7 @@ use crestline::io::{read_dicom, read_volume, read_volume_with, volume_files, Vol
 use crestline::volume::Volume;
 use crestline::Space;
 
-#[path = "common/mutation.rs"]
-mod mutation;
+use crate::common::mutation;
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/dicom/pydicom")

@@ -1,7 +1,7 @@
 //! Curvature estimators against exact curvature of analytic surfaces, and the
 //! invariances every estimator must have.
 
-mod common;
+use crate::common;
 
 use common::transformed;
 use crestline::curvature::{

@@ -4,7 +4,7 @@
 //! a mesh and from an image alike; landmarks move with the surface; the 3D
 //! Slicer, JSON and CSV files hold what they should.
 
-mod common;
+use crate::common;
 
 use common::transformed;
 use crestline::crest_lines::crest_lines;

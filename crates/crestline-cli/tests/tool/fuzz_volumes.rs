@@ -18,8 +18,8 @@
 //! followed by garbage, the detached data file truncated, longer, empty, missing,
 //! replaced by a folder, or a link to `/dev/zero`, `/dev/urandom`, nothing or the
 //! header (and the header's `data file` naming such files), and the generic byte
-//! mutations of the mesh reader fuzz test (`crates/crestline/tests/common/
-//! mutation.rs`, shared with it).
+//! mutations of the mesh reader fuzz test (`crates/crestline/tests/library/
+//! common/mutation.rs`, shared with it).
 //!
 //! Every mutant is read by the real `crestline` binary: `crestline info IMAGE`,
 //! and for every fourth mutant also `crestline iso IMAGE --level L -o
@@ -40,7 +40,7 @@
 //! `CRESTLINE_FUZZ_MUTANTS=N` (mutants per seed image) and optionally
 //! `CRESTLINE_FUZZ_SEED=S` (and `CRESTLINE_FUZZ_SHOW=1` to print every error
 //! message), e.g. `CRESTLINE_FUZZ_MUTANTS=2000 CRESTLINE_FUZZ_SEED=7 cargo test
-//! --release -p crestline-cli --test fuzz_volumes -- --nocapture` (about 100 s);
+//! --release -p crestline-cli --test tool fuzz_volumes -- --nocapture` (about 100 s);
 //! the table of outcomes is printed either way.
 #![cfg(unix)]
 
@@ -52,7 +52,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-#[path = "../../crestline/tests/common/mutation.rs"]
+#[path = "../../../crestline/tests/library/common/mutation.rs"]
 mod mutation;
 
 use mutation::{digit_runs, env_number, mutate, pick_run, text_problem, Rng};

@@ -1,6 +1,6 @@
 //! The `draw` command: SVG, PNG and report files, and one-line errors.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

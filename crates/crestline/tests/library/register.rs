@@ -3,7 +3,7 @@
 //! lines of a real mesh and its moved copy, and from the crest lines of the MNI152
 //! template and a moved, resampled copy; the transform files; bad input.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};

@@ -1,5 +1,7 @@
 //! Helpers shared by the integration tests.
 
+pub mod mutation;
+
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::Point;
 

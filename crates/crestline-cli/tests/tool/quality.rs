@@ -7,7 +7,7 @@ use crestline::jobs::CurvatureOptions;
 
 const MESH: &str = "meshes/bunny_small.obj";
 
-mod common;
+use crate::common;
 
 use common::crestline;
 

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-mod common;
+use crate::common;
 
 use common::{assert_one_line_error, crestline, stderr};
 

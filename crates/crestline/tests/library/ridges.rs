@@ -2,7 +2,7 @@
 //! known exactly (its principal ellipses), under rigid motion, scaling, arbitrary
 //! direction signs and noise, and on real meshes.
 
-mod common;
+use crate::common;
 
 use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};

@@ -2,7 +2,7 @@
 //! Chromium, headless, with networking off), which must run it without an error and
 //! show the surface and each family of lines in its colour.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

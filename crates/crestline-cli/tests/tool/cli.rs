@@ -2,7 +2,7 @@
 
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 
 use common::{assert_one_line_error, crestline, stderr};
 

@@ -12,7 +12,7 @@
 //! `CRESTLINE_FUZZ_MUTANTS=N` (and optionally `CRESTLINE_FUZZ_SEED=S`; with
 //! `CRESTLINE_FUZZ_SHOW=1` every error message is printed for review), e.g.
 //! `CRESTLINE_FUZZ_MUTANTS=20000 cargo test --release -p crestline --test
-//! fuzz_readers -- --nocapture`; the table of outcomes is printed either way.
+//! library fuzz_readers -- --nocapture`; the table of outcomes is printed either way.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -21,8 +21,7 @@ use std::time::{Duration, Instant};
 use crestline::io::read_mesh;
 use crestline::mesh::Mesh;
 
-#[path = "common/mutation.rs"]
-mod mutation;
+use crate::common::mutation;
 
 use mutation::{env_number, message_problem, mutate, Rng};
 

@@ -1,0 +1,14 @@
+//! The command-line tool's tests, as one test binary: each module runs the built
+//! `crestline` as its users do. `cargo test --release --test tool parity::` runs one.
+
+mod common;
+
+mod cli;
+mod dicom;
+mod draw;
+mod fuzz_volumes;
+mod hostile;
+mod info_percentiles;
+mod parity;
+mod quality;
+mod view;
