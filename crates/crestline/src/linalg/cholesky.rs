@@ -20,7 +20,7 @@ use crate::{Error, Result};
 /// The lower triangle of a square sparse matrix in compressed column form, the
 /// layout the factorization reads.
 #[derive(Clone, Debug, PartialEq)]
-struct LowerTriangle {
+pub(super) struct LowerTriangle {
     n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -30,7 +30,7 @@ struct LowerTriangle {
 impl LowerTriangle {
     /// Extracts the entries `(i, j)` with `i ≥ j` of `matrix`, checking that they
     /// are finite.
-    fn new(matrix: &SymmetricMatrix) -> Result<LowerTriangle> {
+    pub(super) fn new(matrix: &SymmetricMatrix) -> Result<LowerTriangle> {
         let n = matrix.size();
         let stored = matrix.csc().1.len();
         let mut lower = LowerTriangle {
@@ -69,7 +69,7 @@ impl LowerTriangle {
     }
 
     /// A faer view of the pattern alone.
-    fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
+    pub(super) fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
         SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx)
     }
 

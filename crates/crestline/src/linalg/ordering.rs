@@ -169,6 +169,7 @@ mod tests {
     use faer::Side;
 
     use super::*;
+    use crate::linalg::cholesky::LowerTriangle;
     use crate::linalg::SymmetricBuilder;
 
     /// A `w × h` grid's 5-point Laplacian plus the identity, numbered row by row.
@@ -185,16 +186,6 @@ mod tests {
             }
         }
         builder.build()
-    }
-
-    /// The lower triangle of `a`'s pattern in compressed columns.
-    fn lower(a: &SymmetricMatrix) -> (Vec<usize>, Vec<usize>) {
-        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
-        for j in 0..a.size() {
-            row_idx.extend(a.column(j).map(|(i, _)| i).filter(|&i| i >= j));
-            col_ptr.push(row_idx.len());
-        }
-        (col_ptr, row_idx)
     }
 
     #[test]
@@ -270,15 +261,9 @@ mod tests {
         assert_eq!(together, n - pair.iter().max().unwrap() - 1);
     }
 
-    /// The entries of L for the grid's pattern in the given ordering.
-    fn fill(
-        n: usize,
-        col_ptr: &[usize],
-        row_idx: &[usize],
-        ordering: SymmetricOrdering<'_, usize>,
-    ) -> usize {
-        let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
-        factorize_symbolic_cholesky(pattern, Side::Lower, ordering, Default::default())
+    /// The entries of L for the pattern `lower` in the given ordering.
+    fn fill(lower: &LowerTriangle, ordering: SymmetricOrdering<'_, usize>) -> usize {
+        factorize_symbolic_cholesky(lower.symbolic(), Side::Lower, ordering, Default::default())
             .unwrap()
             .len_val()
     }
@@ -290,20 +275,16 @@ mod tests {
     fn the_paired_order_fills_little() {
         let a = grid(60, 60);
         let n = a.size();
-        let (col_ptr, row_idx) = lower(&a);
+        let lower = LowerTriangle::new(&a).unwrap();
         let (order, rank) = paired_amd(&a).unwrap();
         let paired = fill(
-            n,
-            &col_ptr,
-            &row_idx,
+            &lower,
             SymmetricOrdering::Custom(PermRef::new_checked(&order, &rank, n)),
         );
-        let amd = fill(n, &col_ptr, &row_idx, SymmetricOrdering::Amd);
+        let amd = fill(&lower, SymmetricOrdering::Amd);
         let identity: Vec<usize> = (0..n).collect();
         let natural = fill(
-            n,
-            &col_ptr,
-            &row_idx,
+            &lower,
             SymmetricOrdering::Custom(PermRef::new_checked(&identity, &identity, n)),
         );
         assert!(paired <= amd * 3 / 2, "paired {paired}, AMD {amd}");
