@@ -74,7 +74,7 @@ struct Extrema {
 struct SetState {
     /// The candidates (s, e) whose branch ends at the set, keyed by the part of
     /// their score that does not depend on the extremum; see
-    /// [`Hierarchy::offset`].
+    /// [`Scoring::offset`].
     candidates: BinaryHeap<Candidate>,
     region: Integral,
     links: i64,
@@ -150,6 +150,16 @@ impl Extrema {
                     .push(Candidate::new(key, s, branch, far));
             }
         }
+    }
+
+    /// The entry of set `m` (of `kind`) at `t`, now the one that counts, unless
+    /// the set has a lower one.
+    fn claim_entry(&mut self, t: f64, kind: Kind, m: usize) -> Option<Entry> {
+        let queued = &mut self.state[m].queued;
+        (t < *queued).then(|| {
+            *queued = t;
+            Entry::new(t, kind, m as u32)
+        })
     }
 
     /// The index of the tree of each set's surviving extremum.
@@ -346,21 +356,29 @@ impl<'a> Hierarchy<'a> {
         // The boundary: where maxima cancelled against boundary saddles drain.
         maximum_regions.push(Integral::default());
         let boundary = gradient.maxima.len();
-        let minima = Extrema::new(
-            gradient.minima.iter().map(|v| v.0).collect(),
-            &minimum_regions,
-        );
-        let maxima = Extrema::new(
-            gradient
-                .maxima
-                .iter()
-                .map(|f| f.0)
-                .chain([mesh.face_count() as u32])
-                .collect(),
-            &maximum_regions,
+        // The two kinds' sets, and the ends of the saddles' branches, side by side:
+        // most of their cost is the first touch of fresh memory.
+        let ((minima, maxima), ends) = rayon::join(
+            || {
+                rayon::join(
+                    || {
+                        Extrema::new(
+                            gradient.minima.iter().map(|v| v.0).collect(),
+                            &minimum_regions,
+                        )
+                    },
+                    || {
+                        let ids = gradient.maxima.iter().map(|f| f.0);
+                        Extrema::new(
+                            ids.chain([mesh.face_count() as u32]).collect(),
+                            &maximum_regions,
+                        )
+                    },
+                )
+            },
+            || saddle_ends(mesh, &gradient, &saddles),
         );
         let n = saddles.len();
-        let ends = saddle_ends(mesh, &gradient, &saddles);
         let mut hierarchy = Hierarchy {
             mesh,
             keys,
@@ -379,16 +397,7 @@ impl<'a> Hierarchy<'a> {
             cancelled: Vec::new(),
         };
         hierarchy.add_candidates();
-        let sets = (0..hierarchy.minima.state.len())
-            .map(|m| (Kind::Minimum, m))
-            .chain((0..boundary).map(|m| (Kind::Maximum, m)));
-        let initial = sets
-            .filter_map(|(kind, m)| {
-                let (t, _, _) = hierarchy.set_best(kind, m)?;
-                hierarchy.claim_entry(t, kind, m)
-            })
-            .collect();
-        hierarchy.queue = SeededQueue::new(initial);
+        hierarchy.queue = SeededQueue::new(hierarchy.initial_entries());
         hierarchy.forced_saddles = (0..n).filter(|&s| hierarchy.is_forced(s)).count();
         hierarchy
     }
@@ -409,6 +418,27 @@ impl<'a> Hierarchy<'a> {
             },
         );
         self.maxima.state[self.boundary].links = i64::MAX / 2;
+    }
+
+    /// Every extremum set's entry under its best candidate, the minima's and the
+    /// maxima's found side by side (the boundary is never queued).
+    fn initial_entries(&mut self) -> Vec<Entry> {
+        let (minimum_count, boundary) = (self.minima.state.len(), self.boundary);
+        let (scoring, minima, maxima) = self.scoring_and_sets();
+        let entries = |extrema: &mut Extrema, kind: Kind, count: usize| {
+            (0..count)
+                .filter_map(|m| {
+                    let (t, _, _) = scoring.set_best(extrema, kind, m)?;
+                    extrema.claim_entry(t, kind, m)
+                })
+                .collect::<Vec<_>>()
+        };
+        let (mut initial, later) = rayon::join(
+            || entries(minima, Kind::Minimum, minimum_count),
+            || entries(maxima, Kind::Maximum, boundary),
+        );
+        initial.extend(later);
+        initial
     }
 
     /// Number of live saddles.
@@ -571,32 +601,20 @@ impl<'a> Hierarchy<'a> {
         let mut out = Vec::with_capacity(4);
         if !valid_only || self.valid(s, Kind::Minimum) {
             for (i, &m) in mins.iter().enumerate() {
-                out.push((self.score_minimum(saddle, i, m), Partner::Minimum(i)));
+                let t = self.scoring().score_minimum(&self.minima, saddle, i, m);
+                out.push((t, Partner::Minimum(i)));
             }
         }
         let boundary = self.boundary_set();
         if !valid_only || self.valid(s, Kind::Maximum) {
             for (i, m) in maxs.iter().enumerate() {
                 if let Some(m) = m.filter(|&m| m != boundary) {
-                    out.push((self.score_maximum(saddle, i, m), Partner::Maximum(i)));
+                    let t = self.scoring().score_maximum(&self.maxima, saddle, i, m);
+                    out.push((t, Partner::Maximum(i)));
                 }
             }
         }
         out
-    }
-
-    /// The extremum's part of its non-terminal candidates' scores.
-    fn offset(&self, kind: Kind, m: usize) -> f64 {
-        match (self.criterion, kind) {
-            (Criterion::Feature, Kind::Minimum) => -self.minima.state[m].region.mean(),
-            (Criterion::Feature, Kind::Maximum) => self.maxima.state[m].region.mean(),
-            (Criterion::Persistence, Kind::Minimum) => {
-                -self.keys.vertex[self.minima.state[m].survivor as usize]
-            }
-            (Criterion::Persistence, Kind::Maximum) => {
-                self.keys.face[self.maxima.state[m].survivor as usize]
-            }
-        }
     }
 
     /// Whether cancelling saddle `s` with the extremum at the end of its branch of
@@ -612,39 +630,36 @@ impl<'a> Hierarchy<'a> {
         extrema.find(ends[0]) != extrema.find(ends[1])
     }
 
-    /// The best valid cancellation with extremum set `m` of `kind`: its score, the
-    /// saddle and the partner. Drops dead and invalid candidates from the set's
-    /// heap on the way.
+    /// What scoring reads besides the extremum sets.
+    fn scoring(&self) -> Scoring<'_> {
+        Scoring {
+            criterion: self.criterion,
+            keys: self.keys,
+            saddles: &self.saddles,
+            alive: &self.alive,
+        }
+    }
+
+    /// The best valid cancellation with extremum set `m` of `kind`
+    /// ([`Scoring::set_best`]).
     fn set_best(&mut self, kind: Kind, m: usize) -> Option<(f64, usize, Partner)> {
-        let top = match kind {
-            Kind::Minimum => self.minima.best_valid(m, &self.alive),
-            Kind::Maximum => self.maxima.best_valid(m, &self.alive),
-        }?;
-        let (s, i) = (top.saddle(), top.branch());
-        let saddle = &self.saddles[s];
-        // A terminal extremum has a single live branch, the top one; its score
-        // includes the Γ term (eqs. 5–8). Otherwise key + offset.
-        let terminal = self.extrema(kind).state[m].links == 1;
-        Some(match kind {
-            Kind::Minimum => (
-                if terminal {
-                    self.score_minimum(saddle, i, m)
-                } else {
-                    top.key + self.offset(kind, m)
-                },
-                s,
-                Partner::Minimum(i),
-            ),
-            Kind::Maximum => (
-                if terminal {
-                    self.score_maximum(saddle, i, m)
-                } else {
-                    top.key + self.offset(kind, m)
-                },
-                s,
-                Partner::Maximum(i),
-            ),
-        })
+        let (scoring, minima, maxima) = self.scoring_and_sets();
+        let extrema = match kind {
+            Kind::Minimum => minima,
+            Kind::Maximum => maxima,
+        };
+        scoring.set_best(extrema, kind, m)
+    }
+
+    /// What scoring reads, and the minima and maxima to change.
+    fn scoring_and_sets(&mut self) -> (Scoring<'_>, &mut Extrema, &mut Extrema) {
+        let scoring = Scoring {
+            criterion: self.criterion,
+            keys: self.keys,
+            saddles: &self.saddles,
+            alive: &self.alive,
+        };
+        (scoring, &mut self.minima, &mut self.maxima)
     }
 
     /// Queue extremum set `m` under its current best score, unless it has an
@@ -657,60 +672,8 @@ impl<'a> Hierarchy<'a> {
 
     /// Queue set `m` of `kind` at `t`, unless its entry is lower.
     fn push_entry(&mut self, t: f64, kind: Kind, m: usize) {
-        if let Some(entry) = self.claim_entry(t, kind, m) {
+        if let Some(entry) = self.extrema_mut(kind).claim_entry(t, kind, m) {
             self.queue.push(entry);
-        }
-    }
-
-    /// The entry of set `m` of `kind` at `t`, now the one that counts, unless
-    /// the set has a lower one.
-    fn claim_entry(&mut self, t: f64, kind: Kind, m: usize) -> Option<Entry> {
-        let queued = &mut self.extrema_mut(kind).state[m].queued;
-        (t < *queued).then(|| {
-            *queued = t;
-            Entry::new(t, kind, m as u32)
-        })
-    }
-
-    /// Score of cancelling the saddle with the minimum `m` at the end of branch `i`.
-    fn score_minimum(&self, saddle: &Saddle, i: usize, m: usize) -> f64 {
-        match self.criterion {
-            Criterion::Persistence => {
-                self.keys.edge[saddle.edge.idx()]
-                    - self.keys.vertex[self.minima.state[m].survivor as usize]
-            }
-            Criterion::Feature => {
-                let region = self.minima.state[m].region.mean();
-                // σ_max(r, m): how much the ascending line rises above the valley.
-                let sigma = saddle.ascending_mean() - region;
-                if self.minima.state[m].links == 1 {
-                    // Γ_min(v_i, m_i) for a terminal minimum.
-                    sigma.min(region - saddle.descending[i].mean())
-                } else {
-                    sigma
-                }
-            }
-        }
-    }
-
-    /// Score of cancelling the saddle with the maximum `m` at the end of branch `i`.
-    fn score_maximum(&self, saddle: &Saddle, i: usize, m: usize) -> f64 {
-        match self.criterion {
-            Criterion::Persistence => {
-                self.keys.face[self.maxima.state[m].survivor as usize]
-                    - self.keys.edge[saddle.edge.idx()]
-            }
-            Criterion::Feature => {
-                let region = self.maxima.state[m].region.mean();
-                // σ_min(v, M): how far the descending line sinks below the hill.
-                let sigma = region - saddle.descending_mean();
-                if self.maxima.state[m].links == 1 {
-                    // Γ_max(r_i, M_i) for a terminal maximum.
-                    sigma.min(saddle.ascending[i].mean() - region)
-                } else {
-                    sigma
-                }
-            }
         }
     }
 
@@ -820,9 +783,115 @@ impl<'a> Hierarchy<'a> {
     }
 }
 
+/// What the scores of an extremum set's candidates read besides the sets of its
+/// kind: the criterion, the keys, the saddles and which are alive. Apart from
+/// [`Hierarchy`] so that the two kinds' sets can be scored side by side.
+#[derive(Clone, Copy)]
+struct Scoring<'h> {
+    criterion: Criterion,
+    keys: &'h Keys,
+    saddles: &'h [Saddle],
+    alive: &'h [bool],
+}
+
+impl Scoring<'_> {
+    /// The best valid cancellation with set `m` of `extrema` (of `kind`): its
+    /// score, the saddle and the partner. Drops dead and invalid candidates from
+    /// the set's heap on the way.
+    fn set_best(
+        &self,
+        extrema: &mut Extrema,
+        kind: Kind,
+        m: usize,
+    ) -> Option<(f64, usize, Partner)> {
+        let top = extrema.best_valid(m, self.alive)?;
+        let (s, i) = (top.saddle(), top.branch());
+        let saddle = &self.saddles[s];
+        // A terminal extremum has a single live branch, the top one; its score
+        // includes the Γ term (eqs. 5–8). Otherwise key + offset.
+        let terminal = extrema.state[m].links == 1;
+        Some(match kind {
+            Kind::Minimum => (
+                if terminal {
+                    self.score_minimum(extrema, saddle, i, m)
+                } else {
+                    top.key + self.offset(extrema, kind, m)
+                },
+                s,
+                Partner::Minimum(i),
+            ),
+            Kind::Maximum => (
+                if terminal {
+                    self.score_maximum(extrema, saddle, i, m)
+                } else {
+                    top.key + self.offset(extrema, kind, m)
+                },
+                s,
+                Partner::Maximum(i),
+            ),
+        })
+    }
+
+    /// Set `m`'s (of `extrema`, of `kind`) part of its non-terminal candidates'
+    /// scores.
+    fn offset(&self, extrema: &Extrema, kind: Kind, m: usize) -> f64 {
+        let state = &extrema.state[m];
+        match (self.criterion, kind) {
+            (Criterion::Feature, Kind::Minimum) => -state.region.mean(),
+            (Criterion::Feature, Kind::Maximum) => state.region.mean(),
+            (Criterion::Persistence, Kind::Minimum) => -self.keys.vertex[state.survivor as usize],
+            (Criterion::Persistence, Kind::Maximum) => self.keys.face[state.survivor as usize],
+        }
+    }
+
+    /// Score of cancelling the saddle with the minimum `m` of `minima` at the end
+    /// of branch `i`.
+    fn score_minimum(&self, minima: &Extrema, saddle: &Saddle, i: usize, m: usize) -> f64 {
+        let state = &minima.state[m];
+        match self.criterion {
+            Criterion::Persistence => {
+                self.keys.edge[saddle.edge.idx()] - self.keys.vertex[state.survivor as usize]
+            }
+            Criterion::Feature => {
+                let region = state.region.mean();
+                // σ_max(r, m): how much the ascending line rises above the valley.
+                let sigma = saddle.ascending_mean() - region;
+                if state.links == 1 {
+                    // Γ_min(v_i, m_i) for a terminal minimum.
+                    sigma.min(region - saddle.descending[i].mean())
+                } else {
+                    sigma
+                }
+            }
+        }
+    }
+
+    /// Score of cancelling the saddle with the maximum `m` of `maxima` at the end
+    /// of branch `i`.
+    fn score_maximum(&self, maxima: &Extrema, saddle: &Saddle, i: usize, m: usize) -> f64 {
+        let state = &maxima.state[m];
+        match self.criterion {
+            Criterion::Persistence => {
+                self.keys.face[state.survivor as usize] - self.keys.edge[saddle.edge.idx()]
+            }
+            Criterion::Feature => {
+                let region = state.region.mean();
+                // σ_min(v, M): how far the descending line sinks below the hill.
+                let sigma = region - saddle.descending_mean();
+                if state.links == 1 {
+                    // Γ_max(r_i, M_i) for a terminal maximum.
+                    sigma.min(saddle.ascending[i].mean() - region)
+                } else {
+                    sigma
+                }
+            }
+        }
+    }
+}
+
 /// The parts of a saddle's scores that do not depend on the extremum it is
 /// cancelled with: (with a minimum, with a maximum). A non-terminal candidate
-/// scores its key plus its extremum's [`offset`](Hierarchy::offset): σ_max(r, m) =
+/// scores its key plus its extremum's [`offset`](Scoring::offset): σ_max(r, m) =
 /// avg_r(I) − avg_U(m)(I) (eq. 1), σ_min(v, M) = avg_S(M)(I) − avg_v(I) (eq. 2),
 /// or the persistence f(s) − f(m), f(M) − f(s).
 fn static_keys(criterion: Criterion, keys: &Keys, saddle: &Saddle) -> (f64, f64) {
