@@ -809,27 +809,16 @@ impl Scoring<'_> {
         let saddle = &self.saddles[s];
         // A terminal extremum has a single live branch, the top one; its score
         // includes the Γ term (eqs. 5–8). Otherwise key + offset.
-        let terminal = extrema.state[m].links == 1;
-        Some(match kind {
-            Kind::Minimum => (
-                if terminal {
-                    self.score_minimum(extrema, saddle, i, m)
-                } else {
-                    top.key + self.offset(extrema, kind, m)
-                },
-                s,
-                Partner::Minimum(i),
-            ),
-            Kind::Maximum => (
-                if terminal {
-                    self.score_maximum(extrema, saddle, i, m)
-                } else {
-                    top.key + self.offset(extrema, kind, m)
-                },
-                s,
-                Partner::Maximum(i),
-            ),
-        })
+        let t = match (extrema.state[m].links == 1, kind) {
+            (true, Kind::Minimum) => self.score_minimum(extrema, saddle, i, m),
+            (true, Kind::Maximum) => self.score_maximum(extrema, saddle, i, m),
+            (false, _) => top.key + self.offset(extrema, kind, m),
+        };
+        let partner = match kind {
+            Kind::Minimum => Partner::Minimum(i),
+            Kind::Maximum => Partner::Maximum(i),
+        };
+        Some((t, s, partner))
     }
 
     /// Set `m`'s (of `extrema`, of `kind`) part of its non-terminal candidates'
