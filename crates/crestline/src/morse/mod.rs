@@ -167,9 +167,11 @@ impl MorseSmale {
     ) -> Result<(FeatureLines, MorseSummary)> {
         self.check()?;
         check_values(mesh, &values)?;
-        let keys = gradient::Keys::new(mesh, values);
-        let gradient = stage(observer, "gradient", || {
-            gradient::Gradient::new(mesh, &keys)
+        // The gradient's stage includes its keys (the values on edges and faces).
+        let (keys, gradient) = stage(observer, "gradient", || {
+            let keys = gradient::Keys::new(mesh, values);
+            let gradient = gradient::Gradient::new(mesh, &keys);
+            (keys, gradient)
         });
         let (saddles, regions) = stage(observer, "cells", || {
             rayon::join(
