@@ -398,13 +398,7 @@ impl<'a> Hierarchy<'a> {
         };
         hierarchy.add_candidates();
         hierarchy.queue = SeededQueue::new(hierarchy.initial_entries());
-        // No set has merged yet: a saddle is forced when both its branches of each
-        // kind end at one extremum.
-        hierarchy.forced_saddles = hierarchy
-            .ends
-            .par_iter()
-            .filter(|e| e.minima[0] == e.minima[1] && e.maxima[0] == e.maxima[1])
-            .count();
+        hierarchy.forced_saddles = (0..n).filter(|&s| hierarchy.is_forced(s)).count();
         hierarchy
     }
 
@@ -499,6 +493,11 @@ impl<'a> Hierarchy<'a> {
             })
             .collect();
         attach(extrema.state.len(), extrema.survivor_trees(), &links)
+    }
+
+    /// Whether saddle `s` has no valid cancellation, with a minimum or a maximum.
+    fn is_forced(&self, s: usize) -> bool {
+        !self.valid(s, Kind::Minimum) && !self.valid(s, Kind::Maximum)
     }
 
     /// The extrema of `kind`.
