@@ -50,6 +50,8 @@ from functools import partial
 import numpy as np
 import scipy.sparse as sp
 
+from refine_mesh import Unsupported, read_ply  # the tools' PLY reader
+
 MAX_WEIGHT = 1e4  # crestline's clamp of the cotan weights
 MIN_MASS_FRACTION = 1e-6  # the masses are at least this times t
 FLIP_TOLERANCE = 1e-12  # an edge is flipped while cot α + cot β < -FLIP_TOLERANCE
@@ -57,12 +59,6 @@ TOLERANCE = 1e-7  # relative residual of the conjugate gradient solves
 MAX_ITERATIONS = 3000
 MAX_BLOCK = 8
 LEVELS = (10, 100, 1e3, 1e4)  # coupling levels t w / min(M_pp, M_qq) counted
-PLY_TYPES = {
-    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
-    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
-    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
-}
 START = time.process_time()
 
 
@@ -70,66 +66,17 @@ def progress(message):
     print(f"[{time.process_time() - START:6.1f} s] {message}", file=sys.stderr, flush=True)
 
 
-def read_ply(path):
-    """Vertices (n, 3) float64 and triangles (m, 3) int64 of a PLY file, ASCII or binary.
-
-    The file must hold a vertex element of scalar properties x, y, z, ... and then a
-    face element whose only property is a list of three indices; on anything else the
-    script stops with a message naming the file."""
-    def refuse(reason):
-        sys.exit(f"{path}: {reason}")
-
-    with open(path, "rb") as stream:
-        fmt, elements = None, []  # (name, count, [(property, its type words)])
-        for line in stream:
-            words = line.decode("ascii", "replace").split()
-            if words[:1] == ["format"]:
-                fmt = words[1]
-            elif words[:1] == ["element"]:
-                elements.append((words[1], int(words[2]), []))
-            elif words[:1] == ["property"] and elements:
-                elements[-1][2].append((words[-1], words[1:-1]))
-            elif words[:1] == ["end_header"]:
-                break
-        if [name for name, _, _ in elements] != ["vertex", "face"] or len(elements[1][2]) != 1:
-            refuse("not a PLY file of a vertex element and a face element with one property")
-        try:
-            (_, nv, vertex_props), (_, nf, [(_, [kind, count_type, index_type])]) = elements
-            if kind != "list":
-                refuse("the face property is not a list")
-            names = [name for name, _ in vertex_props]
-            if fmt == "ascii":
-                vertices = ascii_rows(stream, nv, len(names))[:, [names.index(c) for c in "xyz"]]
-                faces = ascii_rows(stream, nf, 4)
-            elif fmt in ("binary_little_endian", "binary_big_endian"):
-                order = "<" if fmt == "binary_little_endian" else ">"
-                data = binary_rows(stream, nv, [(name, order + PLY_TYPES[scalar])
-                                                for name, [scalar] in vertex_props])
-                vertices = np.column_stack([data[c] for c in "xyz"])
-                data = binary_rows(stream, nf, [("n", order + PLY_TYPES[count_type]),
-                                                ("v", order + PLY_TYPES[index_type], (3,))])
-                faces = np.column_stack([data["n"], data["v"]])
-            else:
-                refuse(f"unknown PLY format {fmt}")
-        except (KeyError, ValueError) as error:
-            refuse(f"not a triangle mesh this script reads ({error})")
-    if not np.all(faces[:, 0] == 3):
-        refuse("faces that are not triangles")
-    return vertices.astype(np.float64), faces[:, 1:].astype(np.int64)
-
-
-def ascii_rows(stream, count, width):
-    """The next `count` lines of an ASCII PLY body, `width` numbers each, as float64."""
-    tokens = b" ".join(stream.readline() for _ in range(count)).split()
-    if len(tokens) != count * width:
-        raise ValueError(f"{len(tokens)} numbers where {count} × {width} were expected")
-    return np.array(tokens, dtype=np.float64).reshape(count, width)
-
-
-def binary_rows(stream, count, fields):
-    """The next `count` records of a binary PLY body, with numpy's structured `fields`."""
-    dtype = np.dtype(fields)
-    return np.frombuffer(stream.read(dtype.itemsize * count), dtype=dtype, count=count)
+def read_triangles(path):
+    """Vertices (n, 3) float64 and triangles (m, 3) int64 of a PLY file, ASCII or binary,
+    read as tools/refine_mesh.py reads it (keeping the file's coordinates in double
+    precision); on a file it does not read the script stops with a message naming it."""
+    try:
+        vertices, faces = read_ply(path, coordinates=np.float64)
+    except (OSError, ValueError, KeyError, Unsupported) as error:
+        sys.exit(f"{path}: not a triangle mesh this script reads ({error})")
+    if vertices is None or faces is None:
+        sys.exit(f"{path}: no vertex or no face element")
+    return vertices, faces
 
 
 def repair(vertices, faces):
@@ -406,7 +353,7 @@ def main():
     if not os.path.isfile(args.mesh):
         parser.error(f"no such file: {args.mesh}")
 
-    vertices, faces = read_ply(args.mesh)
+    vertices, faces = read_triangles(args.mesh)
     vertices, faces, welded, dropped = repair(vertices, faces)
     origin, twin, length, counts = half_edges(vertices, faces)
     before = len(non_delaunay(twin, length))

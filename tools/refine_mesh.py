@@ -70,19 +70,20 @@ def read_ply_header(stream):
             return fmt, elements
 
 
-def read_ply(path):
-    """Vertices (n, 3) float32 and triangles (m, 3) int64 of a triangle PLY file."""
+def read_ply(path, coordinates=np.float32):
+    """Vertices (n, 3) of type `coordinates` and triangles (m, 3) int64 of a triangle
+    PLY file."""
     with open(path, "rb") as stream:
         fmt, elements = read_ply_header(stream)
         if fmt == "ascii":
-            return read_ply_ascii(stream, elements)
+            return read_ply_ascii(stream, elements, coordinates)
         if fmt not in ("binary_little_endian", "binary_big_endian"):
             raise ValueError(f"unknown PLY format {fmt}")
         order = "<" if fmt == "binary_little_endian" else ">"
-        return read_ply_binary(stream, elements, order)
+        return read_ply_binary(stream, elements, order, coordinates)
 
 
-def read_ply_binary(stream, elements, order):
+def read_ply_binary(stream, elements, order, coordinates):
     vertices = faces = None
     for element in elements:
         props, count = element["properties"], element["count"]
@@ -108,11 +109,11 @@ def read_ply_binary(stream, elements, order):
         dtype = np.dtype([(name, order + kind) for name, kind, _, _ in props])
         data = np.frombuffer(stream.read(dtype.itemsize * count), dtype=dtype, count=count)
         if element["name"] == "vertex":
-            vertices = np.stack([data[c] for c in "xyz"], axis=1).astype(np.float32)
+            vertices = np.stack([data[c] for c in "xyz"], axis=1).astype(coordinates)
     return vertices, faces
 
 
-def read_ply_ascii(stream, elements):
+def read_ply_ascii(stream, elements, coordinates):
     vertices = faces = None
     for element in elements:
         count = element["count"]
@@ -124,7 +125,7 @@ def read_ply_ascii(stream, elements):
             values = np.array(b" ".join(lines).split(), dtype=np.float64)
             if values.size != count * width:
                 raise Unsupported("vertex lines of uneven length")
-            vertices = values.reshape(count, width)[:, columns].astype(np.float32)
+            vertices = values.reshape(count, width)[:, columns].astype(coordinates)
         elif element["name"] == "face":
             props = element["properties"]
             if len(props) != 1 or props[0][1] != "list":
