@@ -152,7 +152,7 @@ impl SymmetricMatrix {
             n: self.n,
             col_ptr: self.col_ptr.clone(),
             row_idx: self.row_idx.clone(),
-            values: self.values.iter().map(|&v| v as f32).collect(),
+            values: self.values.par_iter().map(|&v| v as f32).collect(),
         }
     }
 }
@@ -232,6 +232,7 @@ impl<T: Entry> SymmetricMatrix<T> {
     /// The diagonal entries (zero where none is stored).
     pub fn diagonal(&self) -> Vec<f64> {
         (0..self.n)
+            .into_par_iter()
             .map(|j| {
                 self.column(j)
                     .find(|&(i, _)| i == j)

@@ -597,36 +597,78 @@ fn compressed_rows<C: Copy + Send, S>(
     (ptr, cols, values)
 }
 
-/// The Galerkin coarse matrix Pᵀ A P, row by row (row I sums P_iI · row i of A · P
-/// over the fine unknowns i of column I of P), made exactly symmetric by
-/// averaging it with its transpose.
+/// The Galerkin coarse matrix Pᵀ A P, row by row, made exactly symmetric by
+/// averaging it with its transpose. Row I is (Pᵀ A P)_I = Σ_k y_k P_k with the
+/// fine vector y = Σ_i P_iI A_i (the rows i of A over column I of P): summing
+/// y first and multiplying each of its entries by a row of P once costs fewer
+/// products than Σ_i Σ_k P_iI a_ik P_k, where a fine k reached from several i
+/// multiplies its row of P once per path.
 fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> SymmetricMatrix {
-    let scratch = || (vec![0.0; count], vec![false; count], Vec::new());
+    let scratch = || (Accumulator::new(a.size()), Accumulator::new(count));
     let (col_ptr, row_idx, values) = compressed_rows(
         count,
         scratch,
-        |(sum, seen, touched): &mut (Vec<f64>, Vec<bool>, Vec<usize>), big_i, row| {
+        |(fine, coarse): &mut (Accumulator, Accumulator), big_i, row| {
             for (i, p_i) in pt.row(big_i) {
                 for (k, a_ik) in a.column(i) {
-                    for (big_j, p_k) in p.row(k) {
-                        if !seen[big_j] {
-                            seen[big_j] = true;
-                            touched.push(big_j);
-                        }
-                        sum[big_j] += p_i * a_ik * p_k;
-                    }
+                    fine.add(k, p_i * a_ik);
                 }
             }
-            touched.sort_unstable();
-            for &j in touched.iter() {
-                row.push((j as u32, sum[j]));
-                sum[j] = 0.0;
-                seen[j] = false;
-            }
-            touched.clear();
+            fine.drain(|k, y_k| {
+                for (big_j, p_k) in p.row(k) {
+                    coarse.add(big_j, y_k * p_k);
+                }
+            });
+            coarse.sort();
+            coarse.drain(|big_j, value| row.push((big_j as u32, value)));
         },
     );
     symmetrized(count, col_ptr, row_idx, values)
+}
+
+/// A sparse vector summed entry by entry in a dense one of its whole length,
+/// which remembers the entries it touched: adding and reading back cost as
+/// many steps as entries touched, not as the length.
+struct Accumulator {
+    sum: Vec<f64>,
+    seen: Vec<bool>,
+    touched: Vec<usize>,
+}
+
+impl Accumulator {
+    /// A zero vector of length `n`.
+    fn new(n: usize) -> Accumulator {
+        Accumulator {
+            sum: vec![0.0; n],
+            seen: vec![false; n],
+            touched: Vec::new(),
+        }
+    }
+
+    /// Entry `j` += `value`.
+    fn add(&mut self, j: usize, value: f64) {
+        if !self.seen[j] {
+            self.seen[j] = true;
+            self.touched.push(j);
+        }
+        self.sum[j] += value;
+    }
+
+    /// Orders the touched entries by index, for [`drain`](Self::drain).
+    fn sort(&mut self) {
+        self.touched.sort_unstable();
+    }
+
+    /// Gives every touched entry (index and sum) to `f`, in the order first
+    /// touched or [`sort`](Self::sort)ed, and leaves the vector zero.
+    fn drain(&mut self, mut f: impl FnMut(usize, f64)) {
+        for &j in &self.touched {
+            f(j, self.sum[j]);
+            self.sum[j] = 0.0;
+            self.seen[j] = false;
+        }
+        self.touched.clear();
+    }
 }
 
 /// (B + Bᵀ) / 2 for a matrix B whose pattern is symmetric and whose values are
@@ -657,4 +699,66 @@ fn symmetrized(
     }
     SymmetricMatrix::from_csc(n, col_ptr, row_idx, values)
         .expect("a Galerkin product has sorted columns")
+}
+
+/// The coarse level against dense products.
+#[cfg(test)]
+mod tests {
+    use nalgebra::DMatrix;
+
+    use super::{coarsen, Rows};
+    use crate::linalg::{SymmetricBuilder, SymmetricMatrix};
+    use crate::mesh::generate::{sphere, Sampling};
+    use crate::mesh::EdgeId;
+
+    fn dense_rows(rows: &Rows, columns: usize) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(rows.len(), columns);
+        for i in 0..rows.len() {
+            for (j, v) in rows.row(i) {
+                m[(i, j)] += v;
+            }
+        }
+        m
+    }
+
+    fn dense(a: &SymmetricMatrix) -> DMatrix<f64> {
+        let mut m = DMatrix::zeros(a.size(), a.size());
+        for j in 0..a.size() {
+            for (i, v) in a.column(j) {
+                m[(i, j)] += v;
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn the_coarse_matrix_is_the_galerkin_product_of_the_prolongator() {
+        // M + t K of a jittered sphere, every third edge's sign flipped and every
+        // seventh 100 times stiffer: the prolongator is smoothed on the fine level
+        // and plain below, and both kinds of sign appear in it.
+        let mesh = sphere(1.0, 400, Sampling::jittered(2)).unwrap().mesh;
+        let mut builder = SymmetricBuilder::new(mesh.vertex_count());
+        for (v, m) in mesh.vertex_areas().into_iter().enumerate() {
+            builder.add_diagonal(v, m);
+        }
+        for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
+            let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
+            let w = if e % 7 == 0 { 100.0 * w } else { w };
+            let sign = if e % 3 == 0 { -1.0 } else { 1.0 };
+            builder.add_diagonal(p, w);
+            builder.add_diagonal(q, w);
+            builder.add(p, q, -w * sign);
+        }
+        let a = builder.build();
+        for depth in [0, 1] {
+            let (p, pt, coarse) = coarsen(&a, depth).expect("strong couplings");
+            let n = coarse.size();
+            assert!(n > 10 && n < a.size() / 2, "{n} aggregates");
+            let p = dense_rows(&p, n);
+            assert_eq!(dense_rows(&pt, a.size()), p.transpose());
+            let expected = p.transpose() * dense(&a) * &p;
+            let error = (dense(&coarse) - &expected).abs().max();
+            assert!(error <= 1e-12 * expected.abs().max(), "{error}");
+        }
+    }
 }
