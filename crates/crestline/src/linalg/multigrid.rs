@@ -707,9 +707,7 @@ mod tests {
     use nalgebra::DMatrix;
 
     use super::{coarsen, Rows};
-    use crate::linalg::{SymmetricBuilder, SymmetricMatrix};
-    use crate::mesh::generate::{sphere, Sampling};
-    use crate::mesh::EdgeId;
+    use crate::linalg::tests::{dense, random_sign, smoothing_system, stiff_edges};
 
     fn dense_rows(rows: &Rows, columns: usize) -> DMatrix<f64> {
         let mut m = DMatrix::zeros(rows.len(), columns);
@@ -721,35 +719,12 @@ mod tests {
         m
     }
 
-    fn dense(a: &SymmetricMatrix) -> DMatrix<f64> {
-        let mut m = DMatrix::zeros(a.size(), a.size());
-        for j in 0..a.size() {
-            for (i, v) in a.column(j) {
-                m[(i, j)] += v;
-            }
-        }
-        m
-    }
-
     #[test]
     fn the_coarse_matrix_is_the_galerkin_product_of_the_prolongator() {
-        // M + t K of a jittered sphere, every third edge's sign flipped and every
-        // seventh 100 times stiffer: the prolongator is smoothed on the fine level
+        // M + t K of a jittered sphere, a third of the edges' signs flipped and one
+        // in seven 100 times stiffer: the prolongator is smoothed on the fine level
         // and plain below, and both kinds of sign appear in it.
-        let mesh = sphere(1.0, 400, Sampling::jittered(2)).unwrap().mesh;
-        let mut builder = SymmetricBuilder::new(mesh.vertex_count());
-        for (v, m) in mesh.vertex_areas().into_iter().enumerate() {
-            builder.add_diagonal(v, m);
-        }
-        for (e, w) in mesh.clamped_cotan_weights().into_iter().enumerate() {
-            let [p, q] = mesh.edge_vertices(EdgeId(e as u32)).map(|v| v.idx());
-            let w = if e % 7 == 0 { 100.0 * w } else { w };
-            let sign = if e % 3 == 0 { -1.0 } else { 1.0 };
-            builder.add_diagonal(p, w);
-            builder.add_diagonal(q, w);
-            builder.add(p, q, -w * sign);
-        }
-        let a = builder.build();
+        let (a, _) = smoothing_system(400, 2, stiff_edges(7, 100.0, random_sign), |_| 0.0);
         for depth in [0, 1] {
             let (p, pt, coarse) = coarsen(&a, depth).expect("strong couplings");
             let n = coarse.size();

@@ -38,7 +38,7 @@ fn mass_plus_stiffness(mesh: &Mesh, t: f64) -> SymmetricMatrix {
     builder.build()
 }
 
-fn dense(matrix: &SymmetricMatrix) -> DMatrix<f64> {
+pub(super) fn dense(matrix: &SymmetricMatrix) -> DMatrix<f64> {
     let mut a = DMatrix::zeros(matrix.size(), matrix.size());
     for (i, j, value) in matrix.entries() {
         a[(i, j)] += value;
@@ -152,16 +152,17 @@ fn the_builder_sums_repeated_entries_into_sorted_columns() {
     assert!(unsorted.unwrap_err().to_string().contains("unsorted"));
 }
 
-/// M + t K of a jittered sphere (jitter `seed`) with the sign-aware cotan
-/// Laplacian of §5.1, t = 2 h̄² (the default τ), each edge (p, q) scaled by
+/// M + t K of a jittered sphere of about `vertices` vertices (jitter `seed`)
+/// with the sign-aware cotan Laplacian of §5.1, t = 2 h̄² (the default τ), each edge (p, q) scaled by
 /// `stiffness_and_sign(p, q).0` and signed by its `.1`, and the right-hand side
 /// M e for the smooth e = `field(position)`.
-fn smoothing_system(
+pub(super) fn smoothing_system(
+    vertices: usize,
     seed: u64,
     stiffness_and_sign: impl Fn(usize, usize) -> (f64, f64),
     field: impl Fn(&crate::Point) -> f64,
 ) -> (SymmetricMatrix, Vec<f64>) {
-    let mesh = generate::sphere(1.0, 30_000, Sampling::jittered(seed))
+    let mesh = generate::sphere(1.0, vertices, Sampling::jittered(seed))
         .unwrap()
         .mesh;
     let h = mesh.mean_edge_length();
@@ -189,7 +190,12 @@ fn smoothing_system(
 
 /// M + t K of a sphere with the cotan Laplacian, and M e for a smooth e.
 fn sphere_system() -> (SymmetricMatrix, Vec<f64>) {
-    smoothing_system(3, |_, _| (1.0, 1.0), |p| (3.0 * p.x + p.y * p.z).sin())
+    smoothing_system(
+        30_000,
+        3,
+        |_, _| (1.0, 1.0),
+        |p| (3.0 * p.x + p.y * p.z).sin(),
+    )
 }
 
 #[test]
@@ -255,22 +261,29 @@ fn edge_hash(p: usize, q: usize) -> u64 {
     key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40
 }
 
+/// The stiffness and sign of every edge (p, q) for [`smoothing_system`]: one edge
+/// in `every` (by [`edge_hash`]) `factor` times stiffer, σ from `signs`.
+pub(super) fn stiff_edges(
+    every: u64,
+    factor: f64,
+    signs: impl Fn(usize, usize) -> f64,
+) -> impl Fn(usize, usize) -> (f64, f64) {
+    move |p, q| {
+        let stiffer = edge_hash(p, q).is_multiple_of(every);
+        (if stiffer { factor } else { 1.0 }, signs(p, q))
+    }
+}
+
 /// M + t K of a jittered sphere with the sign-aware Laplacian of §5.1 (each edge's
 /// σ = ±1 from `signs`) and one edge in 40 made 10⁴ times stiffer, like a scan's
 /// slivers, with a right-hand side M e for a smooth e.
 fn sliver_system(signs: impl Fn(usize, usize) -> f64) -> (SymmetricMatrix, Vec<f64>) {
-    let stiffness_and_sign = |p, q| {
-        let stiffness = if edge_hash(p, q).is_multiple_of(40) {
-            1e4
-        } else {
-            1.0
-        };
-        (stiffness, signs(p, q))
-    };
-    smoothing_system(5, stiffness_and_sign, |p| (2.0 * p.x - p.y * p.z).cos())
+    smoothing_system(30_000, 5, stiff_edges(40, 1e4, signs), |p| {
+        (2.0 * p.x - p.y * p.z).cos()
+    })
 }
 
-fn random_sign(p: usize, q: usize) -> f64 {
+pub(super) fn random_sign(p: usize, q: usize) -> f64 {
     if edge_hash(p, q).is_multiple_of(3) {
         -1.0
     } else {
@@ -407,11 +420,9 @@ fn block_relaxation_speeds_up_moderately_stiff_systems() {
     // One edge in five 50 times stiffer, like the many short edges of a scan
     // (rather than the few extreme slivers of `sliver_system`): relaxed one
     // unknown at a time, 17 iterations; with the stiff pairs relaxed together, 14.
-    let stiffness_and_sign = |p, q| {
-        let stiffer = edge_hash(p, q).is_multiple_of(5);
-        (if stiffer { 50.0 } else { 1.0 }, random_sign(p, q))
-    };
-    let (matrix, rhs) = smoothing_system(5, stiffness_and_sign, |p| (2.0 * p.x - p.y * p.z).cos());
+    let (matrix, rhs) = smoothing_system(30_000, 5, stiff_edges(5, 50.0, random_sign), |p| {
+        (2.0 * p.x - p.y * p.z).cos()
+    });
     let mut x = vec![0.0; rhs.len()];
     let report = conjugate_gradient(&matrix, &rhs, &mut x, CgSettings::default()).unwrap();
     assert!(report.converged, "{report:?}");
