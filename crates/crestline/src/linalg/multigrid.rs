@@ -375,9 +375,14 @@ impl Smoother {
     /// block); `before` (of x's length) receives the values of x at the
     /// [`interface`] as they were before the sweep. The backward sweep is the
     /// forward one's adjoint, so a V-cycle with one of each stays symmetric.
+    ///
+    /// The rows of both directions run in one loop, into which the common case,
+    /// an unknown relaxed alone, is compiled: a closure per row, called from a
+    /// loop per direction, was a call with its frame per row, and the sweep ran
+    /// at half the speed of a residual over the same matrix (a jittered sphere
+    /// of 2M vertices with stiff pairs: 18.6 → 13.8 ms per sweep; the dragon ×4's
+    /// fine level: 55–62 → 52–55 ms per two sweeps, the same lines to the bit).
     fn sweep<V: Lanes>(&self, b: &[V], x: &mut [V], before: &mut [V], backward: bool) {
-        let (col_ptr, row_idx, values) = self.matrix.csc();
-        let (inverse, blocks) = (&self.inverse, self.blocks.as_ref());
         // Only the interface is read from `before`: the rest may hold anything.
         for &j in &self.interface {
             before[j as usize] = x[j as usize];
@@ -385,46 +390,90 @@ impl Smoother {
         let before = &*before;
         let piece = sweep_piece(b.len());
         x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
-            let start = k * piece;
-            let end = start + own.len();
-            // b_i − (A x)_i, with x_j from this piece as relaxed so far. Column i is
-            // row i: the matrix is symmetric. The sum includes a_ii x_i.
-            let residual = |own: &[V], i: usize| {
-                let entries = col_ptr[i]..col_ptr[i + 1];
-                let mut sum = V::default();
-                for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
-                    let j = j as usize;
-                    let x_j = match j.checked_sub(start) {
-                        Some(k) if k < own.len() => own[k],
-                        _ => before[j],
-                    };
-                    sum += x_j * f64::from(a_ij);
-                }
-                b[i] - sum
+            let mut piece = Piece {
+                start: k * piece,
+                own,
+                before,
             };
-            let mut relax = |i: usize| match blocks.map_or(Relax::Single, |blocks| blocks.at(i)) {
-                Relax::Single => own[i - start] += residual(own, i) * inverse[i],
-                Relax::Block { members, inverse } => {
-                    let mut r = [V::default(); MAX_BLOCK];
-                    for (r, &m) in r.iter_mut().zip(members) {
-                        *r = residual(own, m as usize);
+            let (start, end) = (piece.start, piece.start + piece.own.len());
+            for step in 0..end - start {
+                let i = if backward {
+                    end - 1 - step
+                } else {
+                    start + step
+                };
+                match self
+                    .blocks
+                    .as_ref()
+                    .map_or(Relax::Single, |blocks| blocks.at(i))
+                {
+                    Relax::Single => {
+                        let r = self.residual(b, &piece, i);
+                        piece.own[i - start] += r * self.inverse[i];
                     }
-                    let k = members.len();
-                    for (row, &m) in inverse.chunks_exact(k).zip(members) {
-                        own[m as usize - start] += row
-                            .iter()
-                            .zip(&r)
-                            .fold(V::default(), |sum, (&a, &r)| sum + r * a);
+                    Relax::Block { members, inverse } => {
+                        self.relax_block(b, &mut piece, members, inverse);
                     }
+                    Relax::Follower => {}
                 }
-                Relax::Follower => {}
-            };
-            if backward {
-                (start..end).rev().for_each(&mut relax);
-            } else {
-                (start..end).for_each(&mut relax);
             }
         });
+    }
+
+    /// Relaxes the unknowns `members` of `piece` together: the inverse of their
+    /// diagonal block (row by row) times their residuals.
+    #[inline]
+    fn relax_block<V: Lanes>(
+        &self,
+        b: &[V],
+        piece: &mut Piece<'_, V>,
+        members: &[u32],
+        inverse: &[f64],
+    ) {
+        let mut r = [V::default(); MAX_BLOCK];
+        for (r, &m) in r.iter_mut().zip(members) {
+            *r = self.residual(b, piece, m as usize);
+        }
+        let k = members.len();
+        for (row, &m) in inverse.chunks_exact(k).zip(members) {
+            piece.own[m as usize - piece.start] += row
+                .iter()
+                .zip(&r)
+                .fold(V::default(), |sum, (&a, &r)| sum + r * a);
+        }
+    }
+
+    /// b_i − (A x)_i, with x_j from `piece` as relaxed so far. Column i is row i:
+    /// the matrix is symmetric. The sum includes a_ii x_i.
+    #[inline(always)]
+    fn residual<V: Lanes>(&self, b: &[V], piece: &Piece<'_, V>, i: usize) -> V {
+        let (col_ptr, row_idx, values) = self.matrix.csc();
+        let entries = col_ptr[i]..col_ptr[i + 1];
+        let mut sum = V::default();
+        for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
+            sum += piece.x(j as usize) * f64::from(a_ij);
+        }
+        b[i] - sum
+    }
+}
+
+/// The rows of x one task of a sweep relaxes, from row `start` on, and the values
+/// of the other pieces' rows from before the sweep.
+struct Piece<'a, V> {
+    start: usize,
+    own: &'a mut [V],
+    before: &'a [V],
+}
+
+impl<V: Lanes> Piece<'_, V> {
+    /// x_j as the sweep has it: relaxed so far in this piece, from before the
+    /// sweep in the others.
+    #[inline(always)]
+    fn x(&self, j: usize) -> V {
+        match j.checked_sub(self.start) {
+            Some(k) if k < self.own.len() => self.own[k],
+            _ => self.before[j],
+        }
     }
 }
 

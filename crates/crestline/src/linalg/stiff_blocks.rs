@@ -99,6 +99,7 @@ impl StiffBlocks {
     }
 
     /// What the sweep does at unknown `i`.
+    #[inline]
     pub(super) fn at(&self, i: usize) -> Relax<'_> {
         match self.role[i] {
             SINGLE => Relax::Single,
