@@ -378,10 +378,9 @@ impl Smoother {
     ///
     /// The rows of both directions run in one loop, into which the common case,
     /// an unknown relaxed alone, is compiled: a closure per row, called from a
-    /// loop per direction, was a call with its frame per row, and the sweep ran
-    /// at half the speed of a residual over the same matrix (a jittered sphere
-    /// of 2M vertices with stiff pairs: 18.6 → 13.8 ms per sweep; the dragon ×4's
-    /// fine level: 55–62 → 52–55 ms per two sweeps, the same lines to the bit).
+    /// loop per direction, was a call with its frame per row (the dragon ×4's fine
+    /// level: 55–62 → 52–55 ms per two sweeps; the ×16's smoothing stage
+    /// 42.9–47.1 → 40.2–41.5 s; the same lines to the bit).
     fn sweep<V: Lanes>(&self, b: &[V], x: &mut [V], before: &mut [V], backward: bool) {
         // Only the interface is read from `before`: the rest may hold anything.
         for &j in &self.interface {
