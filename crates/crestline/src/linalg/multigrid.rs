@@ -387,10 +387,10 @@ impl Smoother {
             before[j as usize] = x[j as usize];
         }
         let before = &*before;
-        let piece = sweep_piece(b.len());
-        x.par_chunks_mut(piece).enumerate().for_each(|(k, own)| {
+        let rows = sweep_piece(b.len());
+        x.par_chunks_mut(rows).enumerate().for_each(|(k, own)| {
             let mut piece = Piece {
-                start: k * piece,
+                start: k * rows,
                 own,
                 before,
             };
