@@ -296,10 +296,19 @@ impl<T: Entry> SymmetricMatrix<T> {
 
     /// Row `i` of the matrix times `x`.
     fn row_dot<V: Lanes>(&self, i: usize, x: &[V]) -> V {
+        self.row_sum(i, |j| x[j])
+    }
+
+    /// Σ_j a_ij x_j over row `i` (column i: the matrix is symmetric), x_j read by
+    /// `x_at`, in the order of the stored entries.
+    #[inline(always)]
+    pub(super) fn row_sum<V: Lanes>(&self, i: usize, x_at: impl Fn(usize) -> V) -> V {
         let range = self.col_ptr[i]..self.col_ptr[i + 1];
         self.row_idx[range.clone()]
             .iter()
             .zip(&self.values[range])
-            .fold(V::default(), |sum, (&j, &v)| sum + x[j as usize] * v.into())
+            .fold(V::default(), |sum, (&j, &v)| {
+                sum + x_at(j as usize) * v.into()
+            })
     }
 }

@@ -446,13 +446,7 @@ impl Smoother {
     /// the matrix is symmetric. The sum includes a_ii x_i.
     #[inline(always)]
     fn residual<V: Lanes>(&self, b: &[V], piece: &Piece<'_, V>, i: usize) -> V {
-        let (col_ptr, row_idx, values) = self.matrix.csc();
-        let entries = col_ptr[i]..col_ptr[i + 1];
-        let mut sum = V::default();
-        for (&j, &a_ij) in row_idx[entries.clone()].iter().zip(&values[entries]) {
-            sum += piece.x(j as usize) * f64::from(a_ij);
-        }
-        b[i] - sum
+        b[i] - self.matrix.row_sum(i, |j| piece.x(j))
     }
 }
 
