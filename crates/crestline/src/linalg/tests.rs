@@ -232,7 +232,9 @@ fn conjugate_gradient_capped_at_one_iteration_falls_back_to_the_factorization() 
     solver.set_matrix(matrix.clone()).unwrap();
     for _ in 0..2 {
         let mut x = rhs.clone();
-        solver.solve(&rhs, &mut x).unwrap();
+        solver
+            .solve(&rhs, &mut x, &mut crate::progress::Silent)
+            .unwrap();
         assert!(relative_residual(&matrix, &x, &rhs) < 1e-12);
         let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for (a, b) in x.iter().zip(&exact) {

@@ -58,7 +58,7 @@ use crate::lines::{
     SurfaceWithCurvature,
 };
 use crate::mesh::{Mesh, VertexId};
-use crate::progress::{checkpoint, stage, try_stage, Observer, Timings};
+use crate::progress::{checkpoint, stage, try_stage, try_stage_with, Observer, Silent, Timings};
 use crate::{Error, Result};
 
 use extremality::regular_faces;
@@ -287,7 +287,7 @@ impl ExtremalityTracer {
     /// `smoothing analysis` is the time it takes beyond them.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
-        let smoothed = try_stage(observer, "presmooth", || self.presmoothed(mesh))?;
+        let smoothed = try_stage_with(observer, "presmooth", |log| self.presmoothed(mesh, log))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
         let (unit, factor) = work.in_unit_frame();
         let ((field, fields), smoother) =
@@ -438,15 +438,17 @@ impl ExtremalityTracer {
             ));
         }
         let fields = self.kinds.fields();
-        try_stage(observer, "smoothing", || {
-            match fitted_smoothing_factors(work, field) {
+        try_stage_with(
+            observer,
+            "smoothing",
+            |log| match fitted_smoothing_factors(work, field) {
                 Some(factors) if self.smooth_steps > 0 => {
                     let reweighted = smoother.reweighted(work, &factors)?;
-                    self.smooth_extremalities(work, &reweighted, field, &signs, &mut values)
+                    self.smooth_extremalities(work, &reweighted, field, &signs, &mut values, log)
                 }
-                _ => self.smooth_extremalities(work, smoother, field, &signs, &mut values),
-            }
-        })?;
+                _ => self.smooth_extremalities(work, smoother, field, &signs, &mut values, log),
+            },
+        )?;
         let mut lines = FeatureLines::new(String::new());
         lines.space = input.space();
         for ((&which, field_values), signs) in fields.iter().zip(&values).zip(&signs) {
@@ -525,7 +527,7 @@ impl ExtremalityTracer {
     }
 
     /// The smoothed surface, if pre-smoothing is asked for.
-    fn presmoothed(&self, mesh: &Mesh) -> Result<Option<Mesh>> {
+    fn presmoothed(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<Option<Mesh>> {
         if self.presmooth_steps == 0 {
             return Ok(None);
         }
@@ -533,6 +535,7 @@ impl ExtremalityTracer {
             mesh,
             self.presmooth_steps,
             self.solver,
+            observer,
         )?))
     }
 
@@ -553,6 +556,7 @@ impl ExtremalityTracer {
         field: &CurvatureField,
         signs: &[EdgeSigns],
         values: &mut [Vec<f64>],
+        observer: &mut dyn Observer,
     ) -> Result<()> {
         let steps = self.smooth_steps;
         let fields = self.kinds.fields();
@@ -562,21 +566,27 @@ impl ExtremalityTracer {
             let gauge = gauge_between(work, (ridges, &signs[0]), (valleys, &signs[1]));
             if let Some(gauge) = gauge {
                 regauge(min, &gauge);
-                smoother.smooth(&signs[0], &mut [max, min], steps)?;
+                smoother.smooth(&signs[0], &mut [max, min], steps, observer)?;
                 regauge(min, &gauge);
                 return Ok(());
             }
         }
-        let smooth = |(signs, values): (&EdgeSigns, &mut Vec<f64>)| {
-            smoother.smooth(signs, &mut [values], steps)
-        };
         if smoother.iterates() {
-            signs.iter().zip(values.iter_mut()).try_for_each(smooth)
+            signs
+                .iter()
+                .zip(values.iter_mut())
+                .try_for_each(|(signs, values)| {
+                    smoother.smooth(signs, &mut [values], steps, observer)
+                })
         } else {
+            // The factored solves, a field per thread, are asked nothing: they
+            // take a fraction of the factorization's time.
             signs
                 .par_iter()
                 .zip(values.par_iter_mut())
-                .try_for_each(smooth)
+                .try_for_each(|(signs, values)| {
+                    smoother.smooth(signs, &mut [values], steps, &mut Silent)
+                })
         }
     }
 

@@ -8,6 +8,7 @@ use crate::linalg::{CgSettings, Lanes, Pair, Solver, SpdSolver, SymmetricMatrix}
 use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, Mesh, VertexId};
+use crate::progress::{checkpoint, Observer, Silent};
 use crate::{Error, Result};
 
 #[cfg(test)]
@@ -292,7 +293,12 @@ pub fn smooth_extremality(
     weights: Option<&[f64]>,
 ) -> Result<()> {
     let signs = EdgeSigns::new(mesh, d);
-    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(&signs, &mut [e], steps)
+    ExtremalitySmoother::new(mesh, tau, weights, Solver::Auto)?.smooth(
+        &signs,
+        &mut [e],
+        steps,
+        &mut Silent,
+    )
 }
 
 /// `smooth_extremality` for several fields of one mesh: the matrices differ only
@@ -383,8 +389,16 @@ impl ExtremalitySmoother {
 
     /// Smooth each of `fields` (values per vertex whose signs follow directions
     /// whose edges' signs are `signs`) by `steps` implicit steps, with one system
-    /// for all: one factorization, or one multigrid hierarchy.
-    pub fn smooth(&self, signs: &EdgeSigns, fields: &mut [&mut [f64]], steps: usize) -> Result<()> {
+    /// for all: one factorization, or one multigrid hierarchy. Asks `observer`
+    /// before every step and every iteration whether to go on
+    /// ([`Error::Cancelled`] if not).
+    pub fn smooth(
+        &self,
+        signs: &EdgeSigns,
+        fields: &mut [&mut [f64]],
+        steps: usize,
+        observer: &mut dyn Observer,
+    ) -> Result<()> {
         if steps == 0 || fields.is_empty() {
             return Ok(());
         }
@@ -393,29 +407,32 @@ impl ExtremalitySmoother {
         let mass = self.pattern.to_unknowns::<f64>(&[&self.mass]);
         match fields {
             // Two fields in lockstep: every pass over the matrix serves both.
-            [a, b] => self.run_steps::<Pair>(&mut solver, &mass, &mut [a, b], steps),
-            _ => fields
-                .iter_mut()
-                .try_for_each(|e| self.run_steps::<f64>(&mut solver, &mass, &mut [e], steps)),
+            [a, b] => self.run_steps::<Pair>(&mut solver, &mass, &mut [a, b], steps, observer),
+            _ => fields.iter_mut().try_for_each(|e| {
+                self.run_steps::<f64>(&mut solver, &mass, &mut [e], steps, observer)
+            }),
         }
     }
 
     /// `steps` implicit steps of the `fields` (as many as `V` has lanes) with the
-    /// system `solver` holds, whose masses are `mass` (in the unknowns' order).
+    /// system `solver` holds, whose masses are `mass` (in the unknowns' order),
+    /// asking `observer` whether to go on.
     fn run_steps<V: Lanes>(
         &self,
         solver: &mut SpdSolver,
         mass: &[f64],
         fields: &mut [&mut [f64]],
         steps: usize,
+        observer: &mut dyn Observer,
     ) -> Result<()> {
         let values: Vec<&[f64]> = fields.iter().map(|e| &e[..]).collect();
         let mut x = self.pattern.to_unknowns::<V>(&values);
         let mut rhs = vec![V::default(); x.len()];
         for _ in 0..steps {
+            checkpoint(observer)?;
             mass_times(mass, &x, &mut rhs);
             // x holds the previous step's solution: the iteration's warm start.
-            solver.solve(&rhs, &mut x)?;
+            solver.solve(&rhs, &mut x, observer)?;
         }
         self.pattern.to_vertices(&x, fields);
         Ok(())
@@ -466,19 +483,31 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 /// smoothed mesh; connectivity is unchanged. The systems are solved as
 /// [`Solver::Auto`] chooses.
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
-    presmooth_surface_with(mesh, steps, Solver::Auto)
+    presmooth_surface_with(mesh, steps, Solver::Auto, &mut Silent)
 }
 
-/// [`presmooth_surface`] with the systems solved by `solver`.
-pub fn presmooth_surface_with(mesh: &Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
+/// [`presmooth_surface`] with the systems solved by `solver`, asking `observer`
+/// before every solve and iteration whether to go on ([`Error::Cancelled`] if
+/// not).
+pub fn presmooth_surface_with(
+    mesh: &Mesh,
+    steps: usize,
+    solver: Solver,
+    observer: &mut dyn Observer,
+) -> Result<Mesh> {
     let (unit, factor) = mesh.in_unit_frame();
-    let mut smoothed = presmooth_unit(unit.into_owned(), steps, solver)?;
+    let mut smoothed = presmooth_unit(unit.into_owned(), steps, solver, observer)?;
     smoothed.scale(1.0 / factor);
     Ok(smoothed)
 }
 
 /// [`presmooth_surface`] of a mesh in the unit frame, in place.
-fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mesh> {
+fn presmooth_unit(
+    mut current: Mesh,
+    steps: usize,
+    solver: Solver,
+    observer: &mut dyn Observer,
+) -> Result<Mesh> {
     let h = current.mean_edge_length();
     // The pattern never changes: a direct solver reuses its symbolic analysis.
     let pattern = SystemPattern::new(&current, solver);
@@ -495,7 +524,8 @@ fn presmooth_unit(mut current: Mesh, steps: usize, solver: Solver) -> Result<Mes
             let mut x = pattern.to_unknowns::<f64>(&[&position]);
             let mut rhs = vec![0.0; x.len()];
             mass_times(&mass, &x, &mut rhs);
-            solver.solve(&rhs, &mut x)?;
+            checkpoint(observer)?;
+            solver.solve(&rhs, &mut x, observer)?;
             pattern.to_vertices(&x, &mut [&mut coordinate]);
             for (p, &x) in next.iter_mut().zip(&coordinate) {
                 p[axis] = x;

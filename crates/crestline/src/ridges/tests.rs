@@ -15,6 +15,7 @@ use crate::lines::direction_field::gauge_between;
 use crate::lines::{DirectionField, EdgeSigns};
 use crate::mesh::generate::{self, Sampling};
 use crate::mesh::Mesh;
+use crate::progress::Silent;
 use crate::Point;
 
 /// A jittered torus of about `vertices` vertices and its shape-operator curvature.
@@ -147,12 +148,12 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
             .unwrap();
         let mut shared = initial.to_vec();
         tracer
-            .smooth_extremalities(&mesh, &smoother, &field, &signs, &mut shared)
+            .smooth_extremalities(&mesh, &smoother, &field, &signs, &mut shared, &mut Silent)
             .unwrap();
         for (signs, (shared, initial)) in signs.iter().zip(shared.iter().zip(&initial)) {
             let mut own = initial.clone();
             smoother
-                .smooth(signs, &mut [&mut own], tracer.smooth_steps)
+                .smooth(signs, &mut [&mut own], tracer.smooth_steps, &mut Silent)
                 .unwrap();
             let worst = own
                 .iter()

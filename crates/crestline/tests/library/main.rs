@@ -2,6 +2,7 @@
 //! library: one instead of one a file keeps `cargo test` short). A module a subject;
 //! `cargo test --release --test library ridges::` runs one.
 
+mod cancellation;
 mod common;
 
 mod crease;

@@ -1,0 +1,132 @@
+//! The long loops inside a stage ask their observer whether to go on, so that a
+//! Ctrl-C or a Python callback stops a run within moments, not at the end of a
+//! smoothing or cancellation stage that lasts minutes on a large scan.
+
+use crestline::lines::LineExtractor;
+use crestline::mesh::generate::{self, Sampling};
+use crestline::mesh::Mesh;
+use crestline::morse::MorseSmale;
+use crestline::progress::Observer;
+use crestline::ridges::{ExtremalityTracer, Solver};
+use crestline::Error;
+
+/// Says no at its `stop_at`-th question asked while stage `stage` runs (and yes
+/// to every question outside it).
+struct StopInside {
+    stage: &'static str,
+    stop_at: usize,
+    inside: bool,
+    asked: usize,
+}
+
+impl StopInside {
+    fn new(stage: &'static str, stop_at: usize) -> StopInside {
+        StopInside {
+            stage,
+            stop_at,
+            inside: false,
+            asked: 0,
+        }
+    }
+}
+
+impl Observer for StopInside {
+    fn stage_started(&mut self, name: &str) {
+        self.inside |= name == self.stage;
+    }
+
+    fn stage_finished(&mut self, name: &str, _: f64) {
+        if name == self.stage {
+            self.inside = false;
+        }
+    }
+
+    fn keep_going(&mut self) -> bool {
+        if !self.inside {
+            return true;
+        }
+        self.asked += 1;
+        self.asked < self.stop_at
+    }
+}
+
+fn ellipsoid() -> Mesh {
+    generate::ellipsoid([1.0, 0.7, 0.45], 30_000, Sampling::jittered(1))
+        .unwrap()
+        .mesh
+}
+
+/// Runs `extract` with an observer that stops at its third question inside
+/// `stage`, and checks the run stopped there: cancelled, asked exactly three
+/// times. A stage that asks only before and after itself is asked nothing inside
+/// and runs to its end.
+fn stops_inside(
+    stage: &'static str,
+    extract: impl FnOnce(&mut StopInside) -> crestline::Result<()>,
+) {
+    let mut observer = StopInside::new(stage, 3);
+    let result = extract(&mut observer);
+    assert!(
+        matches!(result, Err(Error::Cancelled)),
+        "{stage}: {result:?} after {} questions inside",
+        observer.asked
+    );
+    assert_eq!(observer.asked, 3, "{stage}: questions inside the stage");
+}
+
+#[test]
+fn the_iterated_extremality_smoothing_stops_between_iterations() {
+    let mesh = ellipsoid();
+    let tracer = ExtremalityTracer {
+        solver: Solver::Iterative,
+        ..ExtremalityTracer::default()
+    };
+    stops_inside("smoothing", |observer| {
+        tracer.extract(&mesh, observer).map(drop)
+    });
+}
+
+#[test]
+fn the_factored_extremality_smoothing_stops_between_steps() {
+    let mesh = ellipsoid();
+    let tracer = ExtremalityTracer {
+        solver: Solver::Direct,
+        ..ExtremalityTracer::default()
+    };
+    // Three steps: asked before each, stopped before the third.
+    stops_inside("smoothing", |observer| {
+        tracer.extract(&mesh, observer).map(drop)
+    });
+}
+
+#[test]
+fn the_surface_presmoothing_stops_between_solves() {
+    let mesh = ellipsoid();
+    let tracer = ExtremalityTracer {
+        presmooth_steps: 2,
+        ..ExtremalityTracer::default()
+    };
+    stops_inside("presmooth", |observer| {
+        tracer.extract(&mesh, observer).map(drop)
+    });
+}
+
+#[test]
+fn the_morse_cancellation_loop_stops_between_cancellations() {
+    // A jittered sphere's curvedness has critical points at every few vertices:
+    // some twenty thousand cancellations, several thousand per question.
+    let mesh = generate::sphere(1.0, 60_000, Sampling::jittered(3))
+        .unwrap()
+        .mesh;
+    let (_, summary) = MorseSmale::default()
+        .run(&mesh, &mut crestline::progress::Silent)
+        .unwrap();
+    assert!(
+        summary.hierarchy.len() > 3 * 4096,
+        "{} cancellations: too few for three questions",
+        summary.hierarchy.len()
+    );
+    stops_inside("cancellation", |observer| {
+        MorseSmale::default().run(&mesh, observer).map(drop)
+    });
+}
