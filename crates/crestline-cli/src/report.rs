@@ -38,6 +38,9 @@ pub struct Report {
     /// Told the name of each stage as it starts (e.g. to show progress).
     #[serde(skip)]
     pub observer: StageObserver,
+    /// The stage running, for its progress.
+    #[serde(skip)]
+    running: String,
 }
 
 /// A function of a stage name.
@@ -81,6 +84,7 @@ impl Report {
             warnings: Vec::new(),
             sections: BTreeMap::new(),
             observer: StageObserver::default(),
+            running: String::new(),
         }
     }
 
@@ -113,7 +117,14 @@ impl Report {
 /// by the spinner) and end (timed), counts and figures under `counts`.
 impl Observer for Report {
     fn stage_started(&mut self, name: &str) {
+        self.running = name.to_string();
         self.observer.notify(name);
+    }
+
+    /// Shown as `<stage> <done>/<total>`.
+    fn progress(&mut self, done: usize, total: usize) {
+        self.observer
+            .notify(&format!("{} {done}/{total}", self.running));
     }
 
     fn stage_finished(&mut self, name: &str, seconds: f64) {

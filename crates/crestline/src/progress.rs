@@ -3,14 +3,15 @@
 //!
 //! Every algorithm that runs in stages (the jobs of [`crate::jobs`], ridges,
 //! Morse-Smale lines, Marching Lines, crease surfaces) takes a `&mut dyn Observer`
-//! and reports each stage as it starts and ends, the figures it measures on the way
-//! (line counts, the share of singular triangles, ...) and warnings about its input.
-//! Between stages, and inside its own long loops, it asks the observer whether to
-//! go on ([`Observer::keep_going`], through [`checkpoint`]); an observer that says
-//! no stops the computation with [`crate::Error::Cancelled`]. A command-line tool
-//! turns these into a spinner and a JSON report, a Python binding into a callback
-//! that can also stop the run (Ctrl-C, or a callback that raises); [`Silent`]
-//! ignores them and never stops.
+//! and reports each stage as it starts and ends (and, in its long stages, how many of
+//! their parts are done), the figures it measures on the way (line counts, the share
+//! of singular triangles, ...) and warnings about its input. Between stages, and
+//! inside its own long loops, it asks the observer whether to go on
+//! ([`Observer::keep_going`], through [`checkpoint`]); an observer that says no stops
+//! the computation with [`crate::Error::Cancelled`]. A command-line tool turns these
+//! into a spinner and a JSON report, a Python binding into a callback that can also
+//! stop the run (Ctrl-C, or a callback that raises); [`Silent`] ignores them and
+//! never stops.
 
 use std::time::Instant;
 
@@ -25,6 +26,13 @@ pub trait Observer {
     /// Stage `name` ended after `seconds` of wall-clock time.
     fn stage_finished(&mut self, name: &str, seconds: f64) {
         let _ = (name, seconds);
+    }
+
+    /// The running stage has done `done` of its `total` parts (e.g. the implicit
+    /// smoothing steps of the extremalities), told as each part ends and once
+    /// before the first.
+    fn progress(&mut self, done: usize, total: usize) {
+        let _ = (done, total);
     }
 
     /// A count measured by the run, e.g. `("lines", 12)`.

@@ -428,12 +428,14 @@ impl ExtremalitySmoother {
         let values: Vec<&[f64]> = fields.iter().map(|e| &e[..]).collect();
         let mut x = self.pattern.to_unknowns::<V>(&values);
         let mut rhs = vec![V::default(); x.len()];
-        for _ in 0..steps {
+        for step in 0..steps {
+            observer.progress(step, steps);
             checkpoint(observer)?;
             mass_times(mass, &x, &mut rhs);
             // x holds the previous step's solution: the iteration's warm start.
             solver.solve(&rhs, &mut x, observer)?;
         }
+        observer.progress(steps, steps);
         self.pattern.to_vertices(&x, fields);
         Ok(())
     }
@@ -512,7 +514,8 @@ fn presmooth_unit(
     // The pattern never changes: a direct solver reuses its symbolic analysis.
     let pattern = SystemPattern::new(&current, solver);
     let mut solver = SpdSolver::new(solver, CgSettings::default());
-    for _ in 0..steps {
+    for step in 0..steps {
+        observer.progress(step, steps);
         let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
         solver.set_matrix(pattern.matrix(&mass, &weights, |_| 1.0)?)?;
         let mass = pattern.to_unknowns::<f64>(&[&mass]);
@@ -533,5 +536,6 @@ fn presmooth_unit(
         }
         current.set_positions(next)?;
     }
+    observer.progress(steps, steps);
     Ok(current)
 }

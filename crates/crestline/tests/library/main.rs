@@ -2,7 +2,6 @@
 //! library: one instead of one a file keeps `cargo test` short). A module a subject;
 //! `cargo test --release --test library ridges::` runs one.
 
-mod cancellation;
 mod common;
 
 mod crease;
@@ -19,6 +18,7 @@ mod isosurface_vtk;
 mod landmarks;
 mod layering;
 mod lines_output;
+mod long_stages;
 mod marching_lines;
 mod mesh_repair;
 mod morse_drawing;

@@ -1,6 +1,7 @@
 //! The long loops inside a stage ask their observer whether to go on, so that a
 //! Ctrl-C or a Python callback stops a run within moments, not at the end of a
-//! smoothing or cancellation stage that lasts minutes on a large scan.
+//! smoothing or cancellation stage that lasts minutes on a large scan; the
+//! smoothing stages tell their progress.
 
 use crestline::lines::LineExtractor;
 use crestline::mesh::generate::{self, Sampling};
@@ -129,4 +130,45 @@ fn the_morse_cancellation_loop_stops_between_cancellations() {
     stops_inside("cancellation", |observer| {
         MorseSmale::default().run(&mesh, observer).map(drop)
     });
+}
+
+/// Records the progress told, with the stage running then.
+#[derive(Default)]
+struct ProgressLog {
+    running: String,
+    told: Vec<(String, usize, usize)>,
+}
+
+impl Observer for ProgressLog {
+    fn stage_started(&mut self, name: &str) {
+        self.running = name.to_string();
+    }
+
+    fn progress(&mut self, done: usize, total: usize) {
+        self.told.push((self.running.clone(), done, total));
+    }
+}
+
+#[test]
+fn the_smoothing_stages_tell_their_steps() {
+    let tracer = ExtremalityTracer {
+        presmooth_steps: 2,
+        solver: Solver::Iterative,
+        ..ExtremalityTracer::default()
+    };
+    let mut log = ProgressLog::default();
+    tracer.extract(&ellipsoid(), &mut log).unwrap();
+    let told = |stage: &str, done: usize, total: usize| (stage.to_string(), done, total);
+    assert_eq!(
+        log.told,
+        [
+            told("presmooth", 0, 2),
+            told("presmooth", 1, 2),
+            told("presmooth", 2, 2),
+            told("smoothing", 0, 3),
+            told("smoothing", 1, 3),
+            told("smoothing", 2, 3),
+            told("smoothing", 3, 3),
+        ]
+    );
 }
