@@ -52,15 +52,15 @@ const CHUNK: usize = 8192;
 
 /// Systems with fewer unknowns than this are solved with the sparse Cholesky
 /// factorization under [`Solver::Auto`], larger ones by the multigrid-preconditioned
-/// conjugate gradient method. On two cores the factorization is still the faster
-/// at the dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3
-/// steps): 3.5 s plus 2.5 s of its ordering that the curvature does not hide,
-/// against 7.6 s iterated (whole `ridges` 8.6 s against 10.3 s),
-/// because a V-cycle moves more bytes than a solve with the factor. But the
-/// factor's fill grows faster than the mesh: on the dragon ×16 (7M vertices) the
-/// factored ridges need 10.4 GB and 103 s (smoothing 74 s, ordering 19 s), the
-/// iterated ones 5.1 GB and 47–50 s (smoothing 35–38 s), and the dragon ×64 would not
-/// fit in 24 GiB factored.
+/// conjugate gradient method. On two cores the factorization is still the faster at the
+/// dragon ×4 (1.7M vertices; ridges' smoothing stage, both fields, 3 steps): 3.5 s plus
+/// 2.5 s of its ordering that the curvature does not hide, against 7.6 s iterated
+/// (whole `ridges` 8.6 s against 10.3 s): the nine to eleven V-cycles of a solve, bound
+/// by the latency of their sweeps' dependent rows more than by the bytes they read
+/// (`linalg/lanes.rs`), take longer than a solve with the factor. But the factor's fill
+/// grows faster than the mesh: on the dragon ×16 (7M vertices) the factored ridges need
+/// 10.4 GB and 103 s (smoothing 74 s, ordering 19 s), the iterated ones 5.1 GB and
+/// 47–50 s (smoothing 35–38 s), and the dragon ×64 would not fit in 24 GiB factored.
 pub const ITERATIVE_MIN_SIZE: usize = 2_000_000;
 
 /// How the sparse symmetric positive definite systems of the implicit smoothing
