@@ -75,41 +75,32 @@ fn stops_inside(
     assert_eq!(observer.asked, 3, "{stage}: questions inside the stage");
 }
 
-#[test]
-fn the_iterated_extremality_smoothing_stops_between_iterations() {
+/// [`stops_inside`] for ridges on the ellipsoid, with the systems solved by
+/// `solver` after `presmooth_steps` steps of presmoothing.
+fn tracer_stops_inside(stage: &'static str, solver: Solver, presmooth_steps: usize) {
     let mesh = ellipsoid();
     let tracer = ExtremalityTracer {
-        solver: Solver::Iterative,
+        solver,
+        presmooth_steps,
         ..ExtremalityTracer::default()
     };
-    stops_inside("smoothing", |observer| {
-        tracer.extract(&mesh, observer).map(drop)
-    });
+    stops_inside(stage, |observer| tracer.extract(&mesh, observer).map(drop));
+}
+
+#[test]
+fn the_iterated_extremality_smoothing_stops_between_iterations() {
+    tracer_stops_inside("smoothing", Solver::Iterative, 0);
 }
 
 #[test]
 fn the_factored_extremality_smoothing_stops_between_steps() {
-    let mesh = ellipsoid();
-    let tracer = ExtremalityTracer {
-        solver: Solver::Direct,
-        ..ExtremalityTracer::default()
-    };
     // Three steps: asked before each, stopped before the third.
-    stops_inside("smoothing", |observer| {
-        tracer.extract(&mesh, observer).map(drop)
-    });
+    tracer_stops_inside("smoothing", Solver::Direct, 0);
 }
 
 #[test]
 fn the_surface_presmoothing_stops_between_solves() {
-    let mesh = ellipsoid();
-    let tracer = ExtremalityTracer {
-        presmooth_steps: 2,
-        ..ExtremalityTracer::default()
-    };
-    stops_inside("presmooth", |observer| {
-        tracer.extract(&mesh, observer).map(drop)
-    });
+    tracer_stops_inside("presmooth", Solver::Auto, 2);
 }
 
 #[test]
