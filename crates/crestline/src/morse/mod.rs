@@ -226,8 +226,8 @@ impl MorseSmale {
     }
 
     /// Cancel saddles in criterion order until [`Self::simplification`] is met or
-    /// no valid cancellation is left, asking `observer` every
-    /// [`CANCELLATIONS_PER_CHECKPOINT`] cancellations whether to go on
+    /// no valid cancellation is left, telling `observer` the progress and asking it
+    /// whether to go on every [`CANCELLATIONS_PER_CHECKPOINT`] cancellations
     /// ([`Error::Cancelled`] if not).
     fn simplify(
         &self,
@@ -237,6 +237,7 @@ impl MorseSmale {
         let mut count = 0;
         loop {
             if count % CANCELLATIONS_PER_CHECKPOINT == 0 {
+                observer.progress(count, count + self.cancellations_left(hierarchy, count));
                 checkpoint(observer)?;
             }
             let done = match self.simplification {
@@ -244,9 +245,21 @@ impl MorseSmale {
                 Simplification::KeepSaddles(n) => hierarchy.cancellable_count() <= n,
             };
             if done || hierarchy.cancel_next().is_none() {
+                observer.progress(count, count);
                 return Ok(());
             }
             count += 1;
+        }
+    }
+
+    /// At most how many cancellations are left after `count`, for the progress:
+    /// each removes one cancellable saddle and may leave others forced (no longer
+    /// cancellable), so the number falls at least one a cancellation.
+    fn cancellations_left(&self, hierarchy: &cancel::Hierarchy<'_>, count: usize) -> usize {
+        let cancellable = hierarchy.cancellable_count();
+        match self.simplification {
+            Simplification::Cancel(n) => n.saturating_sub(count).min(cancellable),
+            Simplification::KeepSaddles(n) => cancellable.saturating_sub(n),
         }
     }
 }

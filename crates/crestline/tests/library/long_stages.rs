@@ -1,7 +1,7 @@
 //! The long loops inside a stage ask their observer whether to go on, so that a
 //! Ctrl-C or a Python callback stops a run within moments, not at the end of a
-//! smoothing or cancellation stage that lasts minutes on a large scan; the
-//! smoothing stages tell their progress.
+//! smoothing or cancellation stage that lasts minutes on a large scan; they tell
+//! their progress.
 
 use crestline::lines::LineExtractor;
 use crestline::mesh::generate::{self, Sampling};
@@ -103,13 +103,17 @@ fn the_surface_presmoothing_stops_between_solves() {
     tracer_stops_inside("presmooth", Solver::Auto, 2);
 }
 
+/// A jittered sphere, whose curvedness has critical points at every few vertices:
+/// some twenty thousand cancellations.
+fn jittered_sphere() -> Mesh {
+    generate::sphere(1.0, 60_000, Sampling::jittered(3))
+        .unwrap()
+        .mesh
+}
+
 #[test]
 fn the_morse_cancellation_loop_stops_between_cancellations() {
-    // A jittered sphere's curvedness has critical points at every few vertices:
-    // some twenty thousand cancellations, several thousand per question.
-    let mesh = generate::sphere(1.0, 60_000, Sampling::jittered(3))
-        .unwrap()
-        .mesh;
+    let mesh = jittered_sphere();
     let (_, summary) = MorseSmale::default()
         .run(&mesh, &mut crestline::progress::Silent)
         .unwrap();
@@ -162,4 +166,28 @@ fn the_smoothing_stages_tell_their_steps() {
             told("smoothing", 3, 3),
         ]
     );
+}
+
+#[test]
+fn the_morse_cancellation_tells_how_many_are_done_of_at_most_how_many() {
+    let mut log = ProgressLog::default();
+    let (_, summary) = MorseSmale::default()
+        .run(&jittered_sphere(), &mut log)
+        .unwrap();
+    let told: Vec<(usize, usize)> = log
+        .told
+        .iter()
+        .filter(|(stage, ..)| stage == "cancellation")
+        .map(|&(_, done, total)| (done, total))
+        .collect();
+    let made = summary.hierarchy.len();
+    // From none done, every 4096, to all of them: the totals never grow and
+    // never fall below what is made in the end.
+    assert_eq!(told.first().map(|t| t.0), Some(0));
+    assert_eq!(told.last(), Some(&(made, made)));
+    assert_eq!(told.len(), made / 4096 + 2, "{told:?}");
+    for pair in told.windows(2) {
+        assert!(pair[1].0 > pair[0].0 && pair[1].1 <= pair[0].1, "{pair:?}");
+    }
+    assert!(told.iter().all(|&(_, total)| total >= made), "{told:?}");
 }
