@@ -42,7 +42,7 @@ use matrix::SymmetricBuilder;
 pub use matrix::{Entry, SymmetricMatrix};
 pub use multigrid::{CycleBuffers, Multigrid};
 
-use crate::progress::Observer;
+use crate::progress::{checkpoint, Observer};
 use crate::Result;
 
 /// Rows per parallel task of the vector operations: large enough to amortise the
@@ -177,8 +177,9 @@ impl SpdSolver {
     /// pass over the matrix and its hierarchy); the iterative method starts from
     /// the `x` given. If it does not converge within the cap, the system is
     /// solved by the factorization instead, and so are the next ones with the
-    /// same matrix. The iteration asks `observer` before every step whether to go
-    /// on, and stops with [`Error::Cancelled`](crate::Error::Cancelled) if not.
+    /// same matrix. Asks `observer` whether to go on before the solve and, when
+    /// iterating, before every iteration ([`Error::Cancelled`](crate::Error::Cancelled)
+    /// if not).
     ///
     /// # Panics
     /// Without a matrix ([`set_matrix`](Self::set_matrix)), or if `b` or `x` does
@@ -189,6 +190,7 @@ impl SpdSolver {
         x: &mut [V],
         observer: &mut dyn Observer,
     ) -> Result<()> {
+        checkpoint(observer)?;
         let matrix = self.matrix.as_ref().expect("no matrix to solve with");
         if self.method == Solver::Iterative {
             let multigrid = self.multigrid.as_ref().expect("made with the matrix");

@@ -8,7 +8,7 @@ use crate::linalg::{CgSettings, Lanes, Pair, Solver, SpdSolver, SymmetricMatrix}
 use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, Mesh, VertexId};
-use crate::progress::{checkpoint, Observer, Silent};
+use crate::progress::{Observer, Silent};
 use crate::{Error, Result};
 
 #[cfg(test)]
@@ -430,7 +430,6 @@ impl ExtremalitySmoother {
         let mut rhs = vec![V::default(); x.len()];
         for step in 0..steps {
             observer.progress(step, steps);
-            checkpoint(observer)?;
             mass_times(mass, &x, &mut rhs);
             // x holds the previous step's solution: the iteration's warm start.
             solver.solve(&rhs, &mut x, observer)?;
@@ -527,7 +526,6 @@ fn presmooth_unit(
             let mut x = pattern.to_unknowns::<f64>(&[&position]);
             let mut rhs = vec![0.0; x.len()];
             mass_times(&mass, &x, &mut rhs);
-            checkpoint(observer)?;
             solver.solve(&rhs, &mut x, observer)?;
             pattern.to_vertices(&x, &mut [&mut coordinate]);
             for (p, &x) in next.iter_mut().zip(&coordinate) {
