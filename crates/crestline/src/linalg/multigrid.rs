@@ -815,7 +815,7 @@ fn from_upper_rows(n: usize, ptr: &[usize], cols: &[u32], values: &[f64]) -> Sym
 mod tests {
     use nalgebra::DMatrix;
 
-    use super::{coarsen, Rows};
+    use super::{coarsen, from_upper_rows, Rows};
     use crate::linalg::tests::{dense, random_sign, smoothing_system, stiff_edges};
 
     fn dense_rows(rows: &Rows, columns: usize) -> DMatrix<f64> {
@@ -843,6 +843,40 @@ mod tests {
             let expected = p.transpose() * dense(&a) * &p;
             let error = (dense(&coarse) - &expected).abs().max();
             assert!(error <= 1e-12 * expected.abs().max(), "{error}");
+            assert_eq!(
+                dense(&coarse),
+                dense(&coarse).transpose(),
+                "exactly symmetric"
+            );
         }
+    }
+
+    /// Upper rows of 40 unknowns (mirrored in parts of five columns) with
+    /// scattered entries, long-range ones, a row with none and one with only its
+    /// diagonal: every entry lands in both triangles, once.
+    #[test]
+    fn an_upper_triangle_is_mirrored_into_the_whole_matrix() {
+        let n = 40;
+        let mut expected = DMatrix::zeros(n, n);
+        let (mut ptr, mut cols, mut values) = (vec![0], Vec::new(), Vec::new());
+        for r in 0..n {
+            for c in r..n {
+                let kept = match r {
+                    5 => false,
+                    6 => c == r,
+                    _ => c == r || (r * 7 + c * 3) % 5 == 0 || c == n - 1,
+                };
+                if kept {
+                    let value = (100 * r + c) as f64;
+                    cols.push(c as u32);
+                    values.push(value);
+                    expected[(r, c)] = value;
+                    expected[(c, r)] = value;
+                }
+            }
+            ptr.push(cols.len());
+        }
+        let matrix = from_upper_rows(n, &ptr, &cols, &values);
+        assert_eq!(dense(&matrix), expected);
     }
 }
