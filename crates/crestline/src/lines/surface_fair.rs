@@ -70,28 +70,48 @@ pub fn fair_on_surface(
 }
 
 /// The faces of the star of a vertex with their corners, in the order
-/// [`Mesh::vertex_faces`] gives them: kept for a point from one fairing step to the
-/// next while the vertex it moves around stays, rather than walked anew (the Morse
-/// lines stage of the dragon ×4: 0.54–0.70 → 0.49–0.58 s, the lines the same to
-/// the byte).
+/// [`Mesh::vertex_faces`] gives them, their corners' positions and the field
+/// there: kept for a point from one fairing step to the next while the vertex it
+/// moves around stays, rather than walked and read anew (the Morse lines stage,
+/// 3 interleaved runs: dragon 0.25–0.27 → 0.21–0.23 s, dragon ×4 0.55–0.62 →
+/// 0.47–0.54 s; the lines the same to the byte).
 #[derive(Default)]
 struct Star {
     centre: Option<VertexId>,
-    faces: Vec<(FaceId, [VertexId; 3])>,
+    faces: Vec<Corners>,
 }
 
 impl Star {
-    /// The star of `centre`, from the mesh unless it is the one kept.
-    fn of(&mut self, mesh: &Mesh, centre: VertexId) -> &[(FaceId, [VertexId; 3])] {
+    /// The star of `centre` with `field` at the corners, from the mesh unless it
+    /// is the one kept (a star is kept for one field).
+    fn of(&mut self, mesh: &Mesh, centre: VertexId, field: &[f64]) -> &[Corners] {
         if self.centre != Some(centre) {
             self.centre = Some(centre);
             self.faces.clear();
             self.faces.extend(
                 mesh.vertex_faces(centre)
-                    .map(|f| (f, mesh.face_vertices(f))),
+                    .map(|face| Corners::new(mesh, face, field)),
             );
         }
         &self.faces
+    }
+}
+
+/// A face with the positions of its corners and a field's values there.
+struct Corners {
+    face: FaceId,
+    points: [Point; 3],
+    values: [f64; 3],
+}
+
+impl Corners {
+    fn new(mesh: &Mesh, face: FaceId, field: &[f64]) -> Corners {
+        let corners = mesh.face_vertices(face);
+        Corners {
+            face,
+            points: corners.map(|v| mesh.position(v)),
+            values: corners.map(|v| field[v.idx()]),
+        }
     }
 }
 
@@ -108,39 +128,38 @@ fn closest_admissible(
 ) -> Option<(SurfaceLocation, Point)> {
     let mut best: Option<(f64, SurfaceLocation, Point)> = None;
     let (centre, mut own_face) = nearest_vertex(mesh, at);
-    for &(face, corners) in star.of(mesh, centre) {
+    for corners in star.of(mesh, centre, field) {
         // The face `at` lies in is one of the star's, looked at once.
-        if own_face == Some(face) {
+        if own_face == Some(corners.face) {
             own_face = None;
         }
-        closer_admissible(mesh, face, corners, target, field, floor, &mut best);
+        closer_admissible(corners, target, floor, &mut best);
     }
     if let Some(face) = own_face {
-        let corners = mesh.face_vertices(face);
-        closer_admissible(mesh, face, corners, target, field, floor, &mut best);
+        closer_admissible(&Corners::new(mesh, face, field), target, floor, &mut best);
     }
     best.map(|(_, location, position)| (location, position))
 }
 
-/// The point of `face` (whose corners are `corners`) closest to `target` as
-/// `best` (with its squared distance and location) if `field` is at least `floor`
-/// there and it is closer than `best`.
+/// The point of the face of `corners` closest to `target` as `best` (with its
+/// squared distance and location) if the field is at least `floor` there and it
+/// is closer than `best`.
 fn closer_admissible(
-    mesh: &Mesh,
-    face: FaceId,
-    corners: [VertexId; 3],
+    corners: &Corners,
     target: &Point,
-    field: &[f64],
     floor: f64,
     best: &mut Option<(f64, SurfaceLocation, Point)>,
 ) {
-    let values = corners.map(|v| field[v.idx()]);
+    let Corners {
+        face,
+        points,
+        values,
+    } = corners;
     // No point of a face whose corners all lie below the floor is admissible.
     if values.iter().all(|&value| value < floor) {
         return;
     }
-    let points = corners.map(|v| mesh.position(v));
-    let barycentric = closest_on_triangle(target, &points);
+    let barycentric = closest_on_triangle(target, points);
     // NaN values are never admissible.
     let value: f64 = (0..3).map(|k| barycentric[k] * values[k]).sum();
     if value.is_nan() || value < floor {
