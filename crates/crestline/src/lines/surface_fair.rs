@@ -69,10 +69,10 @@ pub fn fair_on_surface(
     }
 }
 
-/// The faces of the star of a vertex with their corners, in the order
-/// [`Mesh::vertex_faces`] gives them, their corners' positions and the field
-/// there: kept for a point from one fairing step to the next while the vertex it
-/// moves around stays, rather than walked and read anew (the Morse lines stage,
+/// The faces around a vertex, in the order [`Mesh::vertex_faces`] gives them,
+/// with their corners' positions and a field's values there: kept for a point
+/// from one fairing step to the next while the vertex it moves around stays,
+/// rather than walked and read anew (the Morse lines stage,
 /// 3 interleaved runs: dragon 0.25–0.27 → 0.21–0.23 s, dragon ×4 0.55–0.62 →
 /// 0.47–0.54 s; the lines the same to the byte).
 #[derive(Default)]
