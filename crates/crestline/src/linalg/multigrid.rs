@@ -632,24 +632,24 @@ fn compressed_rows<C: Copy + Default + Send + Sync, S>(
     let mut ptr = vec![0; n + 1];
     let stored = pieces.iter().map(|p| p.1.len()).sum();
     let (mut cols, mut values) = (vec![C::default(); stored], vec![0.0; stored]);
-    let mut places = Vec::with_capacity(pieces.len());
-    let (mut ptr_rest, mut cols_rest, mut values_rest) =
-        (&mut ptr[1..], &mut cols[..], &mut values[..]);
-    let mut offset = 0;
-    for (lengths, piece_cols, _) in &pieces {
-        let (piece_ptr, rest) = std::mem::take(&mut ptr_rest).split_at_mut(lengths.len());
-        ptr_rest = rest;
-        let (piece_cols_place, rest) =
-            std::mem::take(&mut cols_rest).split_at_mut(piece_cols.len());
-        cols_rest = rest;
-        let (piece_values_place, rest) =
-            std::mem::take(&mut values_rest).split_at_mut(piece_cols.len());
-        values_rest = rest;
-        places.push((offset, piece_ptr, piece_cols_place, piece_values_place));
-        offset += piece_cols.len();
-    }
-    pieces.into_par_iter().zip(places).for_each(
-        |((lengths, piece_cols, piece_values), (offset, ptr, cols, values))| {
+    let offsets: Vec<usize> = pieces
+        .iter()
+        .scan(0, |offset, piece| {
+            let start = *offset;
+            *offset += piece.1.len();
+            Some(start)
+        })
+        .collect();
+    let row_places = split_into(&mut ptr[1..], pieces.iter().map(|p| p.0.len()));
+    let col_places = split_into(&mut cols, pieces.iter().map(|p| p.1.len()));
+    let value_places = split_into(&mut values, pieces.iter().map(|p| p.1.len()));
+    pieces
+        .into_par_iter()
+        .zip(offsets)
+        .zip(row_places)
+        .zip(col_places.into_par_iter().zip(value_places))
+        .for_each(|(((piece, offset), ptr), (cols, values))| {
+            let (lengths, piece_cols, piece_values) = piece;
             let mut end = offset;
             for (slot, length) in ptr.iter_mut().zip(lengths) {
                 end += length;
@@ -657,9 +657,20 @@ fn compressed_rows<C: Copy + Default + Send + Sync, S>(
             }
             cols.copy_from_slice(&piece_cols);
             values.copy_from_slice(&piece_values);
-        },
-    );
+        });
     (ptr, cols, values)
+}
+
+/// `slice` cut into consecutive parts of the given `lengths` (which add up to at
+/// most its length), to be filled in parallel.
+fn split_into<T>(mut slice: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    lengths
+        .map(|length| {
+            let (part, rest) = std::mem::take(&mut slice).split_at_mut(length);
+            slice = rest;
+            part
+        })
+        .collect()
 }
 
 /// The Galerkin coarse matrix Pᵀ A P, its upper triangle row by row, mirrored
@@ -779,33 +790,30 @@ fn from_upper_rows(n: usize, ptr: &[usize], cols: &[u32], values: &[f64]) -> Sym
     }
     let mut row_idx = vec![0u32; col_ptr[n]];
     let mut entries = vec![0.0; col_ptr[n]];
-    let mut places = Vec::with_capacity(parts.len());
-    let (mut rows_rest, mut entries_rest) = (&mut row_idx[..], &mut entries[..]);
-    for columns in parts {
-        let length = col_ptr[columns.end] - col_ptr[columns.start];
-        let (part_rows, rest) = std::mem::take(&mut rows_rest).split_at_mut(length);
-        rows_rest = rest;
-        let (part_entries, rest) = std::mem::take(&mut entries_rest).split_at_mut(length);
-        entries_rest = rest;
-        places.push((columns, part_rows, part_entries));
-    }
-    places.into_par_iter().for_each(|(columns, rows, entries)| {
-        let base = col_ptr[columns.start];
-        // Every column's next free slot: its mirrored entries by increasing row,
-        // then its own row.
-        let mut next: Vec<usize> = columns.clone().map(|c| col_ptr[c] - base).collect();
-        for (r, s) in mirrored(&columns) {
-            let slot = &mut next[cols[s] as usize - columns.start];
-            rows[*slot] = r as u32;
-            entries[*slot] = values[s];
-            *slot += 1;
-        }
-        for (c, &own) in columns.zip(&next) {
-            let range = ptr[c]..ptr[c + 1];
-            rows[own..own + range.len()].copy_from_slice(&cols[range.clone()]);
-            entries[own..own + range.len()].copy_from_slice(&values[range]);
-        }
-    });
+    let lengths = parts.iter().map(|c| col_ptr[c.end] - col_ptr[c.start]);
+    let row_places = split_into(&mut row_idx, lengths.clone());
+    let entry_places = split_into(&mut entries, lengths);
+    parts
+        .into_par_iter()
+        .zip(row_places)
+        .zip(entry_places)
+        .for_each(|((columns, rows), entries)| {
+            let base = col_ptr[columns.start];
+            // Every column's next free slot: its mirrored entries by increasing row,
+            // then its own row.
+            let mut next: Vec<usize> = columns.clone().map(|c| col_ptr[c] - base).collect();
+            for (r, s) in mirrored(&columns) {
+                let slot = &mut next[cols[s] as usize - columns.start];
+                rows[*slot] = r as u32;
+                entries[*slot] = values[s];
+                *slot += 1;
+            }
+            for (c, &own) in columns.zip(&next) {
+                let range = ptr[c]..ptr[c + 1];
+                rows[own..own + range.len()].copy_from_slice(&cols[range.clone()]);
+                entries[own..own + range.len()].copy_from_slice(&values[range]);
+            }
+        });
     SymmetricMatrix::from_csc(n, col_ptr, row_idx, entries)
         .expect("an upper triangle mirrored has sorted columns")
 }
