@@ -82,6 +82,7 @@ mod named;
 pub mod progress;
 pub mod register;
 pub mod ridges;
+mod slices;
 pub mod space;
 #[cfg(feature = "view")]
 pub mod view;

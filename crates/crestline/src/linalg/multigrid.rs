@@ -32,6 +32,7 @@ use rayon::prelude::*;
 
 use super::stiff_blocks::{Relax, StiffBlocks, MAX_BLOCK};
 use super::{CholeskyFactor, Entry, Lanes, SymmetricMatrix, CHUNK};
+use crate::slices::split_into;
 use crate::{Error, Result};
 
 /// Strength threshold θ: a_ij is a strong coupling when a_ij² ≥ θ² a_ii a_jj
@@ -659,18 +660,6 @@ fn compressed_rows<C: Copy + Default + Send + Sync, S>(
             values.copy_from_slice(&piece_values);
         });
     (ptr, cols, values)
-}
-
-/// `slice` cut into consecutive parts of the given `lengths` (which add up to at
-/// most its length), to be filled in parallel.
-fn split_into<T>(mut slice: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    lengths
-        .map(|length| {
-            let (part, rest) = std::mem::take(&mut slice).split_at_mut(length);
-            slice = rest;
-            part
-        })
-        .collect()
 }
 
 /// The Galerkin coarse matrix Pᵀ A P, its upper triangle row by row, mirrored

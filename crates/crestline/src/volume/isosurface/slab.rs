@@ -16,6 +16,7 @@ use super::cell::{
     crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, Polygons, EDGES,
 };
 use super::cell_key;
+use crate::slices::cut;
 use crate::volume::grid::{corner_offset, edge_key, Grid};
 use crate::volume::Volume;
 use crate::{Error, Point, Result, Vector};
@@ -428,13 +429,6 @@ fn filled<T: Clone + Send + Sync>(n: usize, value: T) -> Vec<T> {
     let mut values = Vec::with_capacity(n);
     values.par_extend(rayon::iter::repeat_n(value, n));
     values
-}
-
-/// Cut the first `n` items off `slice`, leaving the rest in it.
-fn cut<'a, T>(slice: &mut &'a mut [T], n: usize) -> &'a mut [T] {
-    let (head, tail) = std::mem::take(slice).split_at_mut(n);
-    *slice = tail;
-    head
 }
 
 /// The polygons of every cell of `volume` at `level`, triangulated. The samples
