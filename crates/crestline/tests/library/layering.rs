@@ -17,6 +17,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("progress", 0),
     ("linalg", 0),
     ("named", 0),
+    ("slices", 0),
     ("space", 0),
     ("xml", 0),
     ("mesh", 1),
