@@ -8,6 +8,7 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
+mod compare;
 mod crease;
 mod crest;
 mod curvature;
@@ -74,6 +75,8 @@ enum Command {
     Morse(morse::MorseCommand),
     /// Find the rigid motion taking one scan's feature lines onto another's (trimmed ICP).
     Register(register::RegisterArgs),
+    /// How well two files of lines or landmarks agree, kind by kind, both ways (test–retest).
+    Compare(compare::CompareArgs),
     /// An interactive 3D view of the surface and its lines, as one self-contained HTML file.
     View(Box<view::ViewArgs>),
 }
@@ -160,6 +163,7 @@ fn main() -> ExitCode {
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),
         Command::Register(args) => register::run(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::View(args) => view::run(&args),
     };
     match (outcome, signals::received()) {

@@ -66,6 +66,7 @@
 
 pub(crate) mod atomic;
 pub(crate) mod chain;
+pub mod compare;
 pub mod crest_lines;
 pub mod curvature;
 pub(crate) mod differential;

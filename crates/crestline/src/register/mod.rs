@@ -26,6 +26,7 @@
 pub(crate) mod fit;
 pub(crate) mod icp;
 pub(crate) mod initial;
+pub(crate) mod input;
 pub(crate) mod output;
 pub(crate) mod transform;
 
@@ -36,6 +37,7 @@ use icp::{trimmed_icp, Alignment, Schedule, Target};
 use initial::{hypotheses, principal_frame};
 
 pub use fit::best_rigid_fit;
+pub use input::read_transform;
 pub use output::{write_rigid_transform, write_transform, TransformFormat};
 pub use transform::{rotation_angle, RigidTransform};
 

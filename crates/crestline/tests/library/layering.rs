@@ -32,6 +32,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("landmarks", 7),
     ("register", 7),
     ("draw", 8),
+    ("compare", 8),
     ("view", 9),
     ("jobs", 10),
 ];

@@ -1,0 +1,275 @@
+//! How well two sets of feature lines or landmarks agree (`crestline compare`): a
+//! test–retest measure for two scans of one object, two samplings of one surface,
+//! or two versions of the tool.
+//!
+//! For each kind (lines: `ridge`, `valley`, `crest`, …; landmarks: `extremal`,
+//! `curvature_maximum`, `end`) [`compare`] gives the share of A's line length
+//! that lies within the tolerance of a line of the same kind in B (the distance to
+//! B's segments, not to its vertices, so B's sampling does not count), the share
+//! of A's landmarks with a landmark of the same kind in B within the tolerance,
+//! and the same from B to A. B's points can first be moved into A's frame by a
+//! rigid motion ([`read_transform`](crate::register::read_transform)).
+
+mod near;
+mod read;
+
+use std::collections::BTreeMap;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::register::RigidTransform;
+use crate::{Error, Point, Result};
+use near::Near;
+
+pub use read::read_features;
+
+/// Lines and landmarks by kind, as [`compare`] takes them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Features {
+    /// The segments of the lines of each kind.
+    pub segments: BTreeMap<String, Vec<[Point; 2]>>,
+    /// How many lines of each kind.
+    pub line_counts: BTreeMap<String, usize>,
+    /// The point landmarks of each kind.
+    pub points: BTreeMap<String, Vec<Point>>,
+}
+
+impl Features {
+    /// Every point of the features (segment ends and landmarks).
+    fn all_points(&self) -> impl Iterator<Item = &Point> + '_ {
+        let ends = self.segments.values().flatten().flatten();
+        ends.chain(self.points.values().flatten())
+    }
+
+    /// The diagonal of the box around every point: 0 for no point.
+    pub fn diagonal(&self) -> f64 {
+        let mut points = self.all_points();
+        let Some(first) = points.next() else {
+            return 0.0;
+        };
+        let (low, high) = points.fold((*first, *first), |(low, high), p| (low.inf(p), high.sup(p)));
+        (high - low).norm()
+    }
+
+    /// The features moved by `motion`.
+    pub fn moved(&self, motion: &RigidTransform) -> Features {
+        let move_segment = |[a, b]: &[Point; 2]| [motion.apply(a), motion.apply(b)];
+        Features {
+            segments: self
+                .segments
+                .iter()
+                .map(|(kind, s)| (kind.clone(), s.iter().map(move_segment).collect()))
+                .collect(),
+            line_counts: self.line_counts.clone(),
+            points: self
+                .points
+                .iter()
+                .map(|(kind, p)| (kind.clone(), p.iter().map(|p| motion.apply(p)).collect()))
+                .collect(),
+        }
+    }
+}
+
+/// The agreement of one kind of lines or landmarks.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Agreement {
+    /// The kind (`ridge`, `extremal`, …).
+    pub kind: String,
+    /// A's amount: line length, or landmark count.
+    pub a: f64,
+    /// B's amount.
+    pub b: f64,
+    /// How many lines of the kind A has (landmarks: as many as `a`).
+    pub a_count: usize,
+    /// How many B has.
+    pub b_count: usize,
+    /// The share (0 to 1) of A's amount within the tolerance of B's features of
+    /// the kind; 0 when A has none.
+    pub a_in_b: f64,
+    /// The share of B's amount within the tolerance of A's.
+    pub b_in_a: f64,
+}
+
+/// The agreement of two sets of features, kind by kind.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// The tolerance, in world units.
+    pub tolerance: f64,
+    /// The lines' agreement, a row per kind either set has.
+    pub lines: Vec<Agreement>,
+    /// The landmarks' agreement, a row per kind either set has.
+    pub landmarks: Vec<Agreement>,
+}
+
+/// How far apart two features may be and still count as the same.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tolerance {
+    /// A length in world units.
+    World(f64),
+    /// A share of the diagonal of the box around A's features.
+    OfDiagonal(f64),
+}
+
+impl Tolerance {
+    /// The default: 0.5% of the diagonal.
+    pub const DEFAULT: Tolerance = Tolerance::OfDiagonal(0.005);
+
+    /// The tolerance in world units for the features `a`; an error unless it is
+    /// positive and finite.
+    pub fn resolve(self, a: &Features) -> Result<f64> {
+        let length = match self {
+            Tolerance::World(length) => length,
+            Tolerance::OfDiagonal(share) => share * a.diagonal(),
+        };
+        if length.is_finite() && length > 0.0 {
+            Ok(length)
+        } else {
+            Err(Error::Argument(format!(
+                "the tolerance is {length}; it must be a positive, finite length (A's features \
+                 may have no extent)"
+            )))
+        }
+    }
+}
+
+impl std::str::FromStr for Tolerance {
+    type Err = Error;
+
+    /// A length in world units (`1.5`), or a share of A's diagonal in percent
+    /// (`0.5%`).
+    fn from_str(text: &str) -> Result<Tolerance> {
+        let text = text.trim();
+        let (number, percent) = match text.strip_suffix('%') {
+            Some(number) => (number, true),
+            None => (text, false),
+        };
+        let value: f64 = number.trim().parse().map_err(|_| {
+            Error::Argument(format!(
+                "the tolerance '{text}' is neither a length (1.5) nor a share of the diagonal (0.5%)"
+            ))
+        })?;
+        Ok(if percent {
+            Tolerance::OfDiagonal(value / 100.0)
+        } else {
+            Tolerance::World(value)
+        })
+    }
+}
+
+impl std::fmt::Display for Tolerance {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Tolerance::World(length) => write!(f, "{length}"),
+            Tolerance::OfDiagonal(share) => write!(f, "{}%", share * 100.0),
+        }
+    }
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance::DEFAULT
+    }
+}
+
+/// How far `a` and `b` agree within `tolerance` (world units), kind by kind, both
+/// ways; `b` is taken to be in `a`'s frame already ([`Features::moved`]).
+pub fn compare(a: &Features, b: &Features, tolerance: f64) -> Comparison {
+    let line_kinds = kinds(a.segments.keys().chain(b.segments.keys()));
+    let point_kinds = kinds(a.points.keys().chain(b.points.keys()));
+    let lines = line_kinds
+        .into_iter()
+        .map(|kind| {
+            let (sa, sb) = (of_kind(&a.segments, kind), of_kind(&b.segments, kind));
+            let count = |f: &Features| f.line_counts.get(kind).copied().unwrap_or(0);
+            Agreement {
+                kind: kind.to_string(),
+                a: total_length(sa),
+                b: total_length(sb),
+                a_count: count(a),
+                b_count: count(b),
+                a_in_b: length_share_near(sa, sb, tolerance),
+                b_in_a: length_share_near(sb, sa, tolerance),
+            }
+        })
+        .collect();
+    let landmarks = point_kinds
+        .into_iter()
+        .map(|kind| {
+            let (pa, pb) = (of_kind(&a.points, kind), of_kind(&b.points, kind));
+            Agreement {
+                kind: kind.to_string(),
+                a: pa.len() as f64,
+                b: pb.len() as f64,
+                a_count: pa.len(),
+                b_count: pb.len(),
+                a_in_b: point_share_near(pa, pb, tolerance),
+                b_in_a: point_share_near(pb, pa, tolerance),
+            }
+        })
+        .collect();
+    Comparison {
+        tolerance,
+        lines,
+        landmarks,
+    }
+}
+
+/// The distinct kinds among `names`, in order.
+fn kinds<'a>(names: impl Iterator<Item = &'a String>) -> Vec<&'a str> {
+    let mut kinds: Vec<&str> = names.map(String::as_str).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    kinds
+}
+
+/// The items of `kind`, none if the map lacks it.
+fn of_kind<'m, T>(map: &'m BTreeMap<String, Vec<T>>, kind: &str) -> &'m [T] {
+    map.get(kind).map_or(&[], Vec::as_slice)
+}
+
+/// The summed length of `segments`.
+fn total_length(segments: &[[Point; 2]]) -> f64 {
+    segments.iter().map(|[p, q]| (q - p).norm()).sum()
+}
+
+/// The share of the length of `segments` within `tolerance` of `others`: each
+/// segment is cut into pieces at most a quarter of the tolerance long, and a
+/// piece counts whole when its midpoint is near; 0 for no length.
+fn length_share_near(segments: &[[Point; 2]], others: &[[Point; 2]], tolerance: f64) -> f64 {
+    let total = total_length(segments);
+    if total <= 0.0 || others.is_empty() {
+        return 0.0;
+    }
+    let near = Near::of_segments(others, tolerance);
+    let step = tolerance / 4.0;
+    let matched: f64 = segments
+        .par_iter()
+        .map(|[p, q]| {
+            let length = (q - p).norm();
+            let pieces = (length / step).ceil().max(1.0) as usize;
+            let piece = length / pieces as f64;
+            let near_pieces = (0..pieces)
+                .filter(|&i| {
+                    let t = (i as f64 + 0.5) / pieces as f64;
+                    near.within(&p.coords.lerp(&q.coords, t).into())
+                })
+                .count();
+            near_pieces as f64 * piece
+        })
+        .sum();
+    matched / total
+}
+
+/// The share of `points` within `tolerance` of one of `others`; 0 for no point.
+fn point_share_near(points: &[Point], others: &[Point], tolerance: f64) -> f64 {
+    if points.is_empty() || others.is_empty() {
+        return 0.0;
+    }
+    let near = Near::of_points(others, tolerance);
+    let matched = points.par_iter().filter(|p| near.within(p)).count();
+    matched as f64 / points.len() as f64
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,152 @@
+//! Reading the features [`super::compare`] takes: lines files (`crestline-lines`
+//! JSON) and landmark files (`crestline-landmarks` JSON, or the CSV the
+//! `landmarks` job writes), positions in RAS when the file states its frame.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use super::Features;
+use crate::landmarks::{read_landmarks, Landmarks, FORMAT as LANDMARKS};
+use crate::lines::{read_json, FeatureLines};
+use crate::space::{convert_all, Space};
+use crate::{Error, Point, Result};
+
+/// The lines and landmarks of the file `path`, by kind: a lines JSON file (its
+/// segments), a landmarks JSON file (its point landmarks, and its lines'
+/// segments), or a landmarks CSV file (its points). Positions are converted into
+/// RAS when the file states its frame, and taken as they are otherwise (a mesh's
+/// lines).
+///
+/// Errors are [`Error::File`] naming `path`: another kind of file, or one that
+/// does not read.
+pub fn read_features(path: &Path) -> Result<Features> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("csv") => read_csv(path),
+        Some("json") if is_landmarks(path)? => {
+            let (landmarks, _) = read_landmarks(path)?;
+            Ok(of_landmarks(&landmarks.in_space(Space::Ras)))
+        }
+        Some("json") => Ok(of_lines(&read_json(path)?)),
+        _ => Err(Error::File {
+            path: path.to_path_buf(),
+            message: "not a file of lines or landmarks: compare reads .json (lines or \
+                      landmarks) and .csv (landmarks)"
+                .into(),
+        }),
+    }
+}
+
+/// Whether the JSON file `path` says it holds landmarks.
+fn is_landmarks(path: &Path) -> Result<bool> {
+    #[derive(serde::Deserialize)]
+    struct FormatOnly {
+        format: Option<String>,
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let format = serde_json::from_str::<FormatOnly>(&text)
+        .ok()
+        .and_then(|f| f.format);
+    Ok(format.as_deref() == Some(LANDMARKS))
+}
+
+/// The segments of `lines` by kind, in RAS if they state a frame.
+fn of_lines(lines: &FeatureLines) -> Features {
+    let mut features = Features::default();
+    for line in &lines.lines {
+        let mut points = line.points.clone();
+        convert_all(lines.space, Space::Ras, &mut points);
+        add_line(&mut features, line.kind.name(), &points, line.closed);
+    }
+    features
+}
+
+/// The point landmarks and line segments of `landmarks` by kind, in RAS.
+fn of_landmarks(landmarks: &Landmarks) -> Features {
+    let mut features = Features::default();
+    for line in &landmarks.lines {
+        add_line(&mut features, line.kind.name(), &line.points, line.closed);
+    }
+    for point in &landmarks.points {
+        add_point(&mut features, point.kind.name(), point.position);
+    }
+    features
+}
+
+/// Add the segments of the line through `points` (a loop if `closed`) to `kind`.
+fn add_line(features: &mut Features, kind: &str, points: &[Point], closed: bool) {
+    let closing = closed.then(|| points.last().zip(points.first())).flatten();
+    let segments = points
+        .windows(2)
+        .map(|pair| [pair[0], pair[1]])
+        .chain(closing.map(|(last, first)| [*last, *first]));
+    entry(&mut features.segments, kind).extend(segments);
+    *features.line_counts.entry(kind.to_string()).or_default() += 1;
+}
+
+/// Add a point landmark of `kind`.
+fn add_point(features: &mut Features, kind: &str, position: Point) {
+    entry(&mut features.points, kind).push(position);
+}
+
+/// The list of `kind` in `map`, made empty if it has none.
+fn entry<'m, T>(map: &'m mut BTreeMap<String, Vec<T>>, kind: &str) -> &'m mut Vec<T> {
+    map.entry(kind.to_string()).or_default()
+}
+
+/// The point landmarks of a CSV file as the `landmarks` job writes it: a header
+/// naming at least `kind`, `x`, `y` and `z` (and `space`, RAS or LPS, per row).
+fn read_csv(path: &Path) -> Result<Features> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let malformed = |line: usize, message: String| Error::File {
+        path: path.to_path_buf(),
+        message: format!("line {line}: {message}"),
+    };
+    let mut rows = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let header: Vec<&str> = rows
+        .next()
+        .map(|(_, l)| l.split(',').map(str::trim).collect())
+        .unwrap_or_default();
+    let column = |name: &str| header.iter().position(|h| *h == name);
+    let (Some(kind), Some(x), Some(y), Some(z)) =
+        (column("kind"), column("x"), column("y"), column("z"))
+    else {
+        return Err(malformed(
+            1,
+            "the header names no kind, x, y and z columns".into(),
+        ));
+    };
+    let space = column("space");
+    let mut features = Features::default();
+    for (index, row) in rows {
+        let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+        let cell = |i: usize| cells.get(i).copied().unwrap_or("");
+        let number = |i: usize| {
+            cell(i)
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    malformed(
+                        index + 1,
+                        format!("'{}' is not a finite coordinate", cell(i)),
+                    )
+                })
+        };
+        let mut position = Point::new(number(x)?, number(y)?, number(z)?);
+        if let Some(space) = space {
+            let frame: Space = cell(space).parse().map_err(|_| {
+                malformed(index + 1, format!("'{}' is not RAS or LPS", cell(space)))
+            })?;
+            position = frame.to_ras(&position);
+        }
+        add_point(&mut features, cell(kind), position);
+    }
+    Ok(features)
+}

@@ -1,0 +1,126 @@
+use nalgebra::Rotation3;
+
+use super::*;
+use crate::Vector;
+
+/// Features with one line of `kind` through `points`.
+fn line(kind: &str, points: &[Point]) -> Features {
+    let mut features = Features::default();
+    features.segments.insert(
+        kind.to_string(),
+        points.windows(2).map(|pair| [pair[0], pair[1]]).collect(),
+    );
+    features.line_counts.insert(kind.to_string(), 1);
+    features
+}
+
+/// `count` + 1 evenly spaced points from `from` to `to`.
+fn sampled(from: Point, to: Point, count: usize) -> Vec<Point> {
+    (0..=count)
+        .map(|i| from.coords.lerp(&to.coords, i as f64 / count as f64).into())
+        .collect()
+}
+
+fn p(x: f64, y: f64, z: f64) -> Point {
+    Point::new(x, y, z)
+}
+
+#[test]
+fn distance_is_to_the_other_lines_segments_not_their_vertices() {
+    // B is the same straight line as A with only its two ends: every point of A is
+    // on it, though most lie far from both of its vertices.
+    let a = line("ridge", &sampled(p(0.0, 0.0, 0.0), p(10.0, 0.0, 0.0), 100));
+    let b = line("ridge", &[p(0.0, 0.0, 0.0), p(10.0, 0.0, 0.0)]);
+    let found = compare(&a, &b, 0.01);
+    assert_eq!(found.lines.len(), 1);
+    assert!((found.lines[0].a_in_b - 1.0).abs() < 1e-12);
+    assert!((found.lines[0].b_in_a - 1.0).abs() < 1e-12);
+    assert!((found.lines[0].a - 10.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_parallel_line_counts_within_the_tolerance_and_not_beyond() {
+    let a = line("valley", &sampled(p(0.0, 0.0, 0.0), p(5.0, 5.0, 0.0), 37));
+    let offset = |d: f64| {
+        let normal = Vector::new(-1.0, 1.0, 0.0).normalize() * d;
+        line(
+            "valley",
+            &[p(0.0, 0.0, 0.0) + normal, p(5.0, 5.0, 0.0) + normal],
+        )
+    };
+    assert!((compare(&a, &offset(0.09), 0.1).lines[0].a_in_b - 1.0).abs() < 1e-12);
+    assert_eq!(compare(&a, &offset(0.11), 0.1).lines[0].a_in_b, 0.0);
+}
+
+#[test]
+fn half_a_line_is_half_covered_and_covers_itself_whole() {
+    let a = line("ridge", &[p(0.0, 0.0, 0.0), p(10.0, 0.0, 0.0)]);
+    let b = line("ridge", &[p(0.0, 0.0, 0.0), p(5.0, 0.0, 0.0)]);
+    let found = &compare(&a, &b, 0.04).lines[0];
+    // Pieces of a hundredth; those within the tolerance beyond B's end count too.
+    assert!((found.a_in_b - 0.504).abs() < 0.002, "{}", found.a_in_b);
+    assert!((found.b_in_a - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn kinds_are_compared_with_their_own_kind_only() {
+    let points = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0)];
+    let found = compare(&line("ridge", &points), &line("valley", &points), 0.1);
+    let kinds: Vec<&str> = found.lines.iter().map(|a| a.kind.as_str()).collect();
+    assert_eq!(kinds, ["ridge", "valley"]);
+    assert!(found
+        .lines
+        .iter()
+        .all(|a| a.a_in_b == 0.0 && a.b_in_a == 0.0));
+    assert_eq!((found.lines[0].a_count, found.lines[0].b_count), (1, 0));
+}
+
+#[test]
+fn a_moved_copy_moved_back_agrees_whole() {
+    let mut a = line("crest", &sampled(p(1.0, 2.0, 3.0), p(40.0, -7.0, 12.0), 50));
+    a.points.insert(
+        "extremal".into(),
+        vec![p(1.0, 2.0, 3.0), p(20.0, 0.0, 0.0), p(3.0, 3.0, 3.0)],
+    );
+    let motion = RigidTransform::new(
+        Rotation3::from_euler_angles(0.3, -0.2, 0.5),
+        Vector::new(5.0, -3.0, 2.0),
+    );
+    let b = a.moved(&motion);
+    let unmoved = compare(&a, &b, 0.05);
+    assert!(unmoved.lines[0].a_in_b < 0.1);
+    let back = compare(&a, &b.moved(&motion.inverse()), 0.05);
+    assert!((back.lines[0].a_in_b - 1.0).abs() < 1e-12);
+    assert_eq!(back.landmarks[0].a_in_b, 1.0);
+    assert_eq!(back.landmarks[0].a_count, 3);
+}
+
+#[test]
+fn landmarks_count_by_the_nearest_of_their_kind() {
+    let mut a = Features::default();
+    a.points
+        .insert("end".into(), vec![p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0)]);
+    let mut b = Features::default();
+    b.points.insert("end".into(), vec![p(0.0, 0.0, 0.3)]);
+    let found = &compare(&a, &b, 0.5).landmarks[0];
+    assert_eq!((found.a_in_b, found.b_in_a), (0.5, 1.0));
+}
+
+#[test]
+fn the_default_tolerance_is_a_share_of_as_diagonal() {
+    let a = line("ridge", &[p(0.0, 0.0, 0.0), p(3.0, 4.0, 12.0)]);
+    assert!((Tolerance::DEFAULT.resolve(&a).unwrap() - 0.065).abs() < 1e-12);
+    assert!(Tolerance::World(0.0).resolve(&a).is_err());
+    assert!(Tolerance::DEFAULT.resolve(&Features::default()).is_err());
+}
+
+#[test]
+fn tolerances_read_as_lengths_or_percentages() {
+    assert_eq!("1.5".parse::<Tolerance>().unwrap(), Tolerance::World(1.5));
+    assert_eq!(
+        " 0.5% ".parse::<Tolerance>().unwrap(),
+        Tolerance::OfDiagonal(0.005)
+    );
+    assert!("half".parse::<Tolerance>().is_err());
+    assert_eq!(Tolerance::DEFAULT.to_string(), "0.5%");
+}
