@@ -31,7 +31,13 @@ pub struct CrestArgs {
     /// The isosurface level I; inside is value ≥ I.
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: f64,
-    /// Gaussian smoothing σ in world units (mm); default one voxel.
+    /// The feature scale in world units (mm), from which σ, --min-length and the
+    /// landmarks' lengths are derived; default from the size of the object the
+    /// isosurface encloses (2% of the cube root of its volume, at least a voxel),
+    /// not from the grid, so that a rescan finds the same lines.
+    #[arg(long, value_name = "L")]
+    pub scale: Option<f64>,
+    /// Gaussian smoothing σ in world units (mm); default one feature scale.
     #[arg(long, value_name = "S")]
     pub sigma: Option<f64>,
     /// Output lines: .json, .obj, .ply, .vtk, .vtp, .vtu (segments, for meshio)
@@ -56,7 +62,8 @@ pub struct CrestArgs {
     #[arg(long, default_value_t = CrestLinesOptions::default().rng_seed, value_name = "S",
           requires = "seeds")]
     pub rng_seed: u64,
-    /// Keep lines at least this long, in world units (mm); default three voxels.
+    /// Keep lines at least this long, in world units (mm); default 1.5 feature
+    /// scales.
     #[arg(long, value_name = "L")]
     pub min_length: Option<f64>,
     /// Keep lines whose strength ∫|k| ds (dimensionless) is at least this.
@@ -73,6 +80,7 @@ impl CrestArgs {
     fn options(&self) -> CrestLinesOptions {
         let defaults = CrestLinesOptions::default();
         CrestLinesOptions {
+            scale: self.scale,
             sigma: self.sigma.map_or(defaults.sigma, Length::World),
             family: self.kind,
             seeds: self.seeds.map(|n| n as usize),

@@ -32,15 +32,16 @@ pub struct LandmarksArgs {
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// A curvature maximum is the largest within this arc length on both sides
-    /// (world units); default five mean edge lengths or five voxels.
+    /// (world units); default 2.5 feature scales (see --scale).
     #[arg(long, value_name = "R")]
     pub radius: Option<f64>,
     /// An extremal point needs the other extremality's sign to hold this long on
-    /// both sides (world units); default two mean edge lengths or two voxels.
+    /// both sides (world units); default one feature scale (see --scale; of a mesh:
+    /// 1.3% of the square root of its area, at least a mean edge length).
     #[arg(long, value_name = "P")]
     pub persistence: Option<f64>,
     /// For a 3D image: keep crest lines at least this long (world units); default
-    /// three voxels.
+    /// 1.5 feature scales.
     #[arg(long, value_name = "L")]
     pub min_length: Option<f64>,
     /// The frame of the input's coordinates, for a mesh that does not state it
@@ -71,6 +72,7 @@ impl LandmarksArgs {
     fn crest_options(&self) -> CrestLinesOptions {
         let defaults = CrestLinesOptions::default();
         CrestLinesOptions {
+            scale: self.tracer.volume.scale,
             sigma: self
                 .tracer
                 .volume

@@ -21,9 +21,15 @@ pub struct VolumeArgs {
     /// IMAGE` suggests one.
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: Option<f64>,
+    /// For a 3D image: the feature scale in world units (mm), from which σ and the
+    /// landmarks' lengths are derived. Default: from the size of the object the
+    /// isosurface encloses (2% of the cube root of its volume, at least a voxel),
+    /// not from the grid, so that a rescan finds the same features.
+    #[arg(long, value_name = "L")]
+    pub scale: Option<f64>,
     /// For a 3D image: standard deviation of the Gaussian smoothing, in world units
-    /// (mm), for the isosurface and its curvature. Default: one voxel (the largest
-    /// spacing). 0: no smoothing (the cubic B-spline through the samples).
+    /// (mm), for the isosurface and its curvature. Default: one feature scale. 0:
+    /// no smoothing (the cubic B-spline through the samples).
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub sigma: Option<f64>,
     /// For a 3D image: the curvature of the isosurface from the image or from the
@@ -59,6 +65,7 @@ impl VolumeArgs {
     pub fn iso_options(&self) -> IsoOptions {
         let defaults = IsoOptions::default();
         IsoOptions {
+            scale: self.scale,
             sigma: self.sigma.map_or(defaults.sigma, Length::World),
             curvature: self.curvature,
             ..defaults

@@ -212,14 +212,19 @@ fn image_landmarks(
     landmarks_json(&observer.outcome(found)?)
 }
 
-/// The landmarks of `lines`, whose relative lengths are in `unit`s
-/// ([`jobs::landmarks_of_lines`]), as the JSON the library writes.
+/// The landmarks of `lines`, whose relative lengths are in `unit`s, both the
+/// sampling's and the feature scale's ([`jobs::landmarks_of_lines`]), as the
+/// JSON the library writes.
 #[pyfunction]
 fn lines_landmarks(lines: Vec<LineParts<'_>>, unit: f64, options: &str) -> PyResult<String> {
     let lines = feature_lines(lines)?;
     let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
     let mut observer = Callback::new(None);
-    let found = jobs::landmarks_of_lines(&lines, unit, &options, &mut observer);
+    let units = jobs::Units {
+        sample: unit,
+        scale: unit,
+    };
+    let found = jobs::landmarks_of_lines(&lines, units, &options, &mut observer);
     landmarks_json(&observer.outcome(found)?)
 }
 

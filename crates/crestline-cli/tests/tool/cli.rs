@@ -764,7 +764,10 @@ fn iso_writes_a_closed_brain_surface_with_image_curvature() {
     assert_eq!(counts["boundary_loops"], 0, "{counts}");
     assert_eq!(counts["euler_characteristic"], 2, "{counts}");
     assert!(counts["vertices"].as_u64().unwrap() > 100_000, "{counts}");
-    assert_eq!(json["sigma"], 1.0);
+    // σ is the feature scale, from the volume the surface encloses (1.9 litres).
+    let scale = counts["scale"].as_f64().unwrap();
+    assert!((2.4..2.55).contains(&scale), "{counts}");
+    assert_eq!(json["sigma"], scale);
     // Left open: one hole there, χ = 2 − 1.
     let open = dir.path().join("open.obj");
     succeeds(&[
@@ -933,11 +936,17 @@ fn seeded_crest_lines_of_the_brain_are_its_long_lines_longest_first() {
     let dir = tempfile::tempdir().unwrap();
     let run = |name: &str, extra: &[&str]| {
         let path = dir.path().join(name);
+        // σ of one voxel: thousands of lines, most short, so that drawing 60
+        // seeds picks out the long ones.
         let mut args = vec![
             "crest-lines",
             MNI,
             "--level",
             "60",
+            "--sigma",
+            "1",
+            "--min-length",
+            "3",
             "-o",
             path.to_str().unwrap(),
         ];

@@ -4,6 +4,7 @@
 mod common;
 
 mod cli;
+mod compare;
 mod dicom;
 mod draw;
 mod fuzz_volumes;

@@ -11,7 +11,8 @@ DEFAULTS: Dict[str, Dict[str, Any]] = json.loads(_crestline.defaults())
 """Every job's options with their defaults, by job (``"iso"``, ``"crest_lines"``,
 ``"crease"``, ``"ridges"``, ``"landmarks"``) and option, as the library has them.
 A length relative to the input is ``{"units": x}``: x voxels of an image, or x
-mean edge lengths of a mesh."""
+mean edge lengths of a mesh; ``{"scales": x}`` is x feature scales (a length the
+library takes from the size of the object, not from its sampling)."""
 
 NAMES: Dict[str, Tuple[str, ...]] = {key: tuple(names) for key, names in _crestline.names().items()}
 """The names of every choice (``"estimator"``, ``"kind"``, ``"solver"``,
@@ -31,6 +32,9 @@ def describe(value: Any, unit: str) -> str:
     if isinstance(value, dict) and set(value) == {"units"}:
         units = value["units"]
         return f"{units:g} {unit}" + ("" if units == 1 else "s")
+    if isinstance(value, dict) and set(value) == {"scales"}:
+        scales = value["scales"]
+        return f"{scales:g} feature scale" + ("" if scales == 1 else "s")
     if value is None:
         return "none"
     return repr(value)

@@ -344,8 +344,8 @@ def landmarks(
     are extremal (the other extremality keeps each sign for ``persistence`` of arc
     length on each side; default {persistence}); curvature maxima, the largest
     within ``radius`` on both sides (default {radius}); and the ends of open
-    lines. A unit is one voxel of an image (its largest spacing), or the mean edge
-    length of a mesh.
+    lines. The feature scale is a length taken from the size of the object (an
+    image's isosurface, a mesh's area), not from its sampling.
 
     ``source`` is what the tool takes:
 
@@ -354,9 +354,9 @@ def landmarks(
       and at least ``min_length`` long, as :func:`crest_lines` has them;
     - a mesh (``vertices`` and ``faces``, or a mesh object): its ridges and
       valleys, by ``estimator`` and ``threshold`` as :func:`ridges` has them;
-    - or :class:`Lines` already traced, with ``unit``, the length of one unit of
-      the defaults (the voxel of their image, :attr:`Volume.voxel`, or the mean
-      edge length of their mesh), or with both ``radius`` and ``persistence``.
+    - or :class:`Lines` already traced, with ``unit``, the length of one feature
+      scale of the defaults (the tool's ``--report`` gives it as ``scale``), or
+      with both ``radius`` and ``persistence``.
 
     Returns ``Landmarks`` (see there).
     """
@@ -367,7 +367,7 @@ def landmarks(
     progress = callback(progress, "progress")
     if isinstance(source, Lines):
         if unit is None and (radius is None or persistence is None):
-            raise ValueError("unit: lines carry no scale; give their unit (a voxel or mean edge length), "
+            raise ValueError("unit: lines carry no scale; give their feature scale as unit, "
                              "or both radius and persistence, or pass the mesh or the image")
         scale = 1.0 if unit is None else number(unit, "unit", strict=True)
         found = _crestline.lines_landmarks(source._parts(), scale, marks)

@@ -5,7 +5,7 @@ use std::borrow::Cow;
 
 use serde::{Deserialize, Serialize};
 
-use super::image::{prepared_image, voxel_size};
+use super::image::{image_units, prepared_image};
 use super::Length;
 use crate::crest_lines::{LineFamily, LineTracing};
 use crate::lines::{FeatureLines, LineExtractor, MinLength, MinStrength};
@@ -17,8 +17,11 @@ use crate::{Error, Result};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CrestLinesOptions {
+    /// The feature scale, in world units ([`super::scale`]). Default (`None`):
+    /// the image's ([`super::scale::image_scale`]).
+    pub scale: Option<f64>,
     /// Standard deviation of the Gaussian smoothing of the image. Default: one
-    /// voxel.
+    /// feature scale.
     pub sigma: Length,
     /// Which lines: crest lines (ridges and valleys), parabolic lines or
     /// iso-Gaussian curves. Default: crest lines.
@@ -30,7 +33,7 @@ pub struct CrestLinesOptions {
     /// The seed of the random draw of `seeds` (the same seed, the same lines).
     /// Default: 1.
     pub rng_seed: u64,
-    /// Keep lines at least this long. Default: three voxels.
+    /// Keep lines at least this long. Default: 1.5 feature scales.
     pub min_length: Length,
     /// Keep lines whose strength ∫|k| ds (dimensionless) is at least this.
     /// Default: 0.
@@ -40,11 +43,12 @@ pub struct CrestLinesOptions {
 impl Default for CrestLinesOptions {
     fn default() -> Self {
         CrestLinesOptions {
-            sigma: Length::units(1.0),
+            scale: None,
+            sigma: Length::scales(1.0),
             family: LineFamily::Crest,
             seeds: None,
             rng_seed: 1,
-            min_length: Length::units(3.0),
+            min_length: Length::scales(1.5),
             min_strength: 0.0,
         }
     }
@@ -63,8 +67,8 @@ pub fn crest_lines(
     observer: &mut dyn Observer,
 ) -> Result<FeatureLines> {
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
-    let voxel = voxel_size(&volume);
-    let (min_length, min_strength) = (options.min_length.resolve(voxel), options.min_strength);
+    let units = image_units(&volume, level, options.scale, observer)?;
+    let (min_length, min_strength) = (options.min_length.resolve(units), options.min_strength);
     check_filters(min_length, min_strength)?;
     check_level(&volume, level)?;
     let tracing = LineTracing {
@@ -73,7 +77,7 @@ pub fn crest_lines(
             count,
             rng_seed: options.rng_seed,
         }),
-        ..LineTracing::new(level, options.sigma.resolve(voxel))
+        ..LineTracing::new(level, options.sigma.resolve(units))
     };
     let mut lines = tracing.extract(&volume, observer)?;
     observer.count("traced", lines.len());

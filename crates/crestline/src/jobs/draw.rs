@@ -293,6 +293,7 @@ fn traced(
                 ));
             };
             let crest = CrestLinesOptions {
+                scale: Some(from.scale),
                 sigma: Length::World(from.sigma),
                 min_strength: ridges_options.threshold,
                 ..CrestLinesOptions::default()

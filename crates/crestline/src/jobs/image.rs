@@ -5,7 +5,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::Length;
+use super::scale::{chosen_scale, image_scale, mesh_scale};
+use super::{Length, Units};
 use crate::curvature::{CurvatureEstimator, DerivativeOrder, Estimator, ImageCurvature};
 use crate::error::readable;
 use crate::mesh::Mesh;
@@ -71,9 +72,12 @@ crate::named::named!(CurvatureSource, "curvature source", {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct IsoOptions {
+    /// The feature scale, in world units ([`super::scale`]). Default (`None`):
+    /// the image's ([`image_scale`]).
+    pub scale: Option<f64>,
     /// Standard deviation of the Gaussian smoothing of the image, for the surface
     /// and its curvature; 0: none (the cubic B-spline through the samples).
-    /// Default: one voxel.
+    /// Default: one feature scale.
     pub sigma: Length,
     /// Where the surface's curvature comes from. Default: the image.
     pub curvature: CurvatureSource,
@@ -91,7 +95,8 @@ pub struct IsoOptions {
 impl Default for IsoOptions {
     fn default() -> Self {
         IsoOptions {
-            sigma: Length::units(1.0),
+            scale: None,
+            sigma: Length::scales(1.0),
             curvature: CurvatureSource::Image,
             estimator: Estimator::default(),
             close: true,
@@ -116,6 +121,8 @@ pub struct FromImage {
     pub level: f64,
     /// One voxel (the largest spacing).
     pub voxel: f64,
+    /// The feature scale used (world units).
+    pub scale: f64,
     /// The Gaussian σ the image was smoothed by (0: the B-spline).
     pub sigma: f64,
     /// Whether the surface's curvature gives the image's extremalities
@@ -146,12 +153,43 @@ impl Surface {
         self.curvature.is_some() && self.image.is_some_and(|image| image.extremalities)
     }
 
-    /// The unit of the relative [`Length`]s on this surface: one voxel for an
-    /// isosurface, the mean edge length for a mesh.
-    pub fn unit(&self) -> f64 {
-        self.image
-            .map_or_else(|| self.mesh.mean_edge_length(), |image| image.voxel)
+    /// The units of the relative [`Length`]s on this surface: one voxel and the
+    /// image's feature scale for an isosurface; the mean edge length and the
+    /// scale of its area ([`mesh_scale`]) for a mesh.
+    pub fn units(&self) -> Units {
+        match self.image {
+            Some(image) => Units {
+                sample: image.voxel,
+                scale: image.scale,
+            },
+            None => {
+                let edge = self.mesh.mean_edge_length();
+                let area: f64 = self.mesh.vertex_areas().iter().sum();
+                Units {
+                    sample: edge,
+                    scale: mesh_scale(area, edge),
+                }
+            }
+        }
     }
+}
+
+/// The units of the relative [`Length`]s of the isosurface `level` of `volume`:
+/// one voxel, and the feature scale `given` (world units) or else the image's
+/// ([`image_scale`]), also told to `observer` as the measure `scale`.
+pub fn image_units(
+    volume: &Volume,
+    level: f64,
+    given: Option<f64>,
+    observer: &mut dyn Observer,
+) -> Result<Units> {
+    let voxel = voxel_size(volume);
+    let scale = chosen_scale(given, || image_scale(volume, level, voxel))?;
+    observer.measure("scale", scale);
+    Ok(Units {
+        sample: voxel,
+        scale,
+    })
 }
 
 /// The image the isosurface is taken from: `volume` smoothed by a Gaussian of
@@ -232,8 +270,8 @@ pub fn isosurface(
     observer: &mut dyn Observer,
 ) -> Result<Surface> {
     let volume = prepared_image(Cow::Borrowed(volume), observer)?;
-    let voxel = voxel_size(&volume);
-    let sigma = options.sigma.resolve(voxel);
+    let units = image_units(&volume, level, options.scale, observer)?;
+    let sigma = options.sigma.resolve(units);
     let smoothed = try_stage(observer, "smoothing", || smoothed_image(&volume, sigma))?;
     let surface = try_stage(observer, "isosurface", || {
         let smoothing = matches!(smoothed, Cow::Owned(_));
@@ -266,7 +304,8 @@ pub fn isosurface(
         curvature,
         image: Some(FromImage {
             level,
-            voxel,
+            voxel: units.sample,
+            scale: units.scale,
             sigma,
             extremalities,
         }),

@@ -3,9 +3,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::crest::{crest_lines, CrestLinesOptions};
-use super::image::{voxel_size, Surface};
+use super::image::{image_units, Surface};
 use super::ridges::{ridges, RidgesOptions};
-use super::Length;
+use super::{Length, Units};
 use crate::landmarks::{landmarks as find_landmarks, LandmarkOptions, Landmarks};
 use crate::lines::FeatureLines;
 use crate::progress::{try_stage, Observer};
@@ -17,18 +17,18 @@ use crate::Result;
 #[serde(default, deny_unknown_fields)]
 pub struct LandmarksOptions {
     /// A curvature maximum is the largest within this arc length on both sides.
-    /// Default: five units (voxels, or mean edge lengths).
+    /// Default: 2.5 feature scales.
     pub radius: Length,
     /// An extremal point needs the other extremality's sign to hold this long on
-    /// both sides. Default: two units.
+    /// both sides. Default: one feature scale.
     pub persistence: Length,
 }
 
 impl Default for LandmarksOptions {
     fn default() -> Self {
         LandmarksOptions {
-            radius: Length::units(5.0),
-            persistence: Length::units(2.0),
+            radius: Length::scales(2.5),
+            persistence: Length::scales(1.0),
         }
     }
 }
@@ -64,33 +64,34 @@ pub fn landmarks(
     options: &LandmarksOptions,
     observer: &mut dyn Observer,
 ) -> Result<Landmarks> {
-    let (lines, unit) = match input {
+    let (lines, units) = match input {
         LinesFrom::Image {
             volume,
             level,
             options,
-        } => (
-            crest_lines(volume, level, options, observer)?,
-            voxel_size(volume),
-        ),
+        } => {
+            let lines = crest_lines(volume, level, options, observer)?;
+            let units = image_units(volume, level, options.scale, &mut crate::progress::Silent)?;
+            (lines, units)
+        }
         LinesFrom::Surface { surface, options } => {
-            (ridges(surface, options, observer)?, surface.unit())
+            (ridges(surface, options, observer)?, surface.units())
         }
     };
-    landmarks_of_lines(&lines, unit, options, observer)
+    landmarks_of_lines(&lines, units, options, observer)
 }
 
-/// The landmarks of `lines`, whose relative lengths are in `unit`s: the stage
+/// The landmarks of `lines`, whose relative lengths are in `units`: the stage
 /// `landmarks` and the counts `landmarks` and `crest_lines`.
 pub fn landmarks_of_lines(
     lines: &FeatureLines,
-    unit: f64,
+    units: Units,
     options: &LandmarksOptions,
     observer: &mut dyn Observer,
 ) -> Result<Landmarks> {
     let resolved = LandmarkOptions {
-        radius: options.radius.resolve(unit),
-        persistence: options.persistence.resolve(unit),
+        radius: options.radius.resolve(units),
+        persistence: options.persistence.resolve(units),
     };
     let found = try_stage(observer, "landmarks", || find_landmarks(lines, &resolved))?;
     observer.count("landmarks", found.points.len());

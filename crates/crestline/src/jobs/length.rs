@@ -1,10 +1,12 @@
-//! Lengths given in world units or relative to the input.
+//! Lengths given in world units, relative to the input's sampling, or relative to
+//! the feature scale.
 
 use serde::{Deserialize, Serialize};
 
-/// A length: in world units (millimetres for most scans), or a multiple of the
+/// A length: in world units (millimetres for most scans), a multiple of the
 /// input's own unit — the largest voxel spacing of an image, the mean edge length
-/// of a mesh — resolved by the job. Serialized as a number, or as `{"units": x}`.
+/// of a mesh — or a multiple of the feature scale ([`super::scale`]), resolved by
+/// the job. Serialized as a number, as `{"units": x}` or as `{"scales": x}`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Length {
@@ -15,6 +17,21 @@ pub enum Length {
         /// How many units.
         units: f64,
     },
+    /// A multiple of the feature scale.
+    Scaled {
+        /// How many scales.
+        scales: f64,
+    },
+}
+
+/// What the relative [`Length`]s of one input are relative to, in world units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Units {
+    /// The input's sampling: one voxel (the largest spacing), or the mean edge
+    /// length of a mesh.
+    pub sample: f64,
+    /// The feature scale ([`super::scale`]).
+    pub scale: f64,
 }
 
 impl Length {
@@ -23,18 +40,24 @@ impl Length {
         Length::Relative { units }
     }
 
-    /// The length in world units, for an input whose unit is `unit`.
-    pub fn resolve(self, unit: f64) -> f64 {
+    /// `scales` times the feature scale.
+    pub const fn scales(scales: f64) -> Length {
+        Length::Scaled { scales }
+    }
+
+    /// The length in world units, for an input whose units are `units`.
+    pub fn resolve(self, units: Units) -> f64 {
         match self {
             Length::World(length) => length,
-            Length::Relative { units } => units * unit,
+            Length::Relative { units: count } => count * units.sample,
+            Length::Scaled { scales } => scales * units.scale,
         }
     }
 
     /// The length, checked to be finite and at least 0 (positive if `positive`),
-    /// for an input whose unit is `unit`; the error names the option `name`.
-    pub fn resolve_checked(self, unit: f64, name: &str, positive: bool) -> crate::Result<f64> {
-        let length = self.resolve(unit);
+    /// for an input whose units are `units`; the error names the option `name`.
+    pub fn resolve_checked(self, units: Units, name: &str, positive: bool) -> crate::Result<f64> {
+        let length = self.resolve(units);
         let valid = length.is_finite()
             && if positive {
                 length > 0.0
@@ -63,6 +86,7 @@ impl std::fmt::Display for Length {
         match self {
             Length::World(length) => write!(f, "{length}"),
             Length::Relative { units } => write!(f, "{units} units"),
+            Length::Scaled { scales } => write!(f, "{scales} scales"),
         }
     }
 }

@@ -44,6 +44,7 @@ mod mesh;
 mod morse;
 mod register;
 mod ridges;
+pub mod scale;
 mod view;
 
 pub use crease::{crease, CreaseOptions};
@@ -51,12 +52,12 @@ pub use crest::{crest_lines, CrestLinesOptions};
 pub use curvature::{curvature, CurvatureOptions};
 pub use draw::{draw, DrawingOptions, LinesChoice};
 pub use image::{
-    isosurface, largest_spacing, prepared_image, voxel_size, CurvatureSource, FromImage,
-    IsoOptions, Surface,
+    image_units, isosurface, largest_spacing, prepared_image, voxel_size, CurvatureSource,
+    FromImage, IsoOptions, Surface,
 };
 pub use info::{image_info, mesh_info, MeshInfo};
 pub use landmarks::{landmarks, landmarks_of_lines, LandmarksOptions, LinesFrom};
-pub use length::Length;
+pub use length::{Length, Units};
 pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
 pub use register::{read_point_set, register};

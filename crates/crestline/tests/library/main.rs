@@ -27,6 +27,7 @@ mod nibabel_data;
 mod numerics;
 mod register;
 mod ridges;
+mod sampling;
 mod solver;
 mod soup_writer;
 mod volume_derivatives;

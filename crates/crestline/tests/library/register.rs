@@ -23,7 +23,6 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Rotation3, Unit};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use rayon::prelude::*;
 
 /// `angle` degrees about the skew `axis`, then `translation`.
 fn motion(axis: [f64; 3], angle: f64, translation: Vector) -> RigidTransform {
@@ -334,22 +333,6 @@ fn ridge_lines_of_a_moved_mesh_register_onto_the_original() {
 
 // ---------------------------------------------------------------- the MNI template
 
-/// `volume` moved by the inverse of `transform`, on the same grid: the value at
-/// world point `x` is the trilinear interpolation of `volume` at `transform(x)`,
-/// 0 outside it. Anatomy at `p` in `volume` lies at `transform⁻¹(p)` in the copy.
-fn resampled(volume: &Volume, transform: &RigidTransform) -> Volume {
-    let [nx, ny, nz] = volume.dims();
-    let samples = (0..nx * ny * nz)
-        .into_par_iter()
-        .map(|at| {
-            let index = [at % nx, (at / nx) % ny, at / (nx * ny)].map(|i| i as f64);
-            let source = transform.apply(&volume.index_to_world(index));
-            volume.interpolate(&source).unwrap_or(0.0) as f32
-        })
-        .collect();
-    volume.with_samples(samples).unwrap()
-}
-
 fn crest_points(volume: &Volume) -> Vec<Point> {
     all_points(&crestline::crest_lines::crest_lines(volume, 60.0, 1.0).unwrap())
 }
@@ -364,7 +347,7 @@ fn crest_lines_of_a_moved_mni_template_register_onto_the_original() {
         Vector::new(5.0, -4.0, 5.0).normalize() * 8.0,
     );
     let start = Instant::now();
-    let copy = resampled(&volume, &truth);
+    let copy = common::resampled(&volume, &truth, |p| volume.interpolate(p));
     let resampling = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let fixed = crest_points(&volume);

@@ -3,7 +3,10 @@
 pub mod mutation;
 
 use crestline::mesh::{Mesh, TriangleSoup};
+use crestline::register::RigidTransform;
+use crestline::volume::Volume;
 use crestline::Point;
+use rayon::prelude::*;
 
 /// A copy of `mesh` with every position mapped by `map` (same triangles).
 pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
@@ -13,4 +16,24 @@ pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
         ..TriangleSoup::default()
     };
     Mesh::from_soup(soup).unwrap().0
+}
+
+/// `volume` moved by the inverse of `transform`, on the same grid: the value at
+/// world point `x` is `interpolate(transform(x))` (an interpolant of `volume`), 0
+/// outside it. Anatomy at `p` in `volume` lies at `transform⁻¹(p)` in the copy.
+pub fn resampled(
+    volume: &Volume,
+    transform: &RigidTransform,
+    interpolate: impl Fn(&Point) -> Option<f64> + Sync,
+) -> Volume {
+    let [nx, ny, nz] = volume.dims();
+    let samples = (0..nx * ny * nz)
+        .into_par_iter()
+        .map(|at| {
+            let index = [at % nx, (at / nx) % ny, at / (nx * ny)].map(|i| i as f64);
+            let source = transform.apply(&volume.index_to_world(index));
+            interpolate(&source).unwrap_or(0.0) as f32
+        })
+        .collect();
+    volume.with_samples(samples).unwrap()
 }
