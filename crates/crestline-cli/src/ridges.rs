@@ -97,6 +97,7 @@ impl TracerArgs {
             solver: self.solver,
             fair: self.fair,
             all_extrema: self.all_extrema,
+            scale: self.volume.scale,
             smoothing_weights: None,
         }
     }

@@ -21,10 +21,12 @@ pub struct VolumeArgs {
     /// IMAGE` suggests one.
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: Option<f64>,
-    /// For a 3D image: the feature scale in world units (mm), from which σ and the
-    /// landmarks' lengths are derived. Default: from the size of the object the
-    /// isosurface encloses (2% of the cube root of its volume, at least a voxel),
-    /// not from the grid, so that a rescan finds the same features.
+    /// The feature scale in world units, so that a rescan or another sampling finds
+    /// the same features. For a 3D image σ and the landmarks' lengths are derived
+    /// from it; default: 2% of the cube root of the volume the isosurface encloses,
+    /// at least a voxel. For a mesh the surface is smoothed for a time of scale²
+    /// and the extremalities for (scale/2)², in world units; default: none (the
+    /// smoothing counts mean edge lengths).
     #[arg(long, value_name = "L")]
     pub scale: Option<f64>,
     /// For a 3D image: standard deviation of the Gaussian smoothing, in world units

@@ -171,6 +171,7 @@ def ridges(
     fair: Optional[bool] = None,
     all_extrema: Optional[bool] = None,
     smoothing_weights: Optional[npt.ArrayLike] = None,
+    scale: Optional[float] = None,
 ) -> Lines:
     """Ridge and valley lines by extremality tracing (Hildebrandt, Polthier,
     Wardetzky 2005), as the command-line tool's ``ridges`` traces them.
@@ -185,7 +186,10 @@ def ridges(
     {threshold}) are dropped. ``kind`` (default {kind}), ``presmooth`` (surface
     smoothing steps; default {presmooth}), ``solver`` (default {solver}), ``fair``
     (default {fair}) and ``all_extrema`` (default {all_extrema}) are the tool's
-    options of the same names.
+    options of the same names. With a feature ``scale`` (world units; default
+    none) the surface is smoothed for a time of scale² and the extremalities for
+    (scale/2)², in world units rather than mean edge lengths, so that another
+    sampling of the same surface gives the same lines.
 
     Returns :class:`Lines` of kind ``"ridge"`` (convex crests) and ``"valley"``
     (concave creases), with per-point ``k_max``, ``k_min``, ``e_max``, ``e_min``
@@ -203,6 +207,7 @@ def ridges(
         solver=choice(solver, "solver", "solver"),
         fair=None if fair is None else bool(fair),
         all_extrema=None if all_extrema is None else bool(all_extrema),
+        scale=None if scale is None else number(scale, "scale", strict=True),
     )
     weights = None if smoothing_weights is None else per_vertex(smoothing_weights, "smoothing_weights", len(mesh.vertices))
     field = _custom_field(estimator, mesh.vertices, mesh.faces) if callable(estimator) else None

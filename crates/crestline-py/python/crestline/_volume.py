@@ -165,6 +165,7 @@ def isosurface(
     sigma: Optional[float] = None,
     progress: Progress = None,
     *,
+    scale: Optional[float] = None,
     close: Optional[bool] = None,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
@@ -177,14 +178,24 @@ def isosurface(
     :func:`crestline.ridges`. With ``close`` (default {close}) the surface is
     closed where it reaches the border of the image, watertight. Non-finite
     samples are set to the smallest value with a ``UserWarning``.
+    ``scale`` (world units) is the feature scale σ and the
+    other lengths' defaults are multiples of; default: from the size of the object
+    (2% of the cube root of the volume the isosurface encloses, at least a voxel),
+    not from the grid, so that a rescan gives the same result.
     """
     samples, affine = _image(volume, spacing, origin)
-    given = options(sigma=None if sigma is None else number(sigma, "sigma"),
+    given = options(scale=_scale(scale),
+                    sigma=None if sigma is None else number(sigma, "sigma"),
                     close=None if close is None else bool(close))
     vertices, faces = _crestline.isosurface(
         samples, affine, number(level, "level", low=-np.inf), given, callback(progress, "progress")
     )
     return vertices, faces
+
+
+def _scale(scale: Optional[float]) -> Optional[float]:
+    """The feature scale given, checked: a positive length, or None."""
+    return None if scale is None else number(scale, "scale", strict=True)
 
 
 def _family(kind: Optional[str], gauss: Optional[float]) -> Optional[str]:
@@ -215,6 +226,7 @@ def crest_lines(
     rng_seed: Optional[int] = None,
     progress: Progress = None,
     *,
+    scale: Optional[float] = None,
     spacing: Optional[Sequence[float]] = None,
     origin: Optional[Sequence[float]] = None,
 ) -> Lines:
@@ -231,10 +243,14 @@ def crest_lines(
     ``min_length`` (world units; default {min_length}) or weaker than
     ``min_strength`` (default {min_strength}) are dropped. Each point carries
     ``k_max``, ``k_min``, ``e_max``, ``e_min``. ``progress`` (see ``Progress``) is
-    told of each stage.
+    told of each stage. ``scale`` (world units) is the feature scale σ and the
+    other lengths' defaults are multiples of; default: from the size of the object
+    (2% of the cube root of the volume the isosurface encloses, at least a voxel),
+    not from the grid, so that a rescan gives the same result.
     """
     samples, affine = _image(volume, spacing, origin)
     given = options(
+        scale=_scale(scale),
         sigma=None if sigma is None else number(sigma, "sigma", strict=True),
         family=_family(kind, gauss),
         min_length=None if min_length is None else number(min_length, "min_length"),
@@ -328,6 +344,7 @@ def landmarks(
     faces: Optional[npt.ArrayLike] = None,
     *,
     level: Optional[float] = None,
+    scale: Optional[float] = None,
     radius: Optional[float] = None,
     persistence: Optional[float] = None,
     sigma: Optional[float] = None,
@@ -351,7 +368,8 @@ def landmarks(
 
     - an image (a :class:`Volume`, a nibabel image or an array) with ``level``:
       the crest lines of its isosurface by Marching Lines, smoothed by ``sigma``
-      and at least ``min_length`` long, as :func:`crest_lines` has them;
+      and at least ``min_length`` long, as :func:`crest_lines` has them, at the
+      feature ``scale`` (world units; default from the image, see there);
     - a mesh (``vertices`` and ``faces``, or a mesh object): its ridges and
       valleys, by ``estimator`` and ``threshold`` as :func:`ridges` has them;
     - or :class:`Lines` already traced, with ``unit``, the length of one feature
@@ -375,14 +393,15 @@ def landmarks(
     elif level is not None:
         samples, affine = _image(source, spacing, origin)
         crest = options(
+            scale=_scale(scale),
             sigma=None if sigma is None else number(sigma, "sigma", strict=True),
             min_length=None if min_length is None else number(min_length, "min_length"),
         )
         found = _crestline.image_landmarks(samples, affine, number(level, "level", low=-np.inf), crest, marks, progress)
         space = _space(source)
     else:
-        if sigma is not None or min_length is not None:
-            raise ValueError("sigma, min_length: for an image (with level), not for a mesh")
+        if sigma is not None or min_length is not None or scale is not None:
+            raise ValueError("scale, sigma, min_length: for an image (with level), not for a mesh")
         mesh = built_mesh(source, faces)
         tracing = options(
             estimator=None if estimator is None else estimator_name(estimator),

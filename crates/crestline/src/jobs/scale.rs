@@ -23,6 +23,10 @@ pub const IMAGE_SCALE_SHARE: f64 = 0.02;
 /// (2.5 scales) stays the 5 mean edge lengths it was.
 pub const MESH_SCALE_SHARE: f64 = 0.013;
 
+/// The implicit smoothing steps of a mesh's surface and of its extremalities at
+/// a feature scale ([`super::RidgesOptions::scale`]), unless given.
+pub const SCALE_SMOOTH_STEPS: usize = 3;
+
 /// The default feature scale of the isosurface `level` of `volume` (inside is
 /// `f ≥ level`): [`IMAGE_SCALE_SHARE`] times the cube root of the enclosed volume
 /// (the samples at or above the level, times a voxel's volume), at least one

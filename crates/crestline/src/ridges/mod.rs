@@ -133,6 +133,9 @@ pub struct ExtremalityTracer {
     /// Implicit smoothing steps of the surface before curvature estimation; lines
     /// are traced on the smoothed surface and placed back on the input mesh.
     pub presmooth_steps: usize,
+    /// Time step of the surface's smoothing, in units of the input's mean edge
+    /// length squared ([`Self::DEFAULT_PRESMOOTH_TIME`]).
+    pub presmooth_time: f64,
     /// Optional fairing of the lines as space curves.
     pub fairing: Option<Fairing>,
     /// Optional per-vertex factors for inhomogeneous extremality smoothing (§6).
@@ -193,6 +196,9 @@ impl ExtremalityTracer {
     /// Default smoothing time τ of an image's extremalities, in units of the mean
     /// edge length squared.
     pub const DEFAULT_IMAGE_SMOOTH_TIME: f64 = 0.25;
+    /// Default time step of the surface's presmoothing, in units of the mean edge
+    /// length squared (Desbrun et al. 1999's implicit fairing step).
+    pub const DEFAULT_PRESMOOTH_TIME: f64 = 1.0;
     /// Default strength threshold (dimensionless).
     pub const DEFAULT_THRESHOLD: f64 = 2.0;
     /// The most smoothing steps (of the surface or of the extremalities) accepted.
@@ -249,6 +255,7 @@ impl Default for ExtremalityTracer {
             smooth_time: Self::DEFAULT_SMOOTH_TIME,
             threshold: Self::DEFAULT_THRESHOLD,
             presmooth_steps: 0,
+            presmooth_time: Self::DEFAULT_PRESMOOTH_TIME,
             fairing: None,
             smoothing_weights: None,
             feature_conditions: true,
@@ -534,6 +541,7 @@ impl ExtremalityTracer {
         Ok(Some(smoothing::presmooth_surface_with(
             mesh,
             self.presmooth_steps,
+            self.presmooth_time,
             self.solver,
             observer,
         )?))

@@ -484,32 +484,34 @@ fn check_weights(mesh: &Mesh, weights: Option<&[f64]>) -> Result<()> {
 /// smoothed mesh; connectivity is unchanged. The systems are solved as
 /// [`Solver::Auto`] chooses.
 pub fn presmooth_surface(mesh: &Mesh, steps: usize) -> Result<Mesh> {
-    presmooth_surface_with(mesh, steps, Solver::Auto, &mut Silent)
+    presmooth_surface_with(mesh, steps, 1.0, Solver::Auto, &mut Silent)
 }
 
-/// [`presmooth_surface`] with the systems solved by `solver`, asking `observer`
-/// before every solve and iteration whether to go on ([`Error::Cancelled`] if
-/// not).
+/// [`presmooth_surface`] with steps of time `tau` h̄² (rather than h̄²), the
+/// systems solved by `solver`, asking `observer` before every solve and
+/// iteration whether to go on ([`Error::Cancelled`] if not).
 pub fn presmooth_surface_with(
     mesh: &Mesh,
     steps: usize,
+    tau: f64,
     solver: Solver,
     observer: &mut dyn Observer,
 ) -> Result<Mesh> {
     let (unit, factor) = mesh.in_unit_frame();
-    let mut smoothed = presmooth_unit(unit.into_owned(), steps, solver, observer)?;
+    let mut smoothed = presmooth_unit(unit.into_owned(), steps, tau, solver, observer)?;
     smoothed.scale(1.0 / factor);
     Ok(smoothed)
 }
 
-/// [`presmooth_surface`] of a mesh in the unit frame, in place.
+/// [`presmooth_surface_with`] of a mesh in the unit frame, in place.
 fn presmooth_unit(
     mut current: Mesh,
     steps: usize,
+    tau: f64,
     solver: Solver,
     observer: &mut dyn Observer,
 ) -> Result<Mesh> {
-    let h = current.mean_edge_length();
+    let h = current.mean_edge_length() * tau.sqrt();
     // The pattern never changes: a direct solver reuses its symbolic analysis.
     let pattern = SystemPattern::new(&current, solver);
     let mut solver = SpdSolver::new(solver, CgSettings::default());

@@ -8,9 +8,12 @@ use std::path::Path;
 use crate::common;
 use crestline::compare::{compare, Features};
 use crestline::jobs::{
-    crest_lines, image_units, landmarks, CrestLinesOptions, LandmarksOptions, LinesFrom,
+    crest_lines, image_units, landmarks, ridges, CrestLinesOptions, LandmarksOptions, LinesFrom,
+    RidgesOptions, Surface,
 };
 use crestline::lines::FeatureLines;
+use crestline::mesh::generate::{self, Sampling};
+use crestline::mesh::Mesh;
 use crestline::progress::Silent;
 use crestline::register::RigidTransform;
 use crestline::volume::{BSpline, Volume};
@@ -191,5 +194,53 @@ fn a_moved_rescan_of_the_mni_template_keeps_its_extremal_points() {
             a > 100 && (b as f64 / a as f64 - 1.0).abs() < 0.2,
             "{kind}: {a} -> {b}"
         );
+    }
+}
+
+/// The rounded cube |x|⁴ + |y|⁴ + |z|⁴ = 1 triangulated with about `vertices`
+/// vertices (an icosphere jittered by `seed`, pushed out along its rays): the
+/// same surface at every resolution, with a ridge along each of its 12 edges.
+fn rounded_cube(vertices: usize, seed: u64) -> Mesh {
+    let sphere = generate::sphere(1.0, vertices, Sampling::jittered(seed)).unwrap();
+    common::transformed(&sphere.mesh, |p| {
+        let quartic = p.x.powi(4) + p.y.powi(4) + p.z.powi(4);
+        p / quartic.powf(0.25)
+    })
+}
+
+/// The ridges and valleys of `mesh` at the feature scale `scale` (none: the
+/// sampling's defaults), as features.
+fn mesh_lines(mesh: Mesh, scale: Option<f64>) -> Features {
+    let options = RidgesOptions {
+        scale,
+        ..RidgesOptions::default()
+    };
+    features(&ridges(&Surface::of_mesh(mesh), &options, &mut Silent).unwrap())
+}
+
+#[test]
+fn at_a_feature_scale_a_finer_and_a_coarser_sampling_trace_the_same_lines() {
+    // About four mean edge lengths of the finest mesh, one of the coarsest.
+    let scale = Some(0.05);
+    let reference = mesh_lines(rounded_cube(20_000, 1), scale);
+    let length = |f: &Features| {
+        f.segments["ridge"]
+            .iter()
+            .map(|[p, q]| (q - p).norm())
+            .sum::<f64>()
+    };
+    // Ridges along the twelve edges, about 18 long in all.
+    assert!(
+        (17.0..19.5).contains(&length(&reference)),
+        "{}",
+        length(&reference)
+    );
+    for vertices in [5_000, 80_000] {
+        let other = mesh_lines(rounded_cube(vertices, 2), scale);
+        assert!(
+            worst_share(&reference, &other, 0.02) > 0.9,
+            "{vertices} vertices"
+        );
+        assert!((length(&other) / length(&reference) - 1.0).abs() < 0.05);
     }
 }
