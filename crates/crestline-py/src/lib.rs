@@ -6,6 +6,7 @@
 
 mod arrays;
 mod built_mesh;
+mod compare;
 mod draw;
 mod errors;
 mod jobs;
@@ -25,6 +26,7 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     view::register(m)?;
     volume::register(m)?;
     jobs::register(m)?;
+    compare::register(m)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
     m.add_function(wrap_pyfunction!(lines::write_line_labels, m)?)?;
     m.add_function(wrap_pyfunction!(arrays::write_mesh, m)?)?;

@@ -33,6 +33,7 @@ from typing import Any, Dict
 from ._crestline import __version__
 
 from ._built import Mesh
+from ._compare import compare
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
 from ._lines import Line, Lines
 from ._view import View, view
@@ -93,6 +94,7 @@ __all__ = [
     "StageError",
     "View",
     "Volume",
+    "compare",
     "crease_surface",
     "crest_lines",
     "curvature",

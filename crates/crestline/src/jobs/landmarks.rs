@@ -36,7 +36,7 @@ impl Default for LandmarksOptions {
 /// Where the crest lines of [`landmarks`] come from.
 pub enum LinesFrom<'a> {
     /// The crest lines of an image's isosurface `level` by Marching Lines
-    /// ([`crest_lines`]); the unit is one voxel.
+    /// ([`crest_lines`]); its units are one voxel and the image's feature scale.
     Image {
         /// The image.
         volume: &'a Volume,
@@ -46,7 +46,7 @@ pub enum LinesFrom<'a> {
         options: &'a CrestLinesOptions,
     },
     /// The ridges and valleys of a surface by extremality tracing ([`ridges`]);
-    /// the unit is one voxel for an isosurface, else the mean edge length.
+    /// its units are the surface's ([`Surface::units`]).
     Surface {
         /// The surface.
         surface: &'a Surface,
