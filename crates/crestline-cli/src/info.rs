@@ -69,6 +69,10 @@ fn summary(path: &Path, info: &MeshInfo, repairs: &RepairReport) -> String {
         ),
         format!("diagonal          {:.6}", bbox.diagonal()),
         format!("mean edge length  {:.6}", info.mean_edge_length),
+        format!(
+            "feature scale     {:.6} (1% of the square root of the area; --scale)",
+            info.feature_scale
+        ),
     ];
     let messages = repairs.messages();
     if messages.is_empty() {

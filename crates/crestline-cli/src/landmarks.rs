@@ -37,7 +37,7 @@ pub struct LandmarksArgs {
     pub radius: Option<f64>,
     /// An extremal point needs the other extremality's sign to hold this long on
     /// both sides (world units); default one feature scale (see --scale; of a mesh:
-    /// 1.3% of the square root of its area, at least a mean edge length).
+    /// 1% of the square root of its area, at least a mean edge length).
     #[arg(long, value_name = "P")]
     pub persistence: Option<f64>,
     /// For a 3D image: keep crest lines at least this long (world units); default

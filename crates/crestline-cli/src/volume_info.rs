@@ -5,7 +5,8 @@ use std::path::Path;
 
 use crate::report::Report;
 use crestline::io::read_volume_with;
-use crestline::jobs::image_info;
+use crestline::jobs::scale::image_scale;
+use crestline::jobs::{image_info, voxel_size};
 use crestline::volume::{ValueSummary, Volume};
 use crestline::{Result, Space};
 
@@ -22,7 +23,14 @@ pub fn run(
 ) -> Result<()> {
     let volume = report.stage("read", || read_volume_with(path, &series.options()))?;
     let values = image_info(&volume, &mut report);
-    super::print_stdout(&summary(path, &volume, &values));
+    let scale = values
+        .otsu
+        .is_finite()
+        .then(|| image_scale(&volume, values.otsu, voxel_size(&volume)));
+    if let Some(scale) = scale {
+        report.count("scale", scale);
+    }
+    super::print_stdout(&summary(path, &volume, &values, scale));
     if let Some(report_path) = &report_arg.report {
         let [nx, ny, nz] = volume.dims();
         report.count("nx", nx);
@@ -42,7 +50,7 @@ pub fn run(
 }
 
 /// The human-readable summary, one fact per line.
-fn summary(path: &Path, volume: &Volume, values: &ValueSummary) -> String {
+fn summary(path: &Path, volume: &Volume, values: &ValueSummary, scale: Option<f64>) -> String {
     let [nx, ny, nz] = volume.dims();
     let [sx, sy, sz] = volume.spacing();
     let [ox, oy, oz] = volume.origin();
@@ -76,6 +84,14 @@ fn summary(path: &Path, volume: &Volume, values: &ValueSummary) -> String {
         format!("histogram (log)   {}", sparkline(&values.histogram)),
         otsu_line(values.otsu),
     ]
+    .into_iter()
+    .chain(scale.map(|scale| {
+        format!(
+            "feature scale     {scale:.4} at Otsu's level (2% of the cube root of the volume \
+             inside; it follows --level, or give --scale)"
+        )
+    }))
+    .collect::<Vec<_>>()
     .join("\n")
         + "\n"
 }

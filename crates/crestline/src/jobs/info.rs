@@ -1,5 +1,6 @@
 //! What a mesh or an image holds (`crestline info`).
 
+use super::scale::mesh_scale;
 use crate::mesh::geometry::BoundingBox;
 use crate::mesh::{ComponentInfo, Mesh};
 use crate::progress::{stage, Observer};
@@ -21,6 +22,8 @@ pub struct MeshInfo {
     /// The mean edge length, each edge counted once: the unit of the mesh jobs'
     /// relative lengths.
     pub mean_edge_length: f64,
+    /// The default feature scale ([`super::scale::mesh_scale`]).
+    pub feature_scale: f64,
 }
 
 /// What `mesh` holds: the stage `topology`, and the counts `vertices`, `faces`,
@@ -34,7 +37,9 @@ pub fn mesh_info(mesh: &Mesh, observer: &mut dyn Observer) -> MeshInfo {
         components,
         bounding_box: mesh.bounding_box(),
         mean_edge_length: mesh.mean_edge_length(),
+        feature_scale: mesh_scale(mesh.vertex_areas().iter().sum(), mesh.mean_edge_length()),
     };
+    observer.measure("scale", info.feature_scale);
     for (key, value) in ["vertices", "faces", "edges"].into_iter().zip(info.counts) {
         observer.count(key, value);
     }
