@@ -22,15 +22,6 @@ def tool():
     return TOOL
 
 
-@pytest.fixture(scope="module")
-def pymeshlab():
-    try:
-        import pymeshlab
-    except ImportError as error:
-        pytest.skip(f"pymeshlab is not importable ({error}); pip install pymeshlab")
-    return pymeshlab
-
-
 def quality_choices(tool):
     """The names ``--quality`` takes and its default, as the tool's help lists them."""
     help_text = subprocess.run([tool, "curvature", "--help"], check=True, capture_output=True, text=True).stdout

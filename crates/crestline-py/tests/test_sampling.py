@@ -17,15 +17,6 @@ BUNNY = ROOT / "meshes" / "bunny.obj"
 SCALE = 0.0096
 
 
-@pytest.fixture(scope="module")
-def pymeshlab():
-    try:
-        import pymeshlab
-    except ImportError as error:
-        pytest.skip(f"pymeshlab is not importable ({error}); pip install pymeshlab")
-    return pymeshlab
-
-
 def rotation(seed):
     """A random rotation matrix."""
     q, _ = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))

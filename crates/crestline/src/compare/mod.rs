@@ -18,7 +18,10 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::landmarks::Landmarks;
+use crate::lines::FeatureLines;
 use crate::register::RigidTransform;
+use crate::space::{convert_all, Space};
 use crate::{Error, Point, Result};
 use near::Near;
 
@@ -36,6 +39,52 @@ pub struct Features {
 }
 
 impl Features {
+    /// The segments of `lines` by kind, in RAS if they state a frame.
+    pub fn of_lines(lines: &FeatureLines) -> Features {
+        let mut features = Features::default();
+        for line in &lines.lines {
+            let mut points = line.points.clone();
+            convert_all(lines.space, Space::Ras, &mut points);
+            features.add_line(line.kind.name(), &points, line.closed);
+        }
+        features
+    }
+
+    /// The point landmarks and line segments of `landmarks` by kind, as they are
+    /// (see [`Landmarks::in_space`]).
+    pub fn of_landmarks(landmarks: &Landmarks) -> Features {
+        let mut features = Features::default();
+        for line in &landmarks.lines {
+            features.add_line(line.kind.name(), &line.points, line.closed);
+        }
+        for point in &landmarks.points {
+            features.add_point(point.kind.name(), point.position);
+        }
+        features
+    }
+
+    /// Add the line through `points` (a loop if `closed`) to `kind`.
+    pub fn add_line(&mut self, kind: &str, points: &[Point], closed: bool) {
+        let closing = closed.then(|| points.last().zip(points.first())).flatten();
+        let segments = points
+            .windows(2)
+            .map(|pair| [pair[0], pair[1]])
+            .chain(closing.map(|(last, first)| [*last, *first]));
+        self.segments
+            .entry(kind.to_string())
+            .or_default()
+            .extend(segments);
+        *self.line_counts.entry(kind.to_string()).or_default() += 1;
+    }
+
+    /// Add a point landmark of `kind`.
+    pub fn add_point(&mut self, kind: &str, position: Point) {
+        self.points
+            .entry(kind.to_string())
+            .or_default()
+            .push(position);
+    }
+
     /// Every point of the features (segment ends and landmarks).
     fn all_points(&self) -> impl Iterator<Item = &Point> + '_ {
         let ends = self.segments.values().flatten().flatten();
@@ -234,15 +283,16 @@ fn total_length(segments: &[[Point; 2]]) -> f64 {
 }
 
 /// The share of the length of `segments` within `tolerance` of `others`: each
-/// segment is cut into pieces at most a quarter of the tolerance long, and a
-/// piece counts whole when its midpoint is near; 0 for no length.
+/// segment is cut into pieces at most a quarter of the tolerance long (or
+/// longer, [`near::piece_length`]), and a piece counts whole when its midpoint
+/// is near; 0 for no length.
 fn length_share_near(segments: &[[Point; 2]], others: &[[Point; 2]], tolerance: f64) -> f64 {
     let total = total_length(segments);
     if total <= 0.0 || others.is_empty() {
         return 0.0;
     }
     let near = Near::of_segments(others, tolerance);
-    let step = tolerance / 4.0;
+    let step = near::piece_length(total, tolerance, 4.0);
     let matched: f64 = segments
         .par_iter()
         .map(|[p, q]| {

@@ -14,22 +14,38 @@ pub(super) struct Near {
     tolerance: f64,
 }
 
+/// The most pieces the segments are cut into, and the most samples a share is
+/// taken from: a tolerance far below the lines' length costs time and memory
+/// bounded by this, the pieces and samples then longer than the tolerance asks.
+pub(super) const MOST_PIECES: f64 = 1e6;
+
+/// The length of the pieces `length` (the segments' total) is cut into for a
+/// tolerance `tolerance`: `tolerance / per_tolerance`, or longer so that there
+/// are at most [`MOST_PIECES`].
+pub(super) fn piece_length(length: f64, tolerance: f64, per_tolerance: f64) -> f64 {
+    (tolerance / per_tolerance).max(length / MOST_PIECES)
+}
+
 impl Near {
-    /// The grid of `segments`, each cut into pieces at most `tolerance` long.
+    /// The grid of `segments`, each cut into pieces at most `tolerance` long (or
+    /// longer, [`piece_length`]).
     pub(super) fn of_segments(segments: &[[Point; 2]], tolerance: f64) -> Near {
+        let total: f64 = segments.iter().map(|[p, q]| (q - p).norm()).sum();
+        let longest = piece_length(total, tolerance, 1.0);
         let pieces = segments
             .iter()
             .flat_map(|[p, q]| {
-                let count = ((q - p).norm() / tolerance).ceil().max(1.0) as usize;
+                let count = ((q - p).norm() / longest).ceil().max(1.0) as usize;
                 let at = move |i: usize| -> Point {
                     p.coords.lerp(&q.coords, i as f64 / count as f64).into()
                 };
                 (0..count).map(move |i| [at(i), at(i + 1)])
             })
             .collect();
-        // A point within `tolerance` of a piece at most `tolerance` long is within
-        // 1.5 tolerance of its midpoint: the 27 cells around the point's hold it.
-        Near::of_pieces(pieces, 1.5 * tolerance, tolerance)
+        // A point within `tolerance` of a piece at most `longest` long is within
+        // tolerance + longest / 2 of its midpoint: the 27 cells around the
+        // point's hold it.
+        Near::of_pieces(pieces, tolerance + 0.5 * longest, tolerance)
     }
 
     /// The grid of `points`.

@@ -2,13 +2,12 @@
 //! JSON) and landmark files (`crestline-landmarks` JSON, or the CSV the
 //! `landmarks` job writes), positions in RAS when the file states its frame.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::Features;
-use crate::landmarks::{read_landmarks, Landmarks, FORMAT as LANDMARKS};
-use crate::lines::{read_json, FeatureLines};
-use crate::space::{convert_all, Space};
+use crate::landmarks::{read_landmarks, FORMAT as LANDMARKS};
+use crate::lines::read_json;
+use crate::space::Space;
 use crate::{Error, Point, Result};
 
 /// The lines and landmarks of the file `path`, by kind: a lines JSON file (its
@@ -28,9 +27,9 @@ pub fn read_features(path: &Path) -> Result<Features> {
         Some("csv") => read_csv(path),
         Some("json") if is_landmarks(path)? => {
             let (landmarks, _) = read_landmarks(path)?;
-            Ok(of_landmarks(&landmarks.in_space(Space::Ras)))
+            Ok(Features::of_landmarks(&landmarks.in_space(Space::Ras)))
         }
-        Some("json") => Ok(of_lines(&read_json(path)?)),
+        Some("json") => Ok(Features::of_lines(&read_json(path)?)),
         _ => Err(Error::File {
             path: path.to_path_buf(),
             message: "not a file of lines or landmarks: compare reads .json (lines or \
@@ -51,50 +50,6 @@ fn is_landmarks(path: &Path) -> Result<bool> {
         .ok()
         .and_then(|f| f.format);
     Ok(format.as_deref() == Some(LANDMARKS))
-}
-
-/// The segments of `lines` by kind, in RAS if they state a frame.
-fn of_lines(lines: &FeatureLines) -> Features {
-    let mut features = Features::default();
-    for line in &lines.lines {
-        let mut points = line.points.clone();
-        convert_all(lines.space, Space::Ras, &mut points);
-        add_line(&mut features, line.kind.name(), &points, line.closed);
-    }
-    features
-}
-
-/// The point landmarks and line segments of `landmarks` by kind, in RAS.
-fn of_landmarks(landmarks: &Landmarks) -> Features {
-    let mut features = Features::default();
-    for line in &landmarks.lines {
-        add_line(&mut features, line.kind.name(), &line.points, line.closed);
-    }
-    for point in &landmarks.points {
-        add_point(&mut features, point.kind.name(), point.position);
-    }
-    features
-}
-
-/// Add the segments of the line through `points` (a loop if `closed`) to `kind`.
-fn add_line(features: &mut Features, kind: &str, points: &[Point], closed: bool) {
-    let closing = closed.then(|| points.last().zip(points.first())).flatten();
-    let segments = points
-        .windows(2)
-        .map(|pair| [pair[0], pair[1]])
-        .chain(closing.map(|(last, first)| [*last, *first]));
-    entry(&mut features.segments, kind).extend(segments);
-    *features.line_counts.entry(kind.to_string()).or_default() += 1;
-}
-
-/// Add a point landmark of `kind`.
-fn add_point(features: &mut Features, kind: &str, position: Point) {
-    entry(&mut features.points, kind).push(position);
-}
-
-/// The list of `kind` in `map`, made empty if it has none.
-fn entry<'m, T>(map: &'m mut BTreeMap<String, Vec<T>>, kind: &str) -> &'m mut Vec<T> {
-    map.entry(kind.to_string()).or_default()
 }
 
 /// The point landmarks of a CSV file as the `landmarks` job writes it: a header
@@ -146,7 +101,7 @@ fn read_csv(path: &Path) -> Result<Features> {
             })?;
             position = frame.to_ras(&position);
         }
-        add_point(&mut features, cell(kind), position);
+        features.add_point(cell(kind), position);
     }
     Ok(features)
 }

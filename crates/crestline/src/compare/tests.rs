@@ -3,14 +3,10 @@ use nalgebra::Rotation3;
 use super::*;
 use crate::Vector;
 
-/// Features with one line of `kind` through `points`.
+/// Features with one open line of `kind` through `points`.
 fn line(kind: &str, points: &[Point]) -> Features {
     let mut features = Features::default();
-    features.segments.insert(
-        kind.to_string(),
-        points.windows(2).map(|pair| [pair[0], pair[1]]).collect(),
-    );
-    features.line_counts.insert(kind.to_string(), 1);
+    features.add_line(kind, points, false);
     features
 }
 
@@ -123,4 +119,33 @@ fn tolerances_read_as_lengths_or_percentages() {
     );
     assert!("half".parse::<Tolerance>().is_err());
     assert_eq!(Tolerance::DEFAULT.to_string(), "0.5%");
+}
+
+#[test]
+fn a_closed_line_has_its_closing_segment() {
+    let square = [
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.0),
+        p(1.0, 1.0, 0.0),
+        p(0.0, 1.0, 0.0),
+    ];
+    let mut closed = Features::default();
+    closed.add_line("crest", &square, true);
+    let found = compare(&closed, &line("crest", &square), 0.01);
+    assert!((found.lines[0].a - 4.0).abs() < 1e-12);
+    assert!(
+        (found.lines[0].a_in_b - 0.75).abs() < 0.01,
+        "{}",
+        found.lines[0].a_in_b
+    );
+}
+
+#[test]
+fn a_tolerance_far_below_the_lengths_costs_bounded_work() {
+    // A hundred million pieces of a tenth of a micrometre would be asked for.
+    let a = line("ridge", &[p(0.0, 0.0, 0.0), p(10.0, 0.0, 0.0)]);
+    let b = line("ridge", &[p(0.0, 0.0, 0.0), p(5.0, 0.0, 0.0)]);
+    let found = &compare(&a, &b, 1e-7).lines[0];
+    assert!((found.a_in_b - 0.5).abs() < 1e-4, "{}", found.a_in_b);
+    assert!((found.b_in_a - 1.0).abs() < 1e-12);
 }

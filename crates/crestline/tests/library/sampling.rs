@@ -11,7 +11,6 @@ use crestline::jobs::{
     crest_lines, image_units, landmarks, ridges, CrestLinesOptions, LandmarksOptions, LinesFrom,
     RidgesOptions, Surface,
 };
-use crestline::lines::FeatureLines;
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
 use crestline::progress::Silent;
@@ -52,27 +51,11 @@ fn sampled(spacing: f64, shift: Vector) -> Volume {
     grid.with_samples(samples).unwrap()
 }
 
-/// The segments of `lines` by kind.
-fn features(lines: &FeatureLines) -> Features {
-    let mut features = Features::default();
-    for line in &lines.lines {
-        let segments = line.segments().map(|(p, q)| [*p, *q]);
-        let kind = line.kind.name().to_string();
-        features
-            .segments
-            .entry(kind.clone())
-            .or_default()
-            .extend(segments);
-        *features.line_counts.entry(kind).or_default() += 1;
-    }
-    features
-}
-
 /// The default crest lines of `volume`, and its feature scale.
 fn default_lines(volume: &Volume) -> (Features, f64) {
     let scale = image_units(volume, -1.0, None, &mut Silent).unwrap().scale;
     let lines = crest_lines(volume, -1.0, &CrestLinesOptions::default(), &mut Silent).unwrap();
-    (features(&lines), scale)
+    (Features::of_lines(&lines), scale)
 }
 
 /// The smallest share of crest-line length, either way and of either kind, of
@@ -126,26 +109,7 @@ fn mni_landmarks(volume: &Volume) -> Features {
         options: &CrestLinesOptions::default(),
     };
     let found = landmarks(input, &LandmarksOptions::default(), &mut Silent).unwrap();
-    let mut features = Features::default();
-    for point in &found.points {
-        let kind = point.kind.name().to_string();
-        features
-            .points
-            .entry(kind)
-            .or_default()
-            .push(point.position);
-    }
-    for line in &found.lines {
-        let kind = line.kind.name().to_string();
-        let segments = line.points.windows(2).map(|pair| [pair[0], pair[1]]);
-        features
-            .segments
-            .entry(kind.clone())
-            .or_default()
-            .extend(segments);
-        *features.line_counts.entry(kind).or_default() += 1;
-    }
-    features
+    Features::of_landmarks(&found)
 }
 
 /// The count of `kind` in `features`: landmarks, or lines.
@@ -216,7 +180,7 @@ fn mesh_lines(mesh: Mesh, scale: Option<f64>) -> Features {
         scale,
         ..RidgesOptions::default()
     };
-    features(&ridges(&Surface::of_mesh(mesh), &options, &mut Silent).unwrap())
+    Features::of_lines(&ridges(&Surface::of_mesh(mesh), &options, &mut Silent).unwrap())
 }
 
 #[test]
