@@ -12,7 +12,7 @@ use crestline::Result;
 
 use super::failure::explain;
 use super::frame::OutputSpaceArg;
-use super::load::{report_with_progress, StrictArg};
+use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
@@ -166,12 +166,22 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     .into_iter()
     .flatten()
     .collect();
-    let indicator_file: Vec<(&str, &Path)> = args.morse.indicator_file().into_iter().collect();
+    let indicator_file: Vec<ScalarFile<'_>> = args
+        .morse
+        .indicator_file()
+        .map(|(name, path)| ScalarFile {
+            name,
+            path,
+            option: "--indicator",
+            non_negative: false,
+        })
+        .into_iter()
+        .collect();
     let inputs: Vec<Role<'_>> = std::iter::once(("the input mesh", args.mesh.as_path()))
         .chain(
             indicator_file
                 .iter()
-                .map(|&(_, f)| ("the --indicator file", f)),
+                .map(|f| ("the --indicator file", f.path)),
         )
         .collect();
     check_paths(&inputs, &outputs)?;

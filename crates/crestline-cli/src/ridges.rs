@@ -14,7 +14,7 @@ use crestline::{Error, Result};
 
 use super::failure::explain;
 use super::frame::OutputSpaceArg;
-use super::load::{report_with_progress, StrictArg};
+use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, Role};
 use super::structure::StructureArg;
@@ -146,8 +146,13 @@ const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
 /// are reported as warnings.
 pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Loaded> {
     let weights_file = weights_file(args);
-    let extra: Vec<(&str, &Path)> = weights_file
-        .map(|f| (WEIGHTS_FROM_FILE, f))
+    let extra: Vec<ScalarFile<'_>> = weights_file
+        .map(|path| ScalarFile {
+            name: WEIGHTS_FROM_FILE,
+            path,
+            option: "--smoothing-weights",
+            non_negative: true,
+        })
         .into_iter()
         .collect();
     load_surface(
