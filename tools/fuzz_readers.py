@@ -63,7 +63,7 @@ VERTICES = [(0, 0, 0), (1.5, 0, 0), (1.5, 1.5, 0), (0, 1.5, 0),
             (0, 0, -1.25), (1.5, 0, -1.25), (1.5, 1.5, -1.25), (0, 1.5, -1.25)]
 QUADS = [(0, 1, 2, 3), (4, 7, 6, 5), (0, 4, 5, 1), (1, 5, 6, 2), (2, 6, 7, 3), (3, 7, 4, 0)]
 TRIANGLES = [t for a, b, c, d in QUADS for t in ((a, b, c), (a, c, d))]
-VALUES = [0.5, -1.25, 3.0, 0.0, 0.125, 7.5, -2.0, 4.25]
+VALUES = [0.5, 1.25, 3.0, 0.0, 0.125, 7.5, 2.0, 4.25]  # valid weights and indicators
 
 # ---------------------------------------------------------------------------
 # Seed files
@@ -126,11 +126,12 @@ def curv() -> bytes:
 
 
 def dicom_series(folder: Path) -> Optional[List[bytes]]:
-    """Four slices of `MR_small.dcm` 1 mm apart, as one series (needs pydicom)."""
+    """Four slices of `MR_small.dcm` 1 mm apart, as one series, the last two
+    RLE-compressed (needs pydicom and numpy)."""
     source = PYDICOM_DATA / "MR_small.dcm"
     try:
         import pydicom
-        from pydicom.uid import generate_uid
+        from pydicom.uid import RLELossless, generate_uid
     except ImportError:
         return None
     if not source.is_file():
@@ -145,10 +146,43 @@ def dicom_series(folder: Path) -> Optional[List[bytes]]:
         ds.InstanceNumber = k + 1
         ds.ImagePositionPatient = [-83.9063, -91.2, 6.6406 + k]
         ds.SliceThickness = 1.0
+        if k >= 2:
+            ds.compress(RLELossless)
         path = folder / f"slice{k}.dcm"
         ds.save_as(path, enforce_file_format=True)
         files.append(path.read_bytes())
     return files
+
+
+def dicom_jpeg(folder: Path) -> Optional[bytes]:
+    """`MR_small.dcm` as 8-bit baseline JPEG, which jpeg-decoder decodes (pydicom's
+    own JPEG files store 12 bits; needs pydicom, numpy and Pillow)."""
+    source = PYDICOM_DATA / "MR_small.dcm"
+    try:
+        import io
+
+        import numpy as np
+        import pydicom
+        from PIL import Image
+        from pydicom.encaps import encapsulate
+        from pydicom.uid import JPEGBaseline8Bit
+    except ImportError:
+        return None
+    if not source.is_file():
+        return None
+    ds = pydicom.dcmread(source)
+    pixels = ds.pixel_array.astype(np.float64)
+    scaled = (255 * (pixels - pixels.min()) / max(np.ptp(pixels), 1)).astype(np.uint8)
+    jpeg = io.BytesIO()
+    Image.fromarray(scaled).save(jpeg, format="JPEG", quality=90)
+    ds.PixelData = encapsulate([jpeg.getvalue()])
+    ds["PixelData"].VR = "OB"
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 8, 8, 7, 0
+    ds.PhotometricInterpretation = "MONOCHROME2"
+    ds.file_meta.TransferSyntaxUID = JPEGBaseline8Bit
+    path = folder / "jpeg.dcm"
+    ds.save_as(path, enforce_file_format=True)
+    return path.read_bytes()
 
 
 # ---------------------------------------------------------------------------
@@ -302,6 +336,8 @@ class Format:
                  commands: Callable[[Path, Path, Path, int], List[List[str]]]):
         self.name, self.family, self.file_name = name, family, file_name
         self.seeds, self.commands = seeds, commands
+        # A name for folders: the format's words joined.
+        self.slug = "-".join(re.findall(r"[a-z0-9]+", name.lower()))
 
 
 def surface_commands(path: Path, out: Path, mesh: Path, index: int) -> List[List[str]]:
@@ -331,12 +367,16 @@ def formats(work: Path) -> List[Format]:
              Format("FreeSurfer curv", "curv", "lh.curv", [curv()], values_commands)]
     names = ["MR_small.dcm", "MR_small_RLE.dcm", "JPGExtended.dcm", "JPEG-lossy.dcm", "rtdose_rle.dcm", "CT_small.dcm"]
     dicom = [(PYDICOM_DATA / n).read_bytes() for n in names if (PYDICOM_DATA / n).is_file()]
+    series_dir = work / "series-seed"
+    series_dir.mkdir()
+    jpeg = dicom_jpeg(series_dir)
+    if jpeg:
+        # Twice: two of the seven seeds decode as JPEG.
+        dicom += [jpeg, jpeg]
     if dicom:
         found.append(Format("DICOM file", "dicom", "f.dcm", dicom, info_command))
     else:
         print(f"skipped: DICOM files (run tools/fetch_pydicom_data.sh)", file=sys.stderr)
-    series_dir = work / "series-seed"
-    series_dir.mkdir()
     series = dicom_series(series_dir)
     if series:
         found.append(Format("DICOM series", "dicom", "series", series, info_command))
@@ -407,7 +447,7 @@ def run_tool(args: List[str], cwd: Path) -> Tuple[Optional[int], str]:
 def run_mutant(fmt: Format, index: int, rng_seed: int, work: Path, mesh: Path, options: set,
                keep: Path) -> Tuple[str, Dict[str, int], List[str]]:
     rng = random.Random(rng_seed)
-    case = work / f"{fmt.family}-{index}"
+    case = work / f"{fmt.slug}-{index}"
     case.mkdir()
     out = case / "out"
     out.mkdir()
@@ -438,12 +478,14 @@ def run_mutant(fmt: Format, index: int, rng_seed: int, work: Path, mesh: Path, o
         tally["runs"] += 1
         tally[f"exit {code}" if code is not None else "timeout"] += 1
         tally["panic lines"] += sum("panicked" in line for line in err.splitlines())
+        for note, text in NOTED.items():
+            tally[note] += text in err
         found = judge(code, err, faulty, out, options)
         for problem in found:
             tally[problem] += 1
         if found:
             problems.append(f"{fmt.name} mutant {index} {applied}: {found}: crestline {' '.join(args)}\n{err}")
-            kept = keep / f"{fmt.family}-{index}"
+            kept = keep / f"{fmt.slug}-{index}"
             shutil.copytree(case, kept, dirs_exist_ok=True)
             (kept / "stderr.txt").write_text(err)
         for p in out.iterdir():
@@ -457,9 +499,34 @@ def run_mutant(fmt: Format, index: int, rng_seed: int, work: Path, mesh: Path, o
     return fmt.name, tally, problems
 
 
+def check_seeds(fmt: Format, work: Path, mesh: Path) -> List[str]:
+    """The seed files of `fmt` the tool does not read (a broken seed fuzzes nothing)."""
+    failed = []
+    for k, seed in enumerate(fmt.seeds):
+        case = work / f"{fmt.slug}-seed{k}"
+        out = case / "out"
+        out.mkdir(parents=True)
+        if fmt.name == "DICOM series":
+            target = case / "series"
+            target.mkdir()
+            for i, data in enumerate(fmt.seeds):
+                (target / f"slice{i}.dcm").write_bytes(data)
+        else:
+            target = case / fmt.file_name
+            target.write_bytes(seed)
+        for args in fmt.commands(target, out, mesh, 0):
+            code, err = run_tool(args, case)
+            if code != 0:
+                failed.append(f"{fmt.name} seed {k}: crestline {' '.join(args)}: {err.strip()}")
+        shutil.rmtree(case)
+        if fmt.name == "DICOM series":
+            break
+    return failed
+
+
 def pipe_runs(fmt: Format, work: Path, mesh: Path, options: set) -> Tuple[Dict[str, int], List[str]]:
     """The format's commands on a FIFO named as its files."""
-    case = work / f"{fmt.family}-pipe"
+    case = work / f"{fmt.slug}-pipe"
     case.mkdir(exist_ok=True)
     out = case / "out"
     out.mkdir(exist_ok=True)
@@ -477,6 +544,12 @@ def pipe_runs(fmt: Format, work: Path, mesh: Path, options: set) -> Tuple[Dict[s
             problems.append(f"{fmt.name} pipe: {found}: crestline {' '.join(args)}\n{err}")
     return tally, problems
 
+
+# Errors counted by kind (not problems): a decoder's panic caught and reported,
+# memory refused, a pipe refused.
+NOTED = {"caught decoder panic": "the decoder stopped on corrupt data",
+         "memory refused": "more than can be allocated",
+         "not a regular file": "not a regular file"}
 
 COLUMNS = ["runs", "exit 0", "exit 1", "timeout", "panic lines", "debug text", "backtick as --",
            "not one error line", "error names another file", "output left behind", "inputs changed"]
@@ -503,6 +576,9 @@ def main() -> int:
               if not args.formats or any(w.lower() in f.name.lower() for w in args.formats.split(","))]
     tallies: Dict[str, collections.Counter] = {f.name: collections.Counter() for f in chosen}
     problems: List[str] = []
+    broken = [problem for fmt in chosen for problem in check_seeds(fmt, work, mesh)]
+    for problem in broken:
+        print(f"seed not read (its mutants are still run): {problem}")
     for fmt in chosen:
         tally, found = pipe_runs(fmt, work, mesh, options)
         tallies[fmt.name].update(tally)

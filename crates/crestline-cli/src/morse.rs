@@ -10,7 +10,7 @@ use crestline::lines::{write_on_surface, FeatureLines};
 use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
 use crestline::Result;
 
-use super::failure::explain;
+use super::failure::{explain, with_values};
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
@@ -133,8 +133,9 @@ pub fn extract(
     args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, MorseSummary)> {
+    let indicator = args.indicator_file().map(|(_, file)| ("--indicator", file));
     let (mut lines, summary) = morse(surface, None, &args.options(estimator), report)
-        .map_err(|e| explain(e, mesh_path))?;
+        .map_err(|e| with_values(explain(e, mesh_path), indicator))?;
     lines.source = mesh_path.display().to_string();
     let after = summary.after;
     report.section(

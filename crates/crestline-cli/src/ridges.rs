@@ -12,7 +12,7 @@ use crestline::ridges::Kinds;
 use crestline::ridges::Solver;
 use crestline::{Error, Result};
 
-use super::failure::explain;
+use super::failure::{explain, with_values};
 use super::frame::OutputSpaceArg;
 use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
@@ -210,7 +210,9 @@ pub fn trace_loaded(
     report: &mut Report,
 ) -> Result<FeatureLines> {
     let options = options_for(&surface.mesh, mesh_path, args)?;
-    let mut lines = ridges(surface, &options, report).map_err(|e| explain(e, mesh_path))?;
+    let weights = weights_file(args).map(|file| ("--smoothing-weights", file));
+    let mut lines = ridges(surface, &options, report)
+        .map_err(|e| with_values(explain(e, mesh_path), weights))?;
     lines.source = mesh_path.display().to_string();
     Ok(lines)
 }

@@ -166,11 +166,11 @@ mod tests {
     #[test]
     fn rle_headers_must_fit_their_fragment() {
         let good = rle_header(2, &[64, 80], 100);
-        check_rle(&[good.clone()], 1, 2).unwrap();
+        check_rle(std::slice::from_ref(&good), 1, 2).unwrap();
         let err = |fragments: &[Vec<u8>], frames| {
             check_rle(fragments, frames, 2).unwrap_err().to_string()
         };
-        assert!(err(&[good.clone()], 2).contains("1 fragments for 2 frames"));
+        assert!(err(std::slice::from_ref(&good), 2).contains("1 fragments for 2 frames"));
         let huge = rle_header(u32::MAX, &[64], 100);
         assert!(err(&[huge], 1).contains("declares 4294967295 segments"));
         let outside = rle_header(2, &[64, 4000], 100);
