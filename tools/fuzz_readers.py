@@ -5,7 +5,7 @@ Usage:
     cargo build --release
     tools/fetch_pydicom_data.sh            # DICOM seeds (skipped when absent)
     python3 tools/fuzz_readers.py [--mutants N] [--seed S] [--jobs J]
-                                  [--formats NAME,...] [--keep DIR]
+                                  [--formats NAME,...] [--keep DIR] [--tool PATH]
 
 Small valid files of each format are written (a cube as a GIfTI surface with
 ASCII, base64 and gzip-base64 arrays, as a FreeSurfer surface, per-vertex values
@@ -244,16 +244,30 @@ def set_attribute(data: bytearray, rng: random.Random) -> str:
     return f"attribute {name.decode()}"
 
 
+BOMB_BYTES = 1 << 30
+_bomb: List[bytes] = []
+
+
+def bomb_payload() -> bytes:
+    """1 GiB of zeros, zlib-compressed (1 MB) and base64-encoded (1.4 MB), made once."""
+    if not _bomb:
+        compressor = zlib.compressobj(9)
+        chunk = bytes(1 << 20)
+        parts = [compressor.compress(chunk) for _ in range(BOMB_BYTES >> 20)]
+        _bomb.append(base64.b64encode(b"".join(parts) + compressor.flush()))
+    return _bomb[0]
+
+
 def gzip_bomb(data: bytearray, rng: random.Random) -> str:
-    """The first array replaced by 64 MiB of zeros with matching (or not) dimensions."""
-    size = 64 << 20
-    payload = base64.b64encode(zlib.compress(bytes(size), 9))
-    count = size // 4 if rng.random() < 0.5 else size // 4 - 1
+    """The first array replaced by 1 GiB of zeros, its dimensions matching (an
+    N x 3 array stays one) or one number short."""
     text = bytes(data)
-    text = re.sub(rb'Dimensionality="\d+" Dim0="\d+"( Dim1="\d+")?',
-                  b'Dimensionality="1" Dim0="%d"' % count, text, count=1)
+    rows = re.search(rb'Dim1="3"', text.split(b"</DataArray>")[0]) is not None
+    count = BOMB_BYTES // (12 if rows else 4) - (0 if rng.random() < 0.5 else 1)
+    dims = b'Dimensionality="2" Dim0="%d" Dim1="3"' % count if rows else b'Dimensionality="1" Dim0="%d"' % count
+    text = re.sub(rb'Dimensionality="\d+" Dim0="\d+"( Dim1="\d+")?', dims, text, count=1)
     text = re.sub(rb'Encoding="[A-Za-z0-9]+"', b'Encoding="GZipBase64Binary"', text, count=1)
-    text = re.sub(rb"<Data>[^<]*</Data>", b"<Data>" + payload + b"</Data>", text, count=1)
+    text = re.sub(rb"<Data>[^<]*</Data>", b"<Data>" + bomb_payload() + b"</Data>", text, count=1)
     data[:] = text
     return "gzip bomb"
 
@@ -537,6 +551,8 @@ def pipe_runs(fmt: Format, work: Path, mesh: Path, options: set) -> Tuple[Dict[s
     for args in fmt.commands(target, out, mesh, 0):
         code, err = run_tool(args, case)
         tally["pipe runs"] += 1
+        for note, text in NOTED.items():
+            tally[note] += text in err
         found = judge(code, err, [str(target), str(mesh)], out, options)
         for problem in found:
             tally[f"pipe: {problem}"] += 1
@@ -556,13 +572,16 @@ COLUMNS = ["runs", "exit 0", "exit 1", "timeout", "panic lines", "debug text", "
 
 
 def main() -> int:
+    global TOOL
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--mutants", type=int, default=300, help="mutants per format (default 300)")
     parser.add_argument("--seed", type=int, default=57, help="random seed")
     parser.add_argument("--jobs", type=int, default=2, help="runs at a time")
     parser.add_argument("--formats", default="", help="comma-separated words a format's name must contain")
     parser.add_argument("--keep", type=Path, default=None, help="folder for failing mutants")
+    parser.add_argument("--tool", type=Path, default=TOOL, help=f"the binary (default {TOOL})")
     args = parser.parse_args()
+    TOOL = args.tool.resolve()
     if not TOOL.is_file():
         print(f"error: {TOOL} is missing; run cargo build --release", file=sys.stderr)
         return 2
