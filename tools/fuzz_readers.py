@@ -431,7 +431,9 @@ def judge(code: Optional[int], err: str, faulty: Sequence[str], out_dir: Path, o
         problems.append("panic text")
     if re.search(r"Some\(|\bNone\b|\[\"", err):
         problems.append("debug text")
-    unknown = [w for w in re.findall(r"(?<![\w-])--([A-Za-z0-9_][\w-]*)", err) if w not in options]
+    # Input text an error quotes ('...') may hold anything a mutant holds.
+    unquoted = re.sub(r"'[^'\n]*'", "''", err)
+    unknown = [w for w in re.findall(r"(?<![\w-])--([A-Za-z0-9_][\w-]*)", unquoted) if w not in options]
     if unknown:
         problems.append("backtick as --")
     if code == 1:
