@@ -21,6 +21,20 @@ pub fn explain(err: Error, path: &Path) -> Error {
     }
 }
 
+/// `err`, an error of a computation on a mesh, also naming the per-vertex values
+/// file an option gave (`values`: the option and the file), when there is one: the
+/// values may be what the computation failed on (a weight of 10³⁸ makes the
+/// smoothing's matrix singular).
+pub fn with_values(err: Error, values: Option<(&str, &Path)>) -> Error {
+    match (err, values) {
+        (Error::File { path, message }, Some((option, file))) if path != file => Error::File {
+            path,
+            message: format!("{message} (with the {option} values of {})", file.display()),
+        },
+        (err, _) => err,
+    }
+}
+
 /// A plain name for a library stage (`"smoothing"`, `"ridges: tracing"`, ...)
 /// and what to try when it fails.
 fn describe(stage: &str) -> (&str, Option<&'static str>) {
@@ -64,6 +78,19 @@ mod tests {
         assert_eq!(
             explain(err, Path::new("m.ply")).to_string(),
             "m.ply: gradient failed: no faces"
+        );
+    }
+
+    #[test]
+    fn a_values_file_is_named_with_the_mesh() {
+        let err = Error::Mesh("the values range over too much".into());
+        let err = with_values(
+            explain(err, Path::new("m.ply")),
+            Some(("--indicator", Path::new("v.curv"))),
+        );
+        assert_eq!(
+            err.to_string(),
+            "m.ply: the values range over too much (with the --indicator values of v.curv)"
         );
     }
 

@@ -33,7 +33,43 @@ pub fn load_mesh(
     load_mesh_with_scalars(path, strict, report, &[])
 }
 
-/// [`load_mesh`], attaching per-vertex scalars `(name, file)` read from files of
+/// Per-vertex values an option reads from a file of their own.
+#[derive(Clone, Copy, Debug)]
+pub struct ScalarFile<'a> {
+    /// The vertex property they are attached under.
+    pub name: &'a str,
+    /// The file.
+    pub path: &'a Path,
+    /// The option that names the file (`--indicator`), for messages.
+    pub option: &'static str,
+    /// Whether the values must also be at least 0 (they must always be finite).
+    pub non_negative: bool,
+}
+
+impl ScalarFile<'_> {
+    /// An error naming the file at its first value that is not finite, or negative
+    /// when the values must not be.
+    fn check(&self, values: &[f64]) -> Result<()> {
+        let wrong = |x: f64| !x.is_finite() || (self.non_negative && x < 0.0);
+        let Some(v) = values.iter().position(|&x| wrong(x)) else {
+            return Ok(());
+        };
+        let wanted = if self.non_negative {
+            "finite numbers ≥ 0"
+        } else {
+            "finite numbers"
+        };
+        Err(Error::File {
+            path: self.path.to_path_buf(),
+            message: format!(
+                "the value of vertex {v} is {}; the values of {} must be {wanted}",
+                values[v], self.option
+            ),
+        })
+    }
+}
+
+/// [`load_mesh`], attaching per-vertex scalars read from [`ScalarFile`]s of
 /// one value per vertex in the mesh file's vertex order (text with one value per
 /// line, FreeSurfer curv such as `lh.sulc`, GIfTI `.shape.gii`/`.func.gii`) before
 /// the repairs, so the values follow welding and splitting of vertices.
@@ -41,7 +77,7 @@ pub fn load_mesh_with_scalars(
     path: &Path,
     strict: StrictArg,
     report: &mut Report,
-    scalars: &[(&str, &Path)],
+    scalars: &[ScalarFile<'_>],
 ) -> Result<(Mesh, RepairReport)> {
     let bar = progress_bar(path);
     let update = |done: u64, total: u64| {
@@ -51,7 +87,8 @@ pub fn load_mesh_with_scalars(
     let soup = report.stage("read", || read_mesh_with_progress(path, &update));
     bar.finish_and_clear();
     let mut soup = soup?;
-    for &(name, file) in scalars {
+    for scalar in scalars {
+        let (name, file) = (scalar.name, scalar.path);
         let values = read_vertex_values(file)?;
         if values.len() != soup.positions.len() {
             return Err(Error::File {
@@ -64,6 +101,7 @@ pub fn load_mesh_with_scalars(
                 ),
             });
         }
+        scalar.check(&values)?;
         soup.vertex_scalars.push(ScalarProperty {
             name: name.to_string(),
             values,

@@ -22,6 +22,7 @@ mod load;
 mod morse;
 mod on_surface;
 mod outputs;
+mod panics;
 mod plot;
 mod register;
 mod report;
@@ -37,7 +38,10 @@ use std::path::PathBuf;
 use outputs::Role;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use std::collections::BTreeSet;
+use std::sync::OnceLock;
+
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Feature lines on surfaces: ridges and valleys of triangle meshes.
 #[derive(Parser, Debug)]
@@ -144,6 +148,7 @@ pub fn warn(mesh: &std::path::Path, message: &str) {
 /// Parse the command line, run the command, and turn its outcome into an exit code.
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    panics::silence();
     if let Err(err) = signals::install() {
         eprintln!("error: the signal handlers cannot be installed: {err}");
         return ExitCode::from(1);
@@ -152,7 +157,7 @@ fn main() -> ExitCode {
         eprintln!("error: --threads {}: {err}", cli.threads);
         return ExitCode::from(1);
     }
-    let outcome = match cli.command {
+    let outcome = panics::catch(|| match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Curvature(args) => curvature::run(&args),
         Command::Iso(args) => iso::run(&args),
@@ -165,7 +170,7 @@ fn main() -> ExitCode {
         Command::Register(args) => register::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::View(args) => view::run(&args),
-    };
+    });
     match (outcome, signals::received()) {
         (Ok(()), _) => ExitCode::SUCCESS,
         (Err(_), Some(signal)) => {
@@ -191,23 +196,80 @@ where
 }
 
 /// `message` of the library with each option it names between backticks
-/// (`` `min_length` ``) written as its command-line flag (`--min-length`).
+/// (`` `min_length` ``) written as its command-line flag (`--min-length`). Text
+/// between backticks that is not one of the tool's options (a word a library
+/// quoted, a command) keeps its backticks, as does a lone backtick.
 pub fn as_flags(message: &str) -> String {
-    let mut parts = message.split('`');
-    let mut text = parts.next().unwrap_or_default().to_string();
-    for (n, part) in parts.enumerate() {
+    let parts: Vec<&str> = message.split('`').collect();
+    // An even number of parts means an odd number of backticks: the last is alone.
+    let paired = parts.len() - (parts.len() + 1) % 2;
+    let mut text = String::with_capacity(message.len());
+    for (n, part) in parts.iter().enumerate() {
+        let flag = part.replace('_', "-");
         if n % 2 == 0 {
-            text.push_str("--");
-            text.push_str(&part.replace('_', "-"));
-        } else {
             text.push_str(part);
+        } else if n < paired && option_names().contains(&flag) {
+            text.push_str("--");
+            text.push_str(&flag);
+        } else {
+            text.push('`');
+            text.push_str(part);
+            if n < paired {
+                text.push('`');
+            }
         }
     }
     text
+}
+
+/// The long names of the tool's options, in every command (`min-length`,
+/// `series`, ...).
+fn option_names() -> &'static BTreeSet<String> {
+    static NAMES: OnceLock<BTreeSet<String>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        let mut names = BTreeSet::new();
+        add_option_names(&Cli::command(), &mut names);
+        names
+    })
+}
+
+/// Add the long names of the options of `command` and its subcommands to `names`.
+fn add_option_names(command: &clap::Command, names: &mut BTreeSet<String>) {
+    names.extend(
+        command
+            .get_arguments()
+            .filter_map(clap::Arg::get_long)
+            .map(str::to_string),
+    );
+    for subcommand in command.get_subcommands() {
+        add_option_names(subcommand, names);
+    }
 }
 
 /// Print `text` to stdout; a closed pipe (e.g. `| head`) is not an error.
 pub fn print_stdout(text: &str) {
     use std::io::Write;
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::as_flags;
+
+    #[test]
+    fn only_the_tools_options_become_flags() {
+        assert_eq!(
+            as_flags("`min_length` is too large; choose one by `series`"),
+            "--min-length is too large; choose one by --series"
+        );
+        assert_eq!(
+            as_flags("Missing required attribute `HighBit` (`crestline info`)"),
+            "Missing required attribute `HighBit` (`crestline info`)"
+        );
+        assert_eq!(as_flags("a lone ` and `taper`"), "a lone ` and `taper`");
+        assert_eq!(
+            as_flags("`smoothing_weights` and `"),
+            "--smoothing-weights and `"
+        );
+    }
 }

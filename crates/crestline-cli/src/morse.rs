@@ -10,9 +10,9 @@ use crestline::lines::{write_on_surface, FeatureLines};
 use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
 use crestline::Result;
 
-use super::failure::explain;
+use super::failure::{explain, with_values};
 use super::frame::OutputSpaceArg;
-use super::load::{report_with_progress, StrictArg};
+use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, OutputSet, Role};
 use super::plot::write_hierarchy_png;
@@ -133,8 +133,9 @@ pub fn extract(
     args: &MorseArgs,
     report: &mut Report,
 ) -> Result<(FeatureLines, MorseSummary)> {
+    let indicator = args.indicator_file().map(|(_, file)| ("--indicator", file));
     let (mut lines, summary) = morse(surface, None, &args.options(estimator), report)
-        .map_err(|e| explain(e, mesh_path))?;
+        .map_err(|e| with_values(explain(e, mesh_path), indicator))?;
     lines.source = mesh_path.display().to_string();
     let after = summary.after;
     report.section(
@@ -166,12 +167,22 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     .into_iter()
     .flatten()
     .collect();
-    let indicator_file: Vec<(&str, &Path)> = args.morse.indicator_file().into_iter().collect();
+    let indicator_file: Vec<ScalarFile<'_>> = args
+        .morse
+        .indicator_file()
+        .map(|(name, path)| ScalarFile {
+            name,
+            path,
+            option: "--indicator",
+            non_negative: false,
+        })
+        .into_iter()
+        .collect();
     let inputs: Vec<Role<'_>> = std::iter::once(("the input mesh", args.mesh.as_path()))
         .chain(
             indicator_file
                 .iter()
-                .map(|&(_, f)| ("the --indicator file", f)),
+                .map(|f| ("the --indicator file", f.path)),
         )
         .collect();
     check_paths(&inputs, &outputs)?;

@@ -12,9 +12,9 @@ use crestline::ridges::Kinds;
 use crestline::ridges::Solver;
 use crestline::{Error, Result};
 
-use super::failure::explain;
+use super::failure::{explain, with_values};
 use super::frame::OutputSpaceArg;
-use super::load::{report_with_progress, StrictArg};
+use super::load::{report_with_progress, ScalarFile, StrictArg};
 use super::on_surface::{check_on_surface, line_output};
 use super::outputs::{check_paths, Role};
 use super::structure::StructureArg;
@@ -147,8 +147,13 @@ const WEIGHTS_FROM_FILE: &str = "crestline_smoothing_weights";
 /// are reported as warnings.
 pub fn load_for_tracing(path: &Path, args: &TracerArgs, report: &mut Report) -> Result<Loaded> {
     let weights_file = weights_file(args);
-    let extra: Vec<(&str, &Path)> = weights_file
-        .map(|f| (WEIGHTS_FROM_FILE, f))
+    let extra: Vec<ScalarFile<'_>> = weights_file
+        .map(|path| ScalarFile {
+            name: WEIGHTS_FROM_FILE,
+            path,
+            option: "--smoothing-weights",
+            non_negative: true,
+        })
         .into_iter()
         .collect();
     load_surface(
@@ -206,7 +211,9 @@ pub fn trace_loaded(
     report: &mut Report,
 ) -> Result<FeatureLines> {
     let options = options_for(&surface.mesh, mesh_path, args)?;
-    let mut lines = ridges(surface, &options, report).map_err(|e| explain(e, mesh_path))?;
+    let weights = weights_file(args).map(|file| ("--smoothing-weights", file));
+    let mut lines = ridges(surface, &options, report)
+        .map_err(|e| with_values(explain(e, mesh_path), weights))?;
     lines.source = mesh_path.display().to_string();
     Ok(lines)
 }

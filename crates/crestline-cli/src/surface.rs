@@ -11,7 +11,7 @@ use crestline::jobs::{self, CurvatureSource, IsoOptions, Length, Surface};
 use crestline::volume::Volume;
 use crestline::{Error, Result};
 
-use super::load::{load_mesh_with_scalars, StrictArg};
+use super::load::{load_mesh_with_scalars, ScalarFile, StrictArg};
 
 /// How a 3D image becomes a surface: options of every command that reads a mesh
 /// or an image.
@@ -90,7 +90,7 @@ pub struct Loaded {
 pub fn load_surface(
     path: &Path,
     (strict, volume, iso, needs): (StrictArg, &VolumeArgs, IsoOptions, Option<DerivativeOrder>),
-    scalars: &[(&str, &Path)],
+    scalars: &[ScalarFile<'_>],
     report: &mut Report,
 ) -> Result<Loaded> {
     if is_volume_path(path) {

@@ -41,6 +41,7 @@ fn two_series_exit_with_their_uids_unless_one_is_chosen() {
     assert_one_line_error(&out, folder, "holds 2 series");
     let err = common::stderr(&out);
     assert!(err.contains(MR) && err.contains(CT), "{err}");
+    assert!(err.contains("(the option --series)"), "{err}");
     let out = crestline(&["info", folder, "--series", CT]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", common::stderr(&out));

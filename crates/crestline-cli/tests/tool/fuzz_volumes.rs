@@ -42,6 +42,16 @@
 //! message), e.g. `CRESTLINE_FUZZ_MUTANTS=2000 CRESTLINE_FUZZ_SEED=7 cargo test
 //! --release -p crestline-cli --test tool fuzz_volumes -- --nocapture` (about 100 s);
 //! the table of outcomes is printed either way.
+//!
+//! A second test mutates DICOM input (pydicom's native, RLE and JPEG files and a
+//! series of three slices made from them, when `tools/fetch_pydicom_data.sh` has
+//! fetched them) and per-vertex files given to `morse --indicator` and `ridges
+//! --smoothing-weights` (GIfTI `.shape.gii`, FreeSurfer curv), judged by the same
+//! checks: [`DEFAULT_OTHER_MUTANTS`] per seed (about 400 runs, a few seconds), or
+//! `CRESTLINE_FUZZ_MUTANTS`. `python3 tools/fuzz_readers.py --mutants 3000` runs
+//! thousands per format, with mutations aimed at each reader (gzip bombs, huge
+//! dimensions, 200,000 attributes, RLE and JPEG headers) and a pipe in place of
+//! each file.
 #![cfg(unix)]
 
 use std::collections::BTreeMap;
@@ -2014,4 +2024,211 @@ fn problem_kind(problem: &str) -> String {
     let kind = kind.join(": ");
     let end = kind.find(['[', '"']).unwrap_or(kind.len());
     kind[..end].trim_end().to_string()
+}
+
+// ---------------------------------------------------------------------------
+// DICOM input and per-vertex value files
+
+/// Mutants per seed of [`dicom_and_values_mutants_never_crash_or_garble_their_errors`]
+/// in a plain `cargo test --release` (`CRESTLINE_FUZZ_MUTANTS` sets it too).
+const DEFAULT_OTHER_MUTANTS: usize = 60;
+
+/// A file or folder the tool reads, with the command run on its mutants.
+struct OtherSeed {
+    name: &'static str,
+    /// The files, by name; a seed of several files is a folder (a DICOM series),
+    /// one of whose files each mutant changes.
+    files: Vec<(String, Vec<u8>)>,
+    /// The command on the input (its path), writing into the output folder.
+    args: fn(&Path, &Path, &Path) -> Vec<String>,
+}
+
+/// pydicom's test file `name`, or `None` when it is not fetched.
+fn pydicom_bytes(name: &str) -> Option<Vec<u8>> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/dicom/pydicom")
+        .join(name);
+    std::fs::read(path).ok()
+}
+
+/// `bytes` with the first `from` replaced by `to` (of the same length, so that
+/// every element length stays right).
+fn patched(bytes: &[u8], from: &[u8], to: &[u8]) -> Vec<u8> {
+    assert_eq!(from.len(), to.len());
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from)
+        .expect("the text to patch");
+    let mut out = bytes.to_vec();
+    out[at..at + to.len()].copy_from_slice(to);
+    out
+}
+
+/// The octahedron (6 vertices) as OBJ, the mesh of the per-vertex files.
+const OCTAHEDRON: &str = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+    f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+/// A per-vertex file written by the library's writer (`.shape.gii` or `.curv`).
+fn values_file(name: &str) -> Vec<u8> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    let values = [0.5, 1.25, 3.0, 0.0, 0.125, 7.5];
+    let metadata = (&[][..], crestline::io::Structure::default());
+    crestline::io::write_vertex_values(&path, &values, metadata, 8).unwrap();
+    std::fs::read(path).unwrap()
+}
+
+/// The seeds: pydicom's native, RLE and JPEG files, a series of three slices
+/// (native and RLE) made from its MR slice by moving it along z, and per-vertex
+/// GIfTI and curv files given to `--indicator` and `--smoothing-weights`. DICOM
+/// seeds are left out, saying so, when pydicom's files are not fetched.
+fn other_seeds() -> Vec<OtherSeed> {
+    fn info(input: &Path, _: &Path, _: &Path) -> Vec<String> {
+        vec!["info".to_string(), input.display().to_string()]
+    }
+    fn indicator(input: &Path, mesh: &Path, out: &Path) -> Vec<String> {
+        let (input, mesh) = (input.display().to_string(), mesh.display().to_string());
+        let out = out.join("out.ply").display().to_string();
+        ["morse", &mesh, "--indicator", &input, "-o", &out]
+            .map(String::from)
+            .to_vec()
+    }
+    fn weights(input: &Path, mesh: &Path, out: &Path) -> Vec<String> {
+        let (input, mesh) = (input.display().to_string(), mesh.display().to_string());
+        let out = out.join("out.ply").display().to_string();
+        ["ridges", &mesh, "--smoothing-weights", &input, "-o", &out]
+            .map(String::from)
+            .to_vec()
+    }
+    let one = |name: &'static str, file: &str, bytes: Vec<u8>, args| OtherSeed {
+        name,
+        files: vec![(file.to_string(), bytes)],
+        args,
+    };
+    let mut seeds = vec![
+        one(
+            "GIfTI values --indicator",
+            "v.shape.gii",
+            values_file("v.shape.gii"),
+            indicator,
+        ),
+        one(
+            "curv --smoothing-weights",
+            "lh.curv",
+            values_file("lh.curv"),
+            weights,
+        ),
+    ];
+    let dicom: Vec<(&str, Option<Vec<u8>>)> =
+        ["MR_small.dcm", "MR_small_RLE.dcm", "JPGExtended.dcm"]
+            .iter()
+            .map(|name| (*name, pydicom_bytes(name)))
+            .collect();
+    if dicom.iter().any(|(_, bytes)| bytes.is_none()) {
+        eprintln!("skipped: the DICOM seeds (run tools/fetch_pydicom_data.sh)");
+        return seeds;
+    }
+    let names = ["DICOM native", "DICOM RLE", "DICOM JPEG extended"];
+    for (name, (file, bytes)) in names.into_iter().zip(&dicom) {
+        seeds.push(one(name, file, bytes.clone().unwrap_or_default(), info));
+    }
+    // The MR slice lies at z = 6.6406: two more slices 1 mm and 2 mm further.
+    let (native, rle) = (dicom[0].1.clone().unwrap(), dicom[1].1.clone().unwrap());
+    let series = vec![
+        ("a.dcm".to_string(), native.clone()),
+        ("b.dcm".to_string(), patched(&rle, b"\\6.6406", b"\\7.6406")),
+        (
+            "c.dcm".to_string(),
+            patched(&native, b"\\6.6406", b"\\8.6406"),
+        ),
+    ];
+    seeds.push(OtherSeed {
+        name: "DICOM series",
+        files: series,
+        args: info,
+    });
+    seeds
+}
+
+/// Run the tool on one mutant of `seed` in `dir` (on the seed itself without
+/// `rng`); its problems.
+fn run_other(seed: &OtherSeed, dir: &Path, mut rng: Option<&mut Rng>) -> Vec<String> {
+    let (inputs, out) = (dir.join("in"), dir.join("out"));
+    for folder in [&inputs, &out] {
+        std::fs::create_dir_all(folder).unwrap();
+    }
+    let mesh = dir.join("octahedron.obj");
+    std::fs::write(&mesh, OCTAHEDRON).unwrap();
+    let changed = rng.as_deref_mut().map(|rng| rng.below(seed.files.len()));
+    let mut notes = Vec::new();
+    for (k, (name, bytes)) in seed.files.iter().enumerate() {
+        let bytes = match rng.as_deref_mut() {
+            Some(rng) if changed == Some(k) => {
+                let (bytes, applied) = mutate(bytes, rng);
+                notes.push(format!("{name}: {applied:?}"));
+                bytes
+            }
+            _ => bytes.clone(),
+        };
+        std::fs::write(inputs.join(name), bytes).unwrap();
+    }
+    let input = match seed.files.as_slice() {
+        [(name, _)] => inputs.join(name),
+        _ => inputs.clone(),
+    };
+    let before = snapshot(&inputs);
+    let args = (seed.args)(&input, &mesh, &out);
+    // `info` writes nothing; the others write `out.ply` when they succeed.
+    let outputs = if args[0] == "info" {
+        Vec::new()
+    } else {
+        vec!["out.ply".to_string()]
+    };
+    let run = run_tool(&args, dir, dir, RERUN_TIMEOUT);
+    let (outcome, mut problems) = check(&run, &input, outputs, (&out, &inputs), &before);
+    let refused = matches!(outcome, Outcome::Refused(_));
+    // Of the seeds only the 12-bit JPEG is refused (jpeg-decoder decodes 8 bits).
+    if notes.is_empty() && refused != (seed.name == "DICOM JPEG extended") {
+        problems.push(format!("the seed gives {:?}: {}", run.status, run.stderr));
+    }
+    problems
+        .into_iter()
+        .map(|p| format!("{} {notes:?}: {p}", seed.name))
+        .collect()
+}
+
+/// DICOM files and series (native, RLE, JPEG) and per-vertex files given to
+/// `--indicator` and `--smoothing-weights`, mutated as the images above and run
+/// through the tool under the same limits: exit 0 or 1, no panic or abort text,
+/// one error line naming the input, no output left, inputs unchanged.
+/// `CRESTLINE_FUZZ_MUTANTS=N` runs N mutants per seed (default
+/// [`DEFAULT_OTHER_MUTANTS`]); `tools/fuzz_readers.py` runs thousands per format
+/// with the same checks and mutations aimed at each reader's weak spots.
+#[test]
+fn dicom_and_values_mutants_never_crash_or_garble_their_errors() {
+    let count = env_number("CRESTLINE_FUZZ_MUTANTS").map_or(DEFAULT_OTHER_MUTANTS, |n| n as usize);
+    let seed = env_number("CRESTLINE_FUZZ_SEED").unwrap_or(0x0d1c_057e);
+    let root = tempfile::tempdir().unwrap();
+    let mut failures = Vec::new();
+    for (k, other) in other_seeds().iter().enumerate() {
+        let seed_dir = root.path().join(format!("{k}-seed"));
+        failures.extend(run_other(other, &seed_dir, None));
+        let mut rng = Rng(seed ^ (k as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        for index in 0..count {
+            let dir = root.path().join(format!("{k}-{index}"));
+            failures.extend(run_other(other, &dir, Some(&mut rng)));
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures
+            .iter()
+            .take(20)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
 }

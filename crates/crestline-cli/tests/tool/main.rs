@@ -9,6 +9,7 @@ mod dicom;
 mod draw;
 mod fuzz_volumes;
 mod hostile;
+mod hostile_readers;
 mod info_percentiles;
 mod parity;
 mod quality;

@@ -45,7 +45,7 @@ fn is_landmarks(path: &Path) -> Result<bool> {
     struct FormatOnly {
         format: Option<String>,
     }
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let format = serde_json::from_str::<FormatOnly>(&text)
         .ok()
         .and_then(|f| f.format);
@@ -55,7 +55,7 @@ fn is_landmarks(path: &Path) -> Result<bool> {
 /// The point landmarks of a CSV file as the `landmarks` job writes it: a header
 /// naming at least `kind`, `x`, `y` and `z` (and `space`, RAS or LPS, per row).
 fn read_csv(path: &Path) -> Result<Features> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let malformed = |line: usize, message: String| Error::File {
         path: path.to_path_buf(),
         message: format!("line {line}: {message}"),

@@ -133,7 +133,7 @@ impl Style {
     /// ([`Error::File`]) name the file and the key: unreadable or malformed JSON,
     /// an unknown key or kind, a bad colour or width.
     pub fn read(path: &Path) -> Result<Style> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::io::file::read_text(path)?;
         Style::default()
             .with_overrides(&text)
             .map_err(|message| Error::File {

@@ -33,6 +33,7 @@
 //! header the crate writes comes from one header writer, and every VTK file from
 //! one legacy VTK writer, both in this module.
 
+pub(crate) mod file;
 mod format;
 pub mod freesurfer;
 pub mod gifti;
@@ -114,9 +115,8 @@ pub fn read_mesh_with_progress(path: &Path, progress: Progress<'_>) -> Result<Tr
 }
 
 fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<TriangleSoup> {
-    check_is_file(path)?;
     let parse = parser_for(path)?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = file::read(path)?;
     parse_bytes(&bytes, progress, parse).map_err(|e| e.in_file(path))
 }
 
@@ -124,9 +124,10 @@ fn read_mesh_impl(path: &Path, progress: Option<Progress<'_>>) -> Result<Triangl
 type Parser = fn(&mut Input<'_>) -> Result<TriangleSoup>;
 
 /// The parser of the file at `path`: a FreeSurfer surface by its magic bytes,
-/// whatever its name, else the parser of its extension.
+/// whatever its name, else the parser of its extension. The path must name a
+/// regular file (a pipe is refused before it is opened).
 fn parser_for(path: &Path) -> Result<Parser> {
-    let magic = leading_bytes(path)?;
+    let magic = file::head(path, 3)?;
     if magic == freesurfer::SURFACE_MAGIC {
         return Ok(freesurfer::surface::parse);
     }
@@ -149,31 +150,6 @@ fn parser_for(path: &Path) -> Result<Parser> {
             },
             other => other,
         })
-}
-
-/// The first three bytes of the file at `path` (fewer in a shorter file).
-fn leading_bytes(path: &Path) -> Result<Vec<u8>> {
-    use std::io::Read;
-    let mut head = Vec::with_capacity(3);
-    std::fs::File::open(path)
-        .and_then(|file| file.take(3).read_to_end(&mut head))
-        .map_err(|e| Error::io(path, e))?;
-    Ok(head)
-}
-
-/// Check that `path` names an existing file, with clear messages for a missing file
-/// or a directory.
-fn check_is_file(path: &Path) -> Result<()> {
-    let file_error = |message: &str| Error::File {
-        path: path.to_path_buf(),
-        message: message.to_string(),
-    };
-    match std::fs::metadata(path) {
-        Ok(meta) if meta.is_dir() => Err(file_error("is a directory, not a mesh file")),
-        Ok(_) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(file_error("no such file")),
-        Err(e) => Err(Error::io(path, e)),
-    }
 }
 
 /// Run `parse` over `bytes`; the common entry of every reader.

@@ -50,7 +50,7 @@ pub fn write_vertex_values(
 /// Errors are [`Error::File`] naming `path` and the problem (the line of a text
 /// file, the `DataArray` of a GIfTI file).
 pub fn read_vertex_values(path: &Path) -> Result<Vec<f64>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = super::file::read(path)?;
     let values = if bytes.starts_with(&CURV_MAGIC) {
         curv::parse_curv(&bytes)
     } else if choose_format(path, "", &[FileFormat::Gifti]).is_ok() {

@@ -42,7 +42,7 @@ pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
         path: path.to_path_buf(),
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let format = serde_json::from_str::<FormatOnly>(&text)
         .ok()
         .and_then(|f| f.format);

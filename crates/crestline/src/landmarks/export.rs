@@ -98,7 +98,7 @@ pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Resu
 /// Read a landmark JSON file written by [`write_landmarks`]: the landmarks and the
 /// space of their positions. Malformed files are an [`Error::File`] naming `path`.
 pub fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let malformed = |message: String| Error::File {
         path: path.to_path_buf(),
         message,

@@ -88,7 +88,7 @@ pub fn write_json(path: &Path, lines: &FeatureLines) -> Result<()> {
 /// Malformed JSON, a missing or different `format`, unknown keys or kinds, and lines
 /// that [`FeatureLines::validate`] would reject are an [`Error::File`] naming `path`.
 pub fn read_json(path: &Path) -> Result<FeatureLines> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let malformed = |message: String| Error::File {
         path: path.to_path_buf(),
         message,

@@ -32,7 +32,7 @@ struct Document {
 /// transform that is not a rigid motion.
 pub fn read_transform(path: &Path) -> Result<RigidTransform> {
     let format = TransformFormat::from_path(path)?;
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::io::file::read_text(path)?;
     let parsed = match format {
         TransformFormat::Json => from_json(&text),
         TransformFormat::Itk => from_itk(&text),

@@ -235,12 +235,20 @@ const HANG: Duration = Duration::from_secs(2);
 #[test]
 fn mutants_never_panic_or_hang() {
     // Bit flips, interesting bytes, truncations, duplicated and deleted chunks of
-    // a native, an RLE and a multi-frame file: each read ends in a volume or in
-    // an error naming the file, on one line, without hanging.
+    // a native, an RLE, a JPEG (extended, 12 bits; baseline) and a native and an
+    // RLE multi-frame file: each read ends in a volume or in an error naming the
+    // file, on one line, without hanging.
     let dir = tempfile::tempdir().unwrap();
     let kept_dir = Path::new(env!("CARGO_TARGET_TMPDIR"));
     let mut rng = mutation::Rng(0x0d1c_0a11);
-    for name in ["MR_small.dcm", "MR_small_RLE.dcm", "rtdose.dcm"] {
+    for name in [
+        "MR_small.dcm",
+        "MR_small_RLE.dcm",
+        "JPGExtended.dcm",
+        "JPEG-lossy.dcm",
+        "rtdose.dcm",
+        "rtdose_rle.dcm",
+    ] {
         let Some(seed) = fetched(name) else {
             return;
         };

@@ -2,11 +2,15 @@
 //!
 //! Small valid files of every format (a cube written as ASCII PLY, binary PLY in
 //! both byte orders, OBJ, OFF, ASCII and binary STL, a FreeSurfer surface with
-//! its volume geometry, GIfTI with ASCII and with gzipped base64 arrays) are mutated with a seeded
-//! generator (bit flips, interesting bytes, truncation, duplicated and deleted
-//! chunks, swapped numbers, huge numbers) and read back through
-//! [`read_mesh`] and [`Mesh::from_soup`]. No mutant may panic or hang, and every
-//! error is one line naming the file, in plain words.
+//! its volume geometry, GIfTI with ASCII, base64 and gzipped base64 arrays) are
+//! mutated with a seeded generator (bit flips, interesting bytes, truncation,
+//! duplicated and deleted chunks, swapped numbers, huge numbers) and read back
+//! through [`read_mesh`] and [`Mesh::from_soup`]; per-vertex value files (GIfTI
+//! `.shape.gii` in gzipped base64 and ASCII, FreeSurfer curv) go through
+//! [`read_vertex_values`]. No mutant may panic or hang, and every error is one
+//! line naming the file, in plain words. (DICOM files are fuzzed in `dicom.rs`,
+//! on pydicom's test files; hostile files built on purpose — gzip bombs, pipes,
+//! elements with 200,000 attributes — are in `neuro_formats.rs`.)
 //!
 //! `cargo test --release` runs [`DEFAULT_MUTANTS`] mutants per format. For a longer run set
 //! `CRESTLINE_FUZZ_MUTANTS=N` (and optionally `CRESTLINE_FUZZ_SEED=S`; with
@@ -18,7 +22,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crestline::io::read_mesh;
+use crestline::io::{read_mesh, read_vertex_values};
 use crestline::mesh::Mesh;
 
 use crate::common::mutation;
@@ -179,11 +183,21 @@ fn binary_stl() -> Vec<u8> {
     bytes
 }
 
+/// What a seed file is read as.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// A mesh, by [`read_mesh`] and [`Mesh::from_soup`].
+    Mesh,
+    /// Per-vertex values, by [`read_vertex_values`].
+    Values,
+}
+
 /// A valid file to mutate.
 struct Seed {
     name: &'static str,
     extension: &'static str,
     bytes: Vec<u8>,
+    kind: Kind,
 }
 
 fn seeds() -> Vec<Seed> {
@@ -191,6 +205,13 @@ fn seeds() -> Vec<Seed> {
         name,
         extension,
         bytes,
+        kind: Kind::Mesh,
+    };
+    let values = |name, extension, bytes| Seed {
+        name,
+        extension,
+        bytes,
+        kind: Kind::Values,
     };
     vec![
         seed("ASCII PLY", "ply", ascii_ply()),
@@ -203,7 +224,82 @@ fn seeds() -> Vec<Seed> {
         seed("FreeSurfer surface", "pial", freesurfer_surface()),
         seed("GIfTI (ASCII)", "gii", gifti_ascii()),
         seed("GIfTI (gzip base64)", "gii", gifti_gzip()),
+        seed("GIfTI (base64)", "gii", gifti_base64()),
+        values("GIfTI values (gzip)", "shape.gii", gifti_values()),
+        values("GIfTI values (ASCII)", "func.gii", gifti_ascii_values()),
+        values("FreeSurfer curv", "curv", curv()),
     ]
+}
+
+/// The per-vertex values of the value seeds: one per cube vertex.
+const VALUES: [f64; 8] = [0.5, -1.25, 3.0, 0.0, 0.125, 7.5, -2.0, 4.25];
+
+/// A `.shape.gii` as crestline writes it (gzipped base64).
+fn gifti_values() -> Vec<u8> {
+    written("v.shape.gii", |path| {
+        crestline::io::gifti::write_gifti_values(path, &VALUES, "NIFTI_INTENT_SHAPE", &[], &[])
+            .unwrap()
+    })
+}
+
+/// A `.func.gii` with an ASCII `N x 1` array.
+fn gifti_ascii_values() -> Vec<u8> {
+    let data: Vec<String> = VALUES.iter().map(f64::to_string).collect();
+    format!(
+        "<?xml version=\"1.0\"?>\n<GIFTI Version=\"1.0\" NumberOfDataArrays=\"1\">\n\
+         <DataArray Intent=\"NIFTI_INTENT_NONE\" DataType=\"NIFTI_TYPE_FLOAT32\" \
+         ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"2\" Dim0=\"8\" Dim1=\"1\" \
+         Encoding=\"ASCII\" Endian=\"LittleEndian\"><Data>{}</Data></DataArray>\n</GIFTI>\n",
+        data.join("\n")
+    )
+    .into_bytes()
+}
+
+/// A FreeSurfer curv file of the cube's vertices.
+fn curv() -> Vec<u8> {
+    written("lh.curv", |path| {
+        crestline::io::freesurfer::write_curv(path, &VALUES, 12).unwrap()
+    })
+}
+
+/// A GIfTI surface with plain base64 arrays (`Base64Binary`), big-endian points.
+fn gifti_base64() -> Vec<u8> {
+    use base64::Engine;
+    let encode = |bytes: Vec<u8>| base64::engine::general_purpose::STANDARD.encode(bytes);
+    let points: Vec<u8> = CUBE_VERTICES
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_be_bytes())
+        .collect();
+    let corners: Vec<u8> = cube_triangles()
+        .flatten()
+        .flat_map(|v| (v as i32).to_le_bytes())
+        .collect();
+    let array = |intent: &str, data_type: &str, endian: &str, dim0: usize, data: String| {
+        format!(
+            "<DataArray Intent=\"{intent}\" DataType=\"{data_type}\" \
+             ArrayIndexingOrder=\"RowMajorOrder\" Dimensionality=\"2\" Dim0=\"{dim0}\" \
+             Dim1=\"3\" Encoding=\"Base64Binary\" Endian=\"{endian}\">\
+             <Data>{data}</Data></DataArray>\n"
+        )
+    };
+    let text = String::from("<?xml version=\"1.0\"?>\n<GIFTI Version=\"1.0\">\n")
+        + &array(
+            "NIFTI_INTENT_POINTSET",
+            "NIFTI_TYPE_FLOAT32",
+            "BigEndian",
+            8,
+            encode(points),
+        )
+        + &array(
+            "NIFTI_INTENT_TRIANGLE",
+            "NIFTI_TYPE_INT32",
+            "LittleEndian",
+            12,
+            encode(corners),
+        )
+        + "</GIFTI>\n";
+    text.into_bytes()
 }
 
 /// The cube as a file written by one of crestline's writers.
@@ -287,8 +383,14 @@ enum Outcome {
     Panic(String),
 }
 
-/// Read `path` and build a mesh, as a program would.
-fn read_and_build(path: &Path) -> Outcome {
+/// Read `path` as `kind` says (and build a mesh), as a program would.
+fn read_and_build(path: &Path, kind: Kind) -> Outcome {
+    if kind == Kind::Values {
+        return match read_vertex_values(path) {
+            Ok(_) => Outcome::Mesh,
+            Err(e) => Outcome::ReadError(e.to_string()),
+        };
+    }
     let soup = match read_mesh(path) {
         Ok(soup) => soup,
         Err(e) => return Outcome::ReadError(e.to_string()),
@@ -300,16 +402,17 @@ fn read_and_build(path: &Path) -> Outcome {
 }
 
 /// Run one mutant file, timing it.
-fn run(path: &Path) -> (Outcome, Duration) {
+fn run(path: &Path, kind: Kind) -> (Outcome, Duration) {
     let start = Instant::now();
-    let outcome = catch_unwind(AssertUnwindSafe(|| read_and_build(path))).unwrap_or_else(|p| {
-        let message = p
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-            .unwrap_or_default();
-        Outcome::Panic(message)
-    });
+    let outcome =
+        catch_unwind(AssertUnwindSafe(|| read_and_build(path, kind))).unwrap_or_else(|p| {
+            let message = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            Outcome::Panic(message)
+        });
     (outcome, start.elapsed())
 }
 
@@ -382,7 +485,7 @@ fn fuzz(seed: &Seed, count: usize, rng: &mut Rng, dir: &Path) -> Tally {
     for index in 0..count {
         let (bytes, mutations) = mutate(&seed.bytes, rng);
         std::fs::write(&path, &bytes).unwrap();
-        let (outcome, elapsed) = run(&path);
+        let (outcome, elapsed) = run(&path, seed.kind);
         let label = format!("{} mutant {index} {mutations:?}", seed.name);
         if show {
             show_message(&outcome);
@@ -403,14 +506,14 @@ fn fuzz(seed: &Seed, count: usize, rng: &mut Rng, dir: &Path) -> Tally {
             };
         }
     }
-    tally.slowest.rerun = rerun(&tally.slowest.bytes, &path);
+    tally.slowest.rerun = rerun(&tally.slowest.bytes, &path, seed.kind);
     tally
 }
 
 /// The fastest of three more runs of a mutant.
-fn rerun(bytes: &[u8], path: &Path) -> Duration {
+fn rerun(bytes: &[u8], path: &Path, kind: Kind) -> Duration {
     std::fs::write(path, bytes).unwrap();
-    (0..3).map(|_| run(path).1).min().unwrap_or_default()
+    (0..3).map(|_| run(path, kind).1).min().unwrap_or_default()
 }
 
 /// Print the error message of an outcome, if it has one.
@@ -426,7 +529,7 @@ fn print_table(tallies: &[(&str, Tally)], seed: u64) {
         "{:<24} {:>8} {:>8} {:>11} {:>11} {:>9} {:>11} {:>9}",
         "format",
         "mutants",
-        "mesh",
+        "read",
         "read error",
         "mesh error",
         "mean µs",
@@ -461,6 +564,11 @@ fn seed_files_are_valid_meshes() {
     for seed in seeds() {
         let path = dir.path().join(format!("seed.{}", seed.extension));
         std::fs::write(&path, &seed.bytes).unwrap();
+        if seed.kind == Kind::Values {
+            let values = read_vertex_values(&path).unwrap_or_else(|e| panic!("{}: {e}", seed.name));
+            assert_eq!(values, VALUES, "{}", seed.name);
+            continue;
+        }
         let soup = read_mesh(&path).unwrap_or_else(|e| panic!("{}: {e}", seed.name));
         assert_eq!(soup.triangles.len(), 12, "{}", seed.name);
         let (mesh, _) = Mesh::from_soup(soup).unwrap();

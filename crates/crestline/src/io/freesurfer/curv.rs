@@ -20,7 +20,7 @@ const HEADER_BYTES: usize = 15;
 /// Errors ([`Error::File`] naming `path`): no magic bytes, several values per
 /// vertex, or fewer values than the header announces.
 pub fn read_curv(path: &Path) -> Result<Vec<f64>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::io::file::read(path)?;
     parse_curv(&bytes).map_err(|e| e.in_file(path))
 }
 

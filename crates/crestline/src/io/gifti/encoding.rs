@@ -16,8 +16,13 @@ use flate2::read::ZlibDecoder;
 use flate2::write::ZlibEncoder;
 use flate2::Compression;
 
+use crate::io::file;
+
 /// Largest expansion of deflate (zlib's bound on its compression ratio).
 const MAX_DEFLATE_RATIO: usize = 1032;
+
+/// Bytes inflated per read.
+const INFLATE_CHUNK: usize = 1 << 16;
 
 /// A `DataType` crestline reads and writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -136,10 +141,14 @@ pub(crate) fn decode(text: &str, layout: &Layout) -> Result<Vec<f64>, String> {
             layout.count
         ));
     }
-    Ok(bytes
-        .chunks_exact(size)
-        .map(|b| layout.data_type.value(b, layout.little_endian))
-        .collect())
+    let mut values =
+        file::reserve(layout.count, "numbers (as 64-bit floats)").map_err(|e| e.to_string())?;
+    values.extend(
+        bytes
+            .chunks_exact(size)
+            .map(|b| layout.data_type.value(b, layout.little_endian)),
+    );
+    Ok(values)
 }
 
 /// The bytes the dimensions declare, or an error when they overflow.
@@ -160,21 +169,24 @@ fn decode_ascii(text: &str, layout: &Layout) -> Result<Vec<f64>, String> {
             text.len()
         ));
     }
-    let values: Vec<f64> = text
-        .split_ascii_whitespace()
-        .map(|token| {
-            token.parse::<f64>().map_err(|_| {
-                format!(
-                    "cannot read '{}' as a number",
-                    token.chars().take(40).collect::<String>()
-                )
-            })
-        })
-        .collect::<Result<_, _>>()?;
-    if values.len() != layout.count {
+    let mut values =
+        file::reserve(layout.count, "numbers (as 64-bit floats)").map_err(|e| e.to_string())?;
+    let mut found = 0;
+    for token in text.split_ascii_whitespace() {
+        let value = token.parse::<f64>().map_err(|_| {
+            format!(
+                "cannot read '{}' as a number",
+                token.chars().take(40).collect::<String>()
+            )
+        })?;
+        if found < layout.count {
+            values.push(value);
+        }
+        found += 1;
+    }
+    if found != layout.count {
         return Err(format!(
-            "the data has {} numbers where the dimensions declare {}",
-            values.len(),
+            "the data has {found} numbers where the dimensions declare {}",
             layout.count
         ));
     }
@@ -197,7 +209,9 @@ fn base64_bytes(text: &str, expected: usize) -> Result<Vec<u8>, String> {
 }
 
 /// Inflate zlib data, refusing it when it could not hold `expected` bytes or
-/// holds more (reading stops one byte past `expected`).
+/// holds more (reading stops one byte past `expected`). The buffer grows as the
+/// data arrives, fallibly: the declared size is not reserved up front, and data
+/// that inflates to more than can be allocated is an error, not an abort.
 fn inflate(compressed: &[u8], expected: usize) -> Result<Vec<u8>, String> {
     if expected / MAX_DEFLATE_RATIO > compressed.len() {
         return Err(format!(
@@ -205,11 +219,19 @@ fn inflate(compressed: &[u8], expected: usize) -> Result<Vec<u8>, String> {
             compressed.len()
         ));
     }
-    let mut bytes = Vec::with_capacity(expected);
-    ZlibDecoder::new(compressed)
-        .take(expected as u64 + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("the compressed data is corrupt ({e})"))?;
+    let mut decoder = ZlibDecoder::new(compressed).take(expected as u64 + 1);
+    let mut bytes = Vec::new();
+    let mut chunk = vec![0u8; INFLATE_CHUNK];
+    loop {
+        let n = match decoder.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(format!("the compressed data is corrupt ({e})")),
+        };
+        file::grow(&mut bytes, n, "decompressed bytes").map_err(|e| e.to_string())?;
+        bytes.extend_from_slice(&chunk[..n]);
+    }
     if bytes.len() > expected {
         return Err(format!(
             "the compressed data holds more than the {expected} bytes the dimensions declare"

@@ -37,12 +37,22 @@ impl DataArray<'_, '_> {
             .map(|n| n.text().unwrap_or(""))
             .ok_or_else(|| self.error("no Data element"))?;
         let values = decode(text, &self.layout).map_err(|m| self.error(m))?;
-        Ok(match (self.column_major, self.dims.as_slice()) {
-            (true, &[rows, columns]) if columns > 1 => (0..rows * columns)
-                .map(|k| values[(k % columns) * rows + k / columns])
-                .collect(),
-            _ => values,
-        })
+        match (self.column_major, self.dims.as_slice()) {
+            (true, &[rows, columns]) if columns > 1 => {
+                let mut transposed = self.reserve(values.len())?;
+                transposed.extend(
+                    (0..rows * columns).map(|k| values[(k % columns) * rows + k / columns]),
+                );
+                Ok(transposed)
+            }
+            _ => Ok(values),
+        }
+    }
+
+    /// Room for `count` values of `T` made from this array's numbers, reserved
+    /// fallibly ([`crate::io::file::reserve`]).
+    fn reserve<T>(&self, count: usize) -> Result<Vec<T>> {
+        crate::io::file::reserve(count, "values").map_err(|e| self.error(e))
     }
 
     /// The rows of an `n` × 3 array.
@@ -54,7 +64,9 @@ impl DataArray<'_, '_> {
             )));
         }
         let values = self.values()?;
-        Ok(values.chunks_exact(3).map(|r| [r[0], r[1], r[2]]).collect())
+        let mut rows = self.reserve(values.len() / 3)?;
+        rows.extend(values.chunks_exact(3).map(|r| [r[0], r[1], r[2]]));
+        Ok(rows)
     }
 }
 
@@ -69,8 +81,11 @@ fn shape(dims: &[usize]) -> String {
     dims.join(" x ")
 }
 
-/// Parse the XML of a GIfTI file (a `DOCTYPE` allowed, as nibabel writes one).
+/// Parse the XML of a GIfTI file (a `DOCTYPE` allowed, as nibabel writes one),
+/// after refusing elements with absurdly many attributes, which the parser checks
+/// for duplicates in quadratic time ([`crate::xml::check_attribute_counts`]).
 fn document(text: &str) -> Result<Document<'_>> {
+    crate::xml::check_attribute_counts(text).map_err(Error::Parse)?;
     let options = ParsingOptions {
         allow_dtd: true,
         ..ParsingOptions::default()
@@ -180,22 +195,19 @@ pub(in crate::io) fn parse_surface(input: &mut Input<'_>) -> Result<TriangleSoup
         .collect();
     let n = positions.len();
     let corners = triangles.triples("a triangle array")?;
-    let triangles_out = corners
-        .iter()
-        .enumerate()
-        .map(|(f, t)| {
-            let index = |v: f64| {
-                (v >= 0.0 && v < n as f64 && v.fract() == 0.0)
-                    .then_some(v as u32)
-                    .ok_or_else(|| {
-                        triangles.error(format!(
-                            "triangle {f} refers to vertex {v}, out of range (the point set has {n})"
-                        ))
-                    })
-            };
-            Ok([index(t[0])?, index(t[1])?, index(t[2])?])
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let mut triangles_out = triangles.reserve(corners.len())?;
+    for (f, t) in corners.iter().enumerate() {
+        let index = |v: f64| {
+            (v >= 0.0 && v < n as f64 && v.fract() == 0.0)
+                .then_some(v as u32)
+                .ok_or_else(|| {
+                    triangles.error(format!(
+                        "triangle {f} refers to vertex {v}, out of range (the point set has {n})"
+                    ))
+                })
+        };
+        triangles_out.push([index(t[0])?, index(t[1])?, index(t[2])?]);
+    }
     Ok(TriangleSoup {
         positions,
         triangles: triangles_out,

@@ -30,6 +30,7 @@ use std::path::{Path, PathBuf};
 
 use flate2::read::{MultiGzDecoder, ZlibDecoder};
 
+use super::file;
 use super::format::{choose_format, extensions, FileFormat};
 use crate::volume::{voxel_count, Volume};
 use crate::{Error, Result};
@@ -187,11 +188,7 @@ const HEAD_BYTES: u64 = 1 << 16;
 
 /// The first [`HEAD_BYTES`] of the file at `path`.
 fn read_head(path: &Path) -> Result<Vec<u8>> {
-    let mut head = Vec::new();
-    std::fs::File::open(path)
-        .and_then(|file| file.take(HEAD_BYTES).read_to_end(&mut head))
-        .map_err(|e| open_error(path, e))?;
-    Ok(head)
+    file::head(path, HEAD_BYTES)
 }
 
 /// Read a file of bare samples: `dims` samples (x fastest) of type `sample_type`
@@ -205,7 +202,7 @@ pub fn read_raw_volume(
     little_endian: bool,
 ) -> Result<Volume> {
     let read = || {
-        let bytes = read_file(path)?;
+        let bytes = file::read(path)?;
         let layout = DataLayout {
             dims,
             sample_type,
@@ -258,45 +255,6 @@ fn in_file(err: Error, path: &Path) -> Error {
             message,
         },
         other => other.in_file(path),
-    }
-}
-
-/// The bytes of `path`, with a plain message for a missing file.
-fn read_file(path: &Path) -> Result<Vec<u8>> {
-    let metadata = std::fs::metadata(path).map_err(|e| open_error(path, e))?;
-    if !metadata.is_file() {
-        // A device (/dev/zero), a pipe or standard input never ends, or ends when
-        // someone else decides: only a file has the size its header promises.
-        return Err(Error::File {
-            path: path.to_path_buf(),
-            message: "is not a regular file (a folder, device or pipe); images are read from files"
-                .to_string(),
-        });
-    }
-    let mut bytes = Vec::new();
-    let size = usize::try_from(metadata.len()).unwrap_or(usize::MAX);
-    bytes.try_reserve_exact(size).map_err(|_| Error::File {
-        path: path.to_path_buf(),
-        message: format!(
-            "its {} bytes are more than can be allocated",
-            metadata.len()
-        ),
-    })?;
-    std::fs::File::open(path)
-        .and_then(|mut file| file.read_to_end(&mut bytes))
-        .map_err(|e| open_error(path, e))?;
-    Ok(bytes)
-}
-
-/// The error for a file that cannot be opened or read: "no such file" when it is
-/// missing.
-fn open_error(path: &Path, err: std::io::Error) -> Error {
-    match err.kind() {
-        std::io::ErrorKind::NotFound => Error::File {
-            path: path.to_path_buf(),
-            message: "no such file".to_string(),
-        },
-        _ => Error::io(path, err),
     }
 }
 
@@ -417,20 +375,7 @@ fn fill(reader: &mut impl Read, buffer: &mut [u8]) -> Result<usize> {
 /// An empty buffer with room for `count` samples, reserved fallibly: a header
 /// claiming more than can be allocated is an error saying how much, not an abort.
 fn reserve_samples(count: usize) -> Result<Vec<f32>> {
-    let mut samples = Vec::new();
-    samples
-        .try_reserve_exact(count)
-        .map_err(|_| out_of_memory(count))?;
-    Ok(samples)
-}
-
-/// The error for samples that do not fit in the memory this process may allocate.
-fn out_of_memory(count: usize) -> Error {
-    let bytes = count as f64 * std::mem::size_of::<f32>() as f64;
-    Error::Parse(format!(
-        "its {count} samples need {:.1} GiB of memory as 32-bit floats, more than can be allocated",
-        bytes / (1u64 << 30) as f64
-    ))
+    file::reserve(count, "samples (32-bit floats)")
 }
 
 /// Append bytes of `reader` to `bytes` until it holds `total` bytes; the error

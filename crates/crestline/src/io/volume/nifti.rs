@@ -28,7 +28,7 @@ const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 /// Read a `.nii` or `.nii.gz` file (gzip is recognised by its magic bytes, so a
 /// misnamed file still reads).
 pub(super) fn read(path: &Path) -> Result<Volume> {
-    let file = std::fs::File::open(path).map_err(|e| super::open_error(path, e))?;
+    let file = crate::io::file::open(path)?;
     let mut buffered = BufReader::new(file);
     let start = buffered.fill_buf().map_err(|e| Error::io(path, e))?;
     let volume = if start.starts_with(&GZIP_MAGIC) {

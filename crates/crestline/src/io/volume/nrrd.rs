@@ -11,13 +11,13 @@ use std::path::{Path, PathBuf};
 use nalgebra::Matrix3;
 
 use super::text_header::{detached_path, lines, read_detached, Field, Fields};
-use super::{read_file, read_head, Compression, DataLayout, SampleType};
+use super::{file, read_head, Compression, DataLayout, SampleType};
 use crate::volume::Volume;
 use crate::{Error, Result, Space};
 
 /// Read a `.nrrd` or `.nhdr` file.
 pub(super) fn read(path: &Path) -> Result<Volume> {
-    let bytes = read_file(path)?;
+    let bytes = file::read(path)?;
     let (fields, data_start) = parse_header(&bytes)?;
     let layout = layout(&fields)?;
     let samples = match fields.get(&["data file", "datafile"]) {

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use super::{read_file, DataLayout, Skip};
+use super::{file, DataLayout, Skip};
 use crate::{Error, Result};
 
 /// One line of a text header.
@@ -155,7 +155,7 @@ pub(super) fn read_detached(
     layout: &DataLayout,
 ) -> Result<Vec<f32>> {
     let data_path = detached_path(header_path, field.value);
-    let bytes = read_file(&data_path).map_err(|e| {
+    let bytes = file::read(&data_path).map_err(|e| {
         let reason = match e {
             Error::File { message, .. } => message,
             other => other.to_string(),

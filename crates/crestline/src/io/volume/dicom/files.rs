@@ -8,9 +8,9 @@
 //! media in its Directory Record Sequence (0004,1220), each by its Referenced
 //! File ID (0004,1500): path components relative to the DICOMDIR's folder.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use crate::io::file;
 use crate::io::format::{choose_format, FileFormat};
 use crate::{Error, Result};
 
@@ -35,12 +35,10 @@ fn has_dicom_extension(path: &Path) -> bool {
     choose_format(path, "a DICOM file", &[FileFormat::Dicom]).is_ok()
 }
 
-/// Whether the file at `path` holds `DICM` at byte 128 (PS3.10 §7.1).
+/// Whether `path` is a regular file holding `DICM` at byte 128 (PS3.10 §7.1).
+/// Anything else (a pipe, a device) is not opened.
 pub(super) fn has_dicm_mark(path: &Path) -> bool {
-    let mut head = [0u8; 132];
-    std::fs::File::open(path)
-        .and_then(|mut file| file.read_exact(&mut head))
-        .is_ok_and(|()| &head[128..] == b"DICM")
+    file::head(path, 132).is_ok_and(|head| head.get(128..) == Some(b"DICM"))
 }
 
 /// The DICOM files in the folder `dir`, in the order of their names: regular
@@ -54,7 +52,7 @@ pub(super) fn folder_files(dir: &Path) -> Result<Vec<PathBuf>> {
         let hidden = path
             .file_name()
             .is_some_and(|name| name.to_string_lossy().starts_with('.'));
-        if !hidden && !is_dicomdir(&path) && path.is_file() && has_dicm_mark(&path) {
+        if !hidden && !is_dicomdir(&path) && has_dicm_mark(&path) {
             files.push(path);
         }
     }
@@ -78,7 +76,8 @@ fn referenced_file(dicomdir: &Path, components: &[String]) -> Result<PathBuf> {
             return Err(Error::File {
                 path: dicomdir.to_path_buf(),
                 message: format!(
-                    "a Referenced File ID (0004,1500) {components:?} is not a path inside the DICOMDIR's folder"
+                    "a Referenced File ID (0004,1500) '{}' is not a path inside the DICOMDIR's folder",
+                    components.join("\\")
                 ),
             });
         }
@@ -92,6 +91,7 @@ fn referenced_file(dicomdir: &Path, components: &[String]) -> Result<PathBuf> {
 pub(super) fn dicomdir_files(path: &Path) -> Result<Vec<PathBuf>> {
     use dicom_dictionary_std::tags;
 
+    file::regular_file(path)?;
     let object = dicom_object::open_file(path).map_err(|e| Error::File {
         path: path.to_path_buf(),
         message: format!(

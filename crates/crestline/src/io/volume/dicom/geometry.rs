@@ -103,16 +103,33 @@ fn check_alike(planes: &[&Plane], name: &dyn Fn(usize) -> String) -> Result<()> 
             return Err(mixed("image sizes", i, size(first), size(plane)));
         }
         if !close_all(first.pixel_spacing, plane.pixel_spacing) {
-            let spacing = |p: &Plane| format!("Pixel Spacing {:?}", p.pixel_spacing);
+            let spacing = |p: &Plane| attribute("Pixel Spacing", p.pixel_spacing.as_ref());
             return Err(mixed("pixel spacings", i, spacing(first), spacing(plane)));
         }
         let orientation = |p: &Plane| p.orientation.map(|[r, c]| [r.x, r.y, r.z, c.x, c.y, c.z]);
         if !close_all(orientation(first), orientation(plane)) {
-            let text = |p: &Plane| format!("Image Orientation (Patient) {:?}", orientation(p));
+            let text =
+                |p: &Plane| attribute("Image Orientation (Patient)", orientation(p).as_ref());
             return Err(mixed("orientations", i, text(first), text(plane)));
         }
     }
     Ok(())
+}
+
+/// An attribute as a message shows it: its name and values as DICOM writes them
+/// (`Pixel Spacing 0.5\0.5`), or `no Pixel Spacing` when absent.
+fn attribute<const N: usize>(name: &str, numbers: Option<&[f64; N]>) -> String {
+    match numbers {
+        Some(numbers) => format!("{name} {}", values(numbers)),
+        None => format!("no {name}"),
+    }
+}
+
+/// Numbers separated by backslashes, as in a DICOM multi-valued attribute, each
+/// to 7 significant digits.
+fn values(numbers: &[f64]) -> String {
+    let shown: Vec<String> = numbers.iter().map(|&x| crate::error::readable(x)).collect();
+    shown.join("\\")
 }
 
 /// Whether `a` and `b` are both absent or agree within [`TOLERANCE`] relative to
@@ -140,9 +157,8 @@ fn unit_orientation(plane: &Plane, name: &str) -> Result<[Vector; 2]> {
     match unit {
         [Some(row), Some(column)] if row.dot(&column).abs() <= TOLERANCE => Ok([row, column]),
         _ => Err(Error::Parse(format!(
-            "{name} has an Image Orientation (Patient) (0020,0037) that is not two perpendicular directions: {row:?}, {column:?}",
-            row = row.as_slice(),
-            column = column.as_slice()
+            "{name} has an Image Orientation (Patient) (0020,0037) that is not two perpendicular directions: {}",
+            values([row.as_slice(), column.as_slice()].concat().as_slice())
         ))),
     }
 }
@@ -372,6 +388,15 @@ mod tests {
         planes[2].orientation = Some([Vector::x(), Vector::z()]);
         let err = stack_of(&planes).unwrap_err().to_string();
         assert!(err.contains("mixes orientations: file 0"), "{err}");
+        assert!(err.contains("(Patient) 1\\0\\0\\0\\0\\1"), "{err}");
+        planes[2].orientation = planes[0].orientation;
+        planes[1].pixel_spacing = None;
+        let err = stack_of(&planes).unwrap_err().to_string();
+        assert!(
+            err.contains(" has Pixel Spacing 0.5\\0.25 and file 1 has no Pixel Spacing;"),
+            "{err}"
+        );
+        planes[1].pixel_spacing = planes[0].pixel_spacing;
         planes[2] = Plane {
             size: [3, 5],
             ..slice([0.0, 0.0, 2.0])

@@ -90,7 +90,7 @@ pub(super) fn read(path: &Path) -> Result<Option<Header>> {
 /// `None`) after checking its `DICM` mark and its element lengths
 /// ([`super::lengths`]). Errors name the file.
 pub(super) fn open(path: &Path, until: Option<Tag>) -> Result<DefaultDicomObject> {
-    let bytes = super::super::read_file(path)?;
+    let bytes = crate::io::file::read(path)?;
     let fail = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
@@ -112,7 +112,7 @@ pub(super) fn open(path: &Path, until: Option<Tag>) -> Result<DefaultDicomObject
         .map_err(|e| fail(format!("cannot be read as DICOM: {}", causes(&e))))
 }
 
-/// `err` and the errors that caused it, on one line.
+/// `err` and the errors that caused it, on one line, its backticks made quotes.
 pub(super) fn causes(err: &dyn std::error::Error) -> String {
     let mut text = err.to_string();
     let mut source = err.source();
@@ -123,7 +123,9 @@ pub(super) fn causes(err: &dyn std::error::Error) -> String {
         }
         source = cause.source();
     }
-    text.replace(['\n', '\r'], " ")
+    // A library's message may quote a name between backticks: it is a quote, not
+    // one of crestline's option names (which messages write between backticks).
+    text.replace(['\n', '\r'], " ").replace('`', "'")
 }
 
 /// An error unless the pixels are one sample (PS3.3 C.7.6.3.1.1) of 8, 16 or 32

@@ -20,6 +20,8 @@
 //! Without the cargo feature `dicom` the same inputs are recognised and refused
 //! with an error saying so.
 
+#[cfg(feature = "dicom")]
+mod encapsulated;
 mod files;
 #[cfg(feature = "dicom")]
 mod geometry;

@@ -60,8 +60,10 @@ pub(super) fn decode(path: &Path, targets: Vec<Target<'_>>) -> Result<()> {
         message,
     };
     let object = super::header::open(path, None)?;
+    super::encapsulated::check(&object).map_err(|e| super::super::in_file(e, path))?;
     // dicom-rs's RLE decoder indexes corrupt segments without checking them: its
-    // panic is an error about the file like any other.
+    // panic is an error about the file like any other. (The command-line tool's
+    // panic hook keeps the panic's text off stderr.)
     let decoded = catch_unwind(AssertUnwindSafe(|| object.decode_pixel_data()))
         .map_err(|_| {
             fail(

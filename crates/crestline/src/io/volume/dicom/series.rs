@@ -38,8 +38,7 @@ pub(super) fn choose(headers: Vec<Header>, chosen: Option<&str>) -> Result<Vec<H
         },
         None if series.len() == 1 => Ok(series.into_values().next().unwrap_or_default()),
         None => Err(Error::Parse(format!(
-            "holds {} series; choose one by its Series Instance UID (`--series` of the command line, \
-             `series=` in Python): {}",
+            "holds {} series; choose one by its Series Instance UID (the option `series`): {}",
             series.len(),
             listing(&series)
         ))),
