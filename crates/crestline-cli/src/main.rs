@@ -109,11 +109,28 @@ impl ReportArg {
         write: impl FnOnce(&std::path::Path) -> crestline::Result<()>,
     ) -> crestline::Result<()> {
         let mut files = outputs::OutputSet::default();
-        report.stage("write", || files.write(output, write))?;
+        report
+            .stage("write", || files.write(output, write))
+            .map_err(|e| unwritable(e, &report.input, output))?;
         if let Some(path) = &self.report {
             files.write(path, |p| report.write(p))?;
         }
         files.commit()
+    }
+}
+
+/// A result the output's format cannot hold (a value beyond a 32-bit float, say)
+/// came from the input: the error names the input and the output.
+fn unwritable(error: crestline::Error, input: &str, output: &std::path::Path) -> crestline::Error {
+    match error {
+        crestline::Error::Argument(message) => crestline::Error::File {
+            path: input.into(),
+            message: format!(
+                "its result cannot be written to {}: {message}",
+                output.display()
+            ),
+        },
+        other => other,
     }
 }
 
