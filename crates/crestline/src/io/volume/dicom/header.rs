@@ -125,7 +125,9 @@ pub(super) fn causes(err: &dyn std::error::Error) -> String {
     }
     // A library's message may quote a name between backticks: it is a quote, not
     // one of crestline's option names (which messages write between backticks).
-    text.replace(['\n', '\r'], " ").replace('`', "'")
+    let text = text.replace(['\n', '\r'], " ").replace('`', "'");
+    // jpeg-decoder names the feature it lacks by its Rust value.
+    text.replace("SamplePrecision(", "sample precision (bits: ")
 }
 
 /// An error unless the pixels are one sample (PS3.3 C.7.6.3.1.1) of 8, 16 or 32
@@ -248,4 +250,18 @@ pub(super) fn text(object: &Object, tag: Tag) -> Option<String> {
 /// The first item of the sequence `tag` of `object`, if it has one.
 pub(super) fn first_item(object: &Object, tag: Tag) -> Option<&Object> {
     object.get(tag)?.items()?.first()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::causes;
+
+    #[test]
+    fn a_decoders_rust_value_reads_as_words() {
+        let error = std::io::Error::other("unsupported JPEG feature: SamplePrecision(12)");
+        assert_eq!(
+            causes(&error),
+            "unsupported JPEG feature: sample precision (bits: 12)"
+        );
+    }
 }
