@@ -25,7 +25,7 @@ pub struct CompareArgs {
     pub transform: Option<PathBuf>,
     /// How near a counterpart must be: a length (1.5) or a share of the diagonal
     /// of A's features (0.5%).
-    #[arg(long, value_name = "L", default_value_t = Tolerance::DEFAULT)]
+    #[arg(long, value_name = "L", default_value_t = Tolerance::DEFAULT, allow_hyphen_values = true)]
     pub tolerance: Tolerance,
     #[command(flatten)]
     pub report: ReportArg,
@@ -51,7 +51,7 @@ fn row(agreement: &Agreement, lines: bool) -> String {
 
 /// The comparison as a table for the terminal.
 fn table(comparison: &Comparison) -> String {
-    let mut text = format!("tolerance {}\n", comparison.tolerance);
+    let mut text = format!("tolerance {:.6}\n", comparison.tolerance);
     if !comparison.lines.is_empty() {
         text += &format!(
             "{:<18} {:>12} {:>12} {:>6} {:>6} {:>8} {:>8}\n",
