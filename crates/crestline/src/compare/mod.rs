@@ -172,13 +172,15 @@ impl Tolerance {
             Tolerance::OfDiagonal(share) => share * a.diagonal(),
         };
         if length.is_finite() && length > 0.0 {
-            Ok(length)
-        } else {
-            Err(Error::Argument(format!(
-                "the tolerance is {length}; it must be a positive, finite length (A's features \
-                 may have no extent)"
-            )))
+            return Ok(length);
         }
+        let why = match self {
+            Tolerance::OfDiagonal(share) if share > 0.0 => " (A's features have no extent)",
+            _ => "",
+        };
+        Err(Error::Argument(format!(
+            "the tolerance is {length}; it must be a positive, finite length{why}"
+        )))
     }
 }
 
