@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crestline::compare::{compare, read_features, Agreement, Comparison, Tolerance};
+use crestline::compare::{compare, in_one_frame, read_features, Agreement, Comparison, Tolerance};
 use crestline::register::read_transform;
 use crestline::Result;
 
@@ -88,6 +88,7 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     if let Some(path) = &args.transform {
         b = b.moved(&read_transform(path)?);
     }
+    let (a, b) = in_one_frame(a, b);
     let tolerance = args.tolerance.resolve(&a)?;
     let comparison = report.stage("compare", || compare(&a, &b, tolerance));
     super::print_stdout(&table(&comparison));

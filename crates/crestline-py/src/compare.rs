@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crestline::compare::{compare, read_features, Tolerance};
+use crestline::compare::{compare, in_one_frame, read_features, Tolerance};
 use crestline::register::{read_transform, RigidTransform};
 use nalgebra::Matrix4;
 use numpy::PyReadonlyArray2;
@@ -62,6 +62,7 @@ fn compare_files(
     if let Some(motion) = motion(transform_file, transform_matrix)? {
         second = second.moved(&motion);
     }
+    let (first, second) = in_one_frame(first, second);
     let length = tolerance.resolve(&first).map_err(raised)?;
     let found = compare(&first, &second, length);
     serde_json::to_string(&found).map_err(|e| raised(crestline::Error::Argument(e.to_string())))

@@ -10,6 +10,7 @@
 //! and the same from B to A. B's points can first be moved into A's frame by a
 //! rigid motion ([`read_transform`](crate::register::read_transform)).
 
+mod markups;
 mod near;
 mod read;
 
@@ -36,12 +37,18 @@ pub struct Features {
     pub line_counts: BTreeMap<String, usize>,
     /// The point landmarks of each kind.
     pub points: BTreeMap<String, Vec<Point>>,
+    /// The frame the file stated its points in, which are then held in RAS;
+    /// `None`: the points as the file holds them (a mesh's lines).
+    pub declared: Option<Space>,
 }
 
 impl Features {
     /// The segments of `lines` by kind, in RAS if they state a frame.
     pub fn of_lines(lines: &FeatureLines) -> Features {
-        let mut features = Features::default();
+        let mut features = Features {
+            declared: lines.space,
+            ..Features::default()
+        };
         for line in &lines.lines {
             let mut points = line.points.clone();
             convert_all(lines.space, Space::Ras, &mut points);
@@ -50,10 +57,17 @@ impl Features {
         features
     }
 
-    /// The point landmarks and line segments of `landmarks` by kind, as they are
-    /// (see [`Landmarks::in_space`]).
+    /// The point landmarks and line segments of `landmarks` by kind, in RAS if
+    /// they state a frame.
     pub fn of_landmarks(landmarks: &Landmarks) -> Features {
-        let mut features = Features::default();
+        let landmarks = match landmarks.space {
+            Some(_) => landmarks.in_space(Space::Ras),
+            None => landmarks.clone(),
+        };
+        let mut features = Features {
+            declared: landmarks.space,
+            ..Features::default()
+        };
         for line in &landmarks.lines {
             features.add_line(line.kind.name(), &line.points, line.closed);
         }
@@ -101,9 +115,9 @@ impl Features {
         (high - low).norm()
     }
 
-    /// The features moved by `motion`.
-    pub fn moved(&self, motion: &RigidTransform) -> Features {
-        let move_segment = |[a, b]: &[Point; 2]| [motion.apply(a), motion.apply(b)];
+    /// The features with every point mapped by `map`.
+    fn mapped(&self, map: impl Fn(&Point) -> Point) -> Features {
+        let move_segment = |[a, b]: &[Point; 2]| [map(a), map(b)];
         Features {
             segments: self
                 .segments
@@ -114,9 +128,37 @@ impl Features {
             points: self
                 .points
                 .iter()
-                .map(|(kind, p)| (kind.clone(), p.iter().map(|p| motion.apply(p)).collect()))
+                .map(|(kind, p)| (kind.clone(), p.iter().map(&map).collect()))
                 .collect(),
+            declared: self.declared,
         }
+    }
+
+    /// The features moved by `motion` (in RAS where the file stated its frame).
+    pub fn moved(&self, motion: &RigidTransform) -> Features {
+        self.mapped(|p| motion.apply(p))
+    }
+
+    /// The features as the file held them: in the frame it stated, not RAS.
+    fn as_written(&self) -> Features {
+        match self.declared {
+            Some(frame) => Features {
+                declared: None,
+                ..self.mapped(|p| Space::Ras.convert(p, frame))
+            },
+            None => self.clone(),
+        }
+    }
+}
+
+/// `a` and `b` in one frame: RAS when both files stated theirs; when one did not
+/// (a mesh's lines against its markups), the other's points as its file holds
+/// them, which the undeclared ones share.
+pub fn in_one_frame(a: Features, b: Features) -> (Features, Features) {
+    match (a.declared, b.declared) {
+        (None, Some(_)) => (a, b.as_written()),
+        (Some(_), None) => (a.as_written(), b),
+        _ => (a, b),
     }
 }
 

@@ -12,7 +12,8 @@ use crate::{Error, Point, Result};
 
 /// The lines and landmarks of the file `path`, by kind: a lines JSON file (its
 /// segments), a landmarks JSON file (its point landmarks, and its lines'
-/// segments), or a landmarks CSV file (its points). Positions are converted into
+/// segments), 3D Slicer markups (`.mrk.json`: point lists and curves), or a
+/// landmarks CSV file (its points). Positions are converted into
 /// RAS when the file states its frame, and taken as they are otherwise (a mesh's
 /// lines).
 ///
@@ -23,17 +24,21 @@ pub fn read_features(path: &Path) -> Result<Features> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    let markups = path
+        .to_str()
+        .is_some_and(|name| name.to_ascii_lowercase().ends_with(".mrk.json"));
     match extension.as_deref() {
+        Some("json") if markups => super::markups::read_markups(path),
         Some("csv") => read_csv(path),
         Some("json") if is_landmarks(path)? => {
             let (landmarks, _) = read_landmarks(path)?;
-            Ok(Features::of_landmarks(&landmarks.in_space(Space::Ras)))
+            Ok(Features::of_landmarks(&landmarks))
         }
         Some("json") => Ok(Features::of_lines(&read_json(path)?)),
         _ => Err(Error::File {
             path: path.to_path_buf(),
             message: "not a file of lines or landmarks: compare reads .json (lines or \
-                      landmarks) and .csv (landmarks)"
+                      landmarks), .mrk.json (3D Slicer markups) and .csv (landmarks)"
                 .into(),
         }),
     }
@@ -78,7 +83,10 @@ fn read_csv(path: &Path) -> Result<Features> {
         ));
     };
     let space = column("space");
-    let mut features = Features::default();
+    let mut features = Features {
+        declared: space.map(|_| Space::Ras),
+        ..Features::default()
+    };
     for (index, row) in rows {
         let cells: Vec<&str> = row.split(',').map(str::trim).collect();
         let cell = |i: usize| cells.get(i).copied().unwrap_or("");

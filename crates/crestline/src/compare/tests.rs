@@ -149,3 +149,20 @@ fn a_tolerance_far_below_the_lengths_costs_bounded_work() {
     assert!((found.a_in_b - 0.5).abs() < 1e-4, "{}", found.a_in_b);
     assert!((found.b_in_a - 1.0).abs() < 1e-12);
 }
+
+#[test]
+fn a_file_without_a_frame_meets_the_other_as_it_was_written() {
+    // A mesh's lines (no frame) against its markups (LPS, held in RAS).
+    let points = [p(1.0, 2.0, 3.0), p(4.0, 5.0, 6.0)];
+    let raw = line("ridge", &points);
+    let mut markups = line("ridge", &points.map(|q| Space::Lps.to_ras(&q)));
+    markups.declared = Some(Space::Lps);
+    assert_eq!(compare(&raw, &markups, 0.01).lines[0].a_in_b, 0.0);
+    let (a, b) = in_one_frame(raw.clone(), markups.clone());
+    assert!((compare(&a, &b, 0.01).lines[0].a_in_b - 1.0).abs() < 1e-12);
+    // Both with frames: both in RAS already, left as they are.
+    let mut nifti = line("ridge", &points.map(|q| Space::Lps.to_ras(&q)));
+    nifti.declared = Some(Space::Ras);
+    let (a, b) = in_one_frame(nifti, markups);
+    assert!((compare(&a, &b, 0.01).lines[0].a_in_b - 1.0).abs() < 1e-12);
+}
