@@ -79,11 +79,7 @@ impl Features {
 
     /// Add the line through `points` (a loop if `closed`) to `kind`.
     pub fn add_line(&mut self, kind: &str, points: &[Point], closed: bool) {
-        let closing = closed.then(|| points.last().zip(points.first())).flatten();
-        let segments = points
-            .windows(2)
-            .map(|pair| [pair[0], pair[1]])
-            .chain(closing.map(|(last, first)| [*last, *first]));
+        let segments = crate::lines::segments(points, closed).map(|(p, q)| [*p, *q]);
         self.segments
             .entry(kind.to_string())
             .or_default()
@@ -274,15 +270,16 @@ pub fn compare(a: &Features, b: &Features, tolerance: f64) -> Comparison {
         .into_iter()
         .map(|kind| {
             let (sa, sb) = (of_kind(&a.segments, kind), of_kind(&b.segments, kind));
+            let (length_a, length_b) = (total_length(sa), total_length(sb));
             let count = |f: &Features| f.line_counts.get(kind).copied().unwrap_or(0);
             Agreement {
                 kind: kind.to_string(),
-                a: total_length(sa),
-                b: total_length(sb),
+                a: length_a,
+                b: length_b,
                 a_count: count(a),
                 b_count: count(b),
-                a_in_b: length_share_near(sa, sb, tolerance),
-                b_in_a: length_share_near(sb, sa, tolerance),
+                a_in_b: share(length_near(sa, length_a, sb, tolerance), length_a),
+                b_in_a: share(length_near(sb, length_b, sa, tolerance), length_b),
             }
         })
         .collect();
@@ -326,33 +323,31 @@ fn total_length(segments: &[[Point; 2]]) -> f64 {
     segments.iter().map(|[p, q]| (q - p).norm()).sum()
 }
 
-/// The share of the length of `segments` within `tolerance` of `others`: each
-/// segment is cut into pieces at most a quarter of the tolerance long (or
+/// `part` of `whole`, 0 for no whole.
+fn share(part: f64, whole: f64) -> f64 {
+    if whole > 0.0 {
+        part / whole
+    } else {
+        0.0
+    }
+}
+
+/// The length of `segments` (`length` in all) within `tolerance` of `others`:
+/// the segments are cut into pieces at most a quarter of the tolerance long (or
 /// longer, [`near::piece_length`]), and a piece counts whole when its midpoint
-/// is near; 0 for no length.
-fn length_share_near(segments: &[[Point; 2]], others: &[[Point; 2]], tolerance: f64) -> f64 {
-    let total = total_length(segments);
-    if total <= 0.0 || others.is_empty() {
+/// is near.
+fn length_near(segments: &[[Point; 2]], length: f64, others: &[[Point; 2]], tolerance: f64) -> f64 {
+    if length <= 0.0 || others.is_empty() {
         return 0.0;
     }
     let near = Near::of_segments(others, tolerance);
-    let step = near::piece_length(total, tolerance, 4.0);
-    let matched: f64 = segments
+    let step = near::piece_length(length, tolerance, 4.0);
+    segments
         .par_iter()
-        .map(|[p, q]| {
-            let length = (q - p).norm();
-            let pieces = (length / step).ceil().max(1.0) as usize;
-            let piece = length / pieces as f64;
-            let near_pieces = (0..pieces)
-                .filter(|&i| {
-                    let t = (i as f64 + 0.5) / pieces as f64;
-                    near.within(&p.coords.lerp(&q.coords, t).into())
-                })
-                .count();
-            near_pieces as f64 * piece
-        })
-        .sum();
-    matched / total
+        .flat_map_iter(|segment| near::pieces(segment, step))
+        .filter(|[p, q]| near.within(&p.coords.lerp(&q.coords, 0.5).into()))
+        .map(|[p, q]| (q - p).norm())
+        .sum()
 }
 
 /// The share of `points` within `tolerance` of one of `others`; 0 for no point.

@@ -26,6 +26,14 @@ pub(super) fn piece_length(length: f64, tolerance: f64, per_tolerance: f64) -> f
     (tolerance / per_tolerance).max(length / MOST_PIECES)
 }
 
+/// The segment `p q` cut into equal pieces at most `longest` long (one, if it
+/// is shorter).
+pub(super) fn pieces([p, q]: &[Point; 2], longest: f64) -> impl Iterator<Item = [Point; 2]> + '_ {
+    let count = ((q - p).norm() / longest).ceil().max(1.0) as usize;
+    let at = move |i: usize| -> Point { p.coords.lerp(&q.coords, i as f64 / count as f64).into() };
+    (0..count).map(move |i| [at(i), at(i + 1)])
+}
+
 impl Near {
     /// The grid of `segments`, each cut into pieces at most `tolerance` long (or
     /// longer, [`piece_length`]).
@@ -34,13 +42,7 @@ impl Near {
         let longest = piece_length(total, tolerance, 1.0);
         let pieces = segments
             .iter()
-            .flat_map(|[p, q]| {
-                let count = ((q - p).norm() / longest).ceil().max(1.0) as usize;
-                let at = move |i: usize| -> Point {
-                    p.coords.lerp(&q.coords, i as f64 / count as f64).into()
-                };
-                (0..count).map(move |i| [at(i), at(i + 1)])
-            })
+            .flat_map(|segment| pieces(segment, longest))
             .collect();
         // A point within `tolerance` of a piece at most `longest` long is within
         // tolerance + longest / 2 of its midpoint: the 27 cells around the

@@ -246,6 +246,22 @@ pub struct Polyline {
     pub values: BTreeMap<String, Vec<f64>>,
 }
 
+/// The segments of the line through `points` in order, including the closing
+/// segment (last point to first) when it is `closed` and has more than one point.
+pub(crate) fn segments(
+    points: &[Point],
+    closed: bool,
+) -> impl Iterator<Item = (&Point, &Point)> + '_ {
+    let closing = match (closed, points.first(), points.last()) {
+        (true, Some(first), Some(last)) if points.len() > 1 => Some((last, first)),
+        _ => None,
+    };
+    points
+        .windows(2)
+        .map(|pair| (&pair[0], &pair[1]))
+        .chain(closing)
+}
+
 impl Polyline {
     /// A polyline from its parts.
     pub fn new(kind: LineKind, closed: bool, strength: f64, points: Vec<Point>) -> Polyline {
@@ -274,14 +290,7 @@ impl Polyline {
     /// The segments in order, including the closing segment (last point to first)
     /// when the line is closed and has more than one point.
     pub fn segments(&self) -> impl Iterator<Item = (&Point, &Point)> + '_ {
-        let closing = match (self.closed, self.points.first(), self.points.last()) {
-            (true, Some(first), Some(last)) if self.points.len() > 1 => Some((last, first)),
-            _ => None,
-        };
-        self.points
-            .windows(2)
-            .map(|pair| (&pair[0], &pair[1]))
-            .chain(closing)
+        segments(&self.points, self.closed)
     }
 
     /// The length of the line, including the closing segment if it is closed.
