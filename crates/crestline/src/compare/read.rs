@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::Features;
-use crate::landmarks::{read_landmarks, FORMAT as LANDMARKS};
+use crate::landmarks::{holds_landmarks, read_landmarks, LandmarkFormat};
 use crate::lines::read_json;
 use crate::space::Space;
 use crate::{Error, Point, Result};
@@ -20,41 +20,21 @@ use crate::{Error, Point, Result};
 /// Errors are [`Error::File`] naming `path`: another kind of file, or one that
 /// does not read.
 pub fn read_features(path: &Path) -> Result<Features> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let markups = path
-        .to_str()
-        .is_some_and(|name| name.to_ascii_lowercase().ends_with(".mrk.json"));
-    match extension.as_deref() {
-        Some("json") if markups => super::markups::read_markups(path),
-        Some("csv") => read_csv(path),
-        Some("json") if is_landmarks(path)? => {
+    let format = LandmarkFormat::from_path(path).map_err(|_| Error::File {
+        path: path.to_path_buf(),
+        message: "not a file of lines or landmarks: compare reads .json (lines or \
+                  landmarks), .mrk.json (3D Slicer markups) and .csv (landmarks)"
+            .into(),
+    })?;
+    match format {
+        LandmarkFormat::Slicer => super::markups::read_markups(path),
+        LandmarkFormat::Csv => read_csv(path),
+        LandmarkFormat::Json if holds_landmarks(&crate::io::file::read_text(path)?) => {
             let (landmarks, _) = read_landmarks(path)?;
             Ok(Features::of_landmarks(&landmarks))
         }
-        Some("json") => Ok(Features::of_lines(&read_json(path)?)),
-        _ => Err(Error::File {
-            path: path.to_path_buf(),
-            message: "not a file of lines or landmarks: compare reads .json (lines or \
-                      landmarks), .mrk.json (3D Slicer markups) and .csv (landmarks)"
-                .into(),
-        }),
+        LandmarkFormat::Json => Ok(Features::of_lines(&read_json(path)?)),
     }
-}
-
-/// Whether the JSON file `path` says it holds landmarks.
-fn is_landmarks(path: &Path) -> Result<bool> {
-    #[derive(serde::Deserialize)]
-    struct FormatOnly {
-        format: Option<String>,
-    }
-    let text = crate::io::file::read_text(path)?;
-    let format = serde_json::from_str::<FormatOnly>(&text)
-        .ok()
-        .and_then(|f| f.format);
-    Ok(format.as_deref() == Some(LANDMARKS))
 }
 
 /// The point landmarks of a CSV file as the `landmarks` job writes it: a header

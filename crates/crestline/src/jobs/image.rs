@@ -162,14 +162,10 @@ impl Surface {
                 sample: image.voxel,
                 scale: image.scale,
             },
-            None => {
-                let edge = self.mesh.mean_edge_length();
-                let area: f64 = self.mesh.vertex_areas().iter().sum();
-                Units {
-                    sample: edge,
-                    scale: mesh_scale(area, edge),
-                }
-            }
+            None => Units {
+                sample: self.mesh.mean_edge_length(),
+                scale: mesh_scale(&self.mesh),
+            },
         }
     }
 }

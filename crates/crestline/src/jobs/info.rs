@@ -37,7 +37,7 @@ pub fn mesh_info(mesh: &Mesh, observer: &mut dyn Observer) -> MeshInfo {
         components,
         bounding_box: mesh.bounding_box(),
         mean_edge_length: mesh.mean_edge_length(),
-        feature_scale: mesh_scale(mesh.vertex_areas().iter().sum(), mesh.mean_edge_length()),
+        feature_scale: mesh_scale(mesh),
     };
     observer.measure("scale", info.feature_scale);
     for (key, value) in ["vertices", "faces", "edges"].into_iter().zip(info.counts) {

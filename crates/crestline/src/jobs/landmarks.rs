@@ -70,9 +70,13 @@ pub fn landmarks(
             level,
             options,
         } => {
-            let lines = crest_lines(volume, level, options, observer)?;
-            let units = image_units(volume, level, options.scale, &mut crate::progress::Silent)?;
-            (lines, units)
+            // The scale once: the lines are traced at the one the landmarks use.
+            let units = image_units(volume, level, options.scale, observer)?;
+            let at_scale = CrestLinesOptions {
+                scale: Some(units.scale),
+                ..*options
+            };
+            (crest_lines(volume, level, &at_scale, observer)?, units)
         }
         LinesFrom::Surface { surface, options } => {
             (ridges(surface, options, observer)?, surface.units())

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::landmarks::{read_landmarks, LandmarkKind, FORMAT as LANDMARKS};
+use crate::landmarks::{holds_landmarks, read_landmarks, LandmarkKind};
 use crate::lines::read_json;
 use crate::progress::{checkpoint, stage, Observer};
 use crate::register::{register as align, PointSet, Registration, RegistrationOptions};
@@ -43,10 +43,7 @@ pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
         message,
     };
     let text = crate::io::file::read_text(path)?;
-    let format = serde_json::from_str::<FormatOnly>(&text)
-        .ok()
-        .and_then(|f| f.format);
-    let (line_points, key_points, declared) = if format.as_deref() == Some(LANDMARKS) {
+    let (line_points, key_points, declared) = if holds_landmarks(&text) {
         let (landmarks, declared) = read_landmarks(path)?;
         let line_points = landmarks.lines.iter().flat_map(|line| line.points.clone());
         let extremal = landmarks
@@ -76,10 +73,4 @@ pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
         line_points: to_ras(line_points),
         key_points: to_ras(key_points),
     })
-}
-
-/// The `format` key of a JSON file, read before the file itself.
-#[derive(serde::Deserialize)]
-struct FormatOnly {
-    format: Option<String>,
 }

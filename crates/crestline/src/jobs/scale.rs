@@ -10,6 +10,7 @@
 //! extremal points of a moved copy had one of the copy within 1 mm; with σ of 2 mm
 //! and the other lengths in millimetres 90–93%, with 3 mm 95–98%.
 
+use crate::mesh::Mesh;
 use crate::volume::Volume;
 
 /// The feature scale of an image as a share of the size of the object its
@@ -44,10 +45,11 @@ pub fn image_scale(volume: &Volume, level: f64, voxel: f64) -> f64 {
     (IMAGE_SCALE_SHARE * size).max(voxel)
 }
 
-/// The default feature scale of a mesh of area `area`: [`MESH_SCALE_SHARE`]
-/// times its square root, at least its mean edge length `edge`.
-pub fn mesh_scale(area: f64, edge: f64) -> f64 {
-    (MESH_SCALE_SHARE * area.sqrt()).max(edge)
+/// The default feature scale of `mesh`: [`MESH_SCALE_SHARE`] times the square
+/// root of its area, at least its mean edge length.
+pub fn mesh_scale(mesh: &Mesh) -> f64 {
+    let area: f64 = mesh.vertex_areas().iter().sum();
+    (MESH_SCALE_SHARE * area.sqrt()).max(mesh.mean_edge_length())
 }
 
 /// The scale `given` (world units), checked to be positive and finite, or

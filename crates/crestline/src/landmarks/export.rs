@@ -95,6 +95,19 @@ pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Resu
     }
 }
 
+/// Whether the JSON `text` says it is a landmark file ([`FORMAT`]), read before
+/// the whole of it: a lines file says another format.
+pub fn holds_landmarks(text: &str) -> bool {
+    #[derive(Deserialize)]
+    struct FormatOnly {
+        format: Option<String>,
+    }
+    serde_json::from_str::<FormatOnly>(text)
+        .ok()
+        .and_then(|f| f.format)
+        .is_some_and(|format| format == FORMAT)
+}
+
 /// Read a landmark JSON file written by [`write_landmarks`]: the landmarks and the
 /// space of their positions. Malformed files are an [`Error::File`] naming `path`.
 pub fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {

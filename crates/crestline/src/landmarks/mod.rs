@@ -26,7 +26,7 @@
 
 pub(crate) mod export;
 
-pub use export::{read_landmarks, write_landmarks, LandmarkFormat, Space, FORMAT};
+pub use export::{holds_landmarks, read_landmarks, write_landmarks, LandmarkFormat, Space, FORMAT};
 
 use serde::{Deserialize, Serialize};
 
