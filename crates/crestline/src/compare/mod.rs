@@ -323,10 +323,11 @@ fn total_length(segments: &[[Point; 2]]) -> f64 {
     segments.iter().map(|[p, q]| (q - p).norm()).sum()
 }
 
-/// `part` of `whole`, 0 for no whole.
+/// `part` of `whole` (at most 1: the pieces' lengths add up to the whole's to
+/// rounding), 0 for no whole.
 fn share(part: f64, whole: f64) -> f64 {
     if whole > 0.0 {
-        part / whole
+        (part / whole).min(1.0)
     } else {
         0.0
     }
@@ -342,12 +343,17 @@ fn length_near(segments: &[[Point; 2]], length: f64, others: &[[Point; 2]], tole
     }
     let near = Near::of_segments(others, tolerance);
     let step = near::piece_length(length, tolerance, 4.0);
-    segments
+    let per_segment: Vec<f64> = segments
         .par_iter()
-        .flat_map_iter(|segment| near::pieces(segment, step))
-        .filter(|[p, q]| near.within(&p.coords.lerp(&q.coords, 0.5).into()))
-        .map(|[p, q]| (q - p).norm())
-        .sum()
+        .map(|segment| {
+            near::pieces(segment, step)
+                .filter(|[p, q]| near.within(&p.coords.lerp(&q.coords, 0.5).into()))
+                .map(|[p, q]| (q - p).norm())
+                .sum()
+        })
+        .collect();
+    // Summed in order: the same files give the same figures to the last bit.
+    per_segment.iter().sum()
 }
 
 /// The share of `points` within `tolerance` of one of `others`; 0 for no point.
