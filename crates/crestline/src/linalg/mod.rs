@@ -154,6 +154,23 @@ impl SpdSolver {
         Ok(())
     }
 
+    /// Prepares for matrices with the pattern `analysis` was made for (by another
+    /// solver, e.g. of the surface's smoothing on the same mesh), so that the
+    /// first factorization does not order and analyse it again. A matrix of
+    /// another pattern is analysed anew.
+    pub fn reuse_analysis(&mut self, analysis: CholeskyAnalysis) {
+        self.analysis = Some(analysis);
+    }
+
+    /// The ordering and symbolic analysis of its last factorization, or the one
+    /// made or given beforehand, if any.
+    pub fn analysis(&self) -> Option<&CholeskyAnalysis> {
+        self.factor
+            .as_ref()
+            .map(CholeskyFactor::analysis)
+            .or(self.analysis.as_ref())
+    }
+
     /// The matrix of the next solves. The direct method factors it now (reusing
     /// the symbolic analysis of a previous matrix with the same pattern).
     ///

@@ -47,6 +47,7 @@ use rayon::prelude::*;
 use crate::curvature::{
     estimate_curvature, CurvatureEstimator, CurvatureField, Estimator, ShapeOperator,
 };
+use crate::linalg::CholeskyAnalysis;
 pub use crate::linalg::Solver;
 use crate::lines::chain::chain;
 use crate::lines::direction_field::gauge_between;
@@ -294,11 +295,12 @@ impl ExtremalityTracer {
     /// `smoothing analysis` is the time it takes beyond them.
     pub fn trace(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<FeatureLines> {
         self.check()?;
-        let smoothed = try_stage_with(observer, "presmooth", |log| self.presmoothed(mesh, log))?;
+        let (smoothed, analysis) =
+            try_stage_with(observer, "presmooth", |log| self.presmoothed(mesh, log))?;
         let work = smoothed.as_ref().unwrap_or(mesh);
         let (unit, factor) = work.in_unit_frame();
         let ((field, fields), smoother) =
-            self.alongside_analysis(&unit, "curvature", observer, |log| {
+            self.alongside_analysis(&unit, analysis, "curvature", observer, |log| {
                 let field = try_stage(log, "curvature", || {
                     estimate_curvature(work, self.estimator.as_ref())
                 })?;
@@ -310,11 +312,13 @@ impl ExtremalityTracer {
 
     /// Runs `prepare` (which reports its stages, the first named `first`, to the
     /// log it is given) while the smoothing systems of `work` are analysed
-    /// ([`Self::smoother`]) on another thread, then reports `prepare`'s stages and
-    /// the stage `smoothing analysis`: the time the analysis took beyond them.
+    /// ([`Self::smoother`], reusing a `known` analysis) on another thread, then
+    /// reports `prepare`'s stages and the stage `smoothing analysis`: the time the
+    /// analysis took beyond them.
     fn alongside_analysis<T: Send>(
         &self,
         work: &Mesh,
+        known: Option<CholeskyAnalysis>,
         first: &str,
         observer: &mut dyn Observer,
         prepare: impl FnOnce(&mut dyn Observer) -> Result<T> + Send,
@@ -328,7 +332,7 @@ impl ExtremalityTracer {
                 let prepared = prepare(&mut log);
                 (log, prepared)
             },
-            || self.smoother(work),
+            || self.smoother(work, known),
         );
         for (k, (name, seconds)) in log.stages.iter().enumerate() {
             if k > 0 {
@@ -347,16 +351,20 @@ impl ExtremalityTracer {
     }
 
     /// The smoother of the extremalities of `work` ([`Self::smooth_time`],
-    /// [`Self::smoothing_weights`], [`Self::solver`]), its systems analysed if
-    /// there is smoothing to do.
-    fn smoother(&self, work: &Mesh) -> Result<smoothing::ExtremalitySmoother> {
+    /// [`Self::smoothing_weights`], [`Self::solver`]), its systems analysed (or
+    /// given the `known` analysis of their pattern) if there is smoothing to do.
+    fn smoother(
+        &self,
+        work: &Mesh,
+        known: Option<CholeskyAnalysis>,
+    ) -> Result<smoothing::ExtremalitySmoother> {
         let weights = self.smoothing_weights.as_deref();
         let smoother =
             smoothing::ExtremalitySmoother::new(work, self.smooth_time, weights, self.solver)?;
         if self.smooth_steps == 0 {
             return Ok(smoother);
         }
-        smoother.analyzed()
+        smoother.analyzed(known)
     }
 
     /// Extract the lines of `mesh` whose principal curvatures and directions are
@@ -380,7 +388,7 @@ impl ExtremalityTracer {
         field.check(mesh)?;
         let (unit, factor) = mesh.in_unit_frame();
         let (fields, smoother) =
-            self.alongside_analysis(&unit, "extremality", observer, |log| {
+            self.alongside_analysis(&unit, None, "extremality", observer, |log| {
                 Ok(self.fields(&unit, factor, field, log))
             })?;
         self.trace_on(&unit, field, fields, &smoother, mesh, observer)
@@ -533,18 +541,24 @@ impl ExtremalityTracer {
         Ok(())
     }
 
-    /// The smoothed surface, if pre-smoothing is asked for.
-    fn presmoothed(&self, mesh: &Mesh, observer: &mut dyn Observer) -> Result<Option<Mesh>> {
+    /// The smoothed surface, if pre-smoothing is asked for, and the analysis of
+    /// its system if it was factored.
+    fn presmoothed(
+        &self,
+        mesh: &Mesh,
+        observer: &mut dyn Observer,
+    ) -> Result<(Option<Mesh>, Option<CholeskyAnalysis>)> {
         if self.presmooth_steps == 0 {
-            return Ok(None);
+            return Ok((None, None));
         }
-        Ok(Some(smoothing::presmooth_surface_with(
+        let (smoothed, analysis) = smoothing::presmooth_analyzed(
             mesh,
             self.presmooth_steps,
             self.presmooth_time,
             self.solver,
             observer,
-        )?))
+        )?;
+        Ok((Some(smoothed), analysis))
     }
 
     /// The implicit smoothing (§5.1) of the extremality `values` of every field on

@@ -4,7 +4,9 @@
 
 use std::sync::Arc;
 
-use crate::linalg::{CgSettings, Lanes, Pair, Solver, SpdSolver, SymmetricMatrix};
+use crate::linalg::{
+    CgSettings, CholeskyAnalysis, Lanes, Pair, Solver, SpdSolver, SymmetricMatrix,
+};
 use rayon::prelude::*;
 
 use crate::mesh::{EdgeId, Mesh, VertexId};
@@ -343,9 +345,15 @@ impl ExtremalitySmoother {
     }
 
     /// The smoother with its systems' ordering and symbolic analysis made now
-    /// ([`SpdSolver::analyze`]) rather than by every field's smoothing.
-    pub fn analyzed(mut self) -> Result<Self> {
+    /// ([`SpdSolver::analyze`]) rather than by every field's smoothing, or taken
+    /// from `known`, an analysis of the same mesh's systems (the surface
+    /// smoothing's, [`presmooth_analyzed`]).
+    pub fn analyzed(mut self, known: Option<CholeskyAnalysis>) -> Result<Self> {
         if self.iterates() {
+            return Ok(self);
+        }
+        if let Some(analysis) = known {
+            self.solver.reuse_analysis(analysis);
             return Ok(self);
         }
         // The signs change neither the pattern nor what Auto chooses (it looks at
@@ -497,20 +505,33 @@ pub fn presmooth_surface_with(
     solver: Solver,
     observer: &mut dyn Observer,
 ) -> Result<Mesh> {
-    let (unit, factor) = mesh.in_unit_frame();
-    let mut smoothed = presmooth_unit(unit.into_owned(), steps, tau, solver, observer)?;
-    smoothed.scale(1.0 / factor);
-    Ok(smoothed)
+    Ok(presmooth_analyzed(mesh, steps, tau, solver, observer)?.0)
 }
 
-/// [`presmooth_surface_with`] of a mesh in the unit frame, in place.
+/// [`presmooth_surface_with`], and the ordering and symbolic analysis of its
+/// system when it was factored: the extremalities' systems on the smoothed
+/// surface have the same pattern ([`ExtremalitySmoother::analyzed`]).
+pub(crate) fn presmooth_analyzed(
+    mesh: &Mesh,
+    steps: usize,
+    tau: f64,
+    solver: Solver,
+    observer: &mut dyn Observer,
+) -> Result<(Mesh, Option<CholeskyAnalysis>)> {
+    let (unit, factor) = mesh.in_unit_frame();
+    let (mut smoothed, analysis) = presmooth_unit(unit.into_owned(), steps, tau, solver, observer)?;
+    smoothed.scale(1.0 / factor);
+    Ok((smoothed, analysis))
+}
+
+/// [`presmooth_analyzed`] of a mesh in the unit frame, in place.
 fn presmooth_unit(
     mut current: Mesh,
     steps: usize,
     tau: f64,
     solver: Solver,
     observer: &mut dyn Observer,
-) -> Result<Mesh> {
+) -> Result<(Mesh, Option<CholeskyAnalysis>)> {
     let h = current.mean_edge_length() * tau.sqrt();
     // The pattern never changes: a direct solver reuses its symbolic analysis.
     let pattern = SystemPattern::new(&current, solver);
@@ -520,22 +541,38 @@ fn presmooth_unit(
         let (weights, mass) = implicit_terms(&current, h * h, |_, _| 1.0);
         solver.set_matrix(pattern.matrix(&mass, &weights, |_| 1.0)?)?;
         let mass = pattern.to_unknowns::<f64>(&[&mass]);
-        let mut next = current.positions().to_vec();
-        let mut coordinate = vec![0.0; next.len()];
-        for axis in 0..3 {
-            let position: Vec<f64> = current.positions().iter().map(|p| p[axis]).collect();
-            // The current coordinate is the iteration's warm start.
-            let mut x = pattern.to_unknowns::<f64>(&[&position]);
-            let mut rhs = vec![0.0; x.len()];
-            mass_times(&mass, &x, &mut rhs);
-            solver.solve(&rhs, &mut x, observer)?;
-            pattern.to_vertices(&x, &mut [&mut coordinate]);
-            for (p, &x) in next.iter_mut().zip(&coordinate) {
-                p[axis] = x;
-            }
-        }
+        let next = smoothed_positions(&current, &pattern, &mut solver, &mass, observer)?;
         current.set_positions(next)?;
     }
     observer.progress(steps, steps);
-    Ok(current)
+    Ok((current, solver.analysis().cloned()))
+}
+
+/// The positions of `current` after one step with the system `solver` holds
+/// (masses `mass` in the unknowns' order): x and y solved side by side, then z,
+/// each from the current coordinates (the iteration's warm start).
+fn smoothed_positions(
+    current: &Mesh,
+    pattern: &SystemPattern,
+    solver: &mut SpdSolver,
+    mass: &[f64],
+    observer: &mut dyn Observer,
+) -> Result<Vec<crate::Point>> {
+    let column =
+        |axis: usize| -> Vec<f64> { current.positions().iter().map(|p| p[axis]).collect() };
+    let n = current.vertex_count();
+    let (mut x, mut y, mut z) = (column(0), column(1), column(2));
+    let mut xy = pattern.to_unknowns::<Pair>(&[&x, &y]);
+    let mut rhs = vec![Pair::default(); xy.len()];
+    mass_times(mass, &xy, &mut rhs);
+    solver.solve(&rhs, &mut xy, observer)?;
+    let mut zs = pattern.to_unknowns::<f64>(&[&z]);
+    let mut rhs = vec![0.0; zs.len()];
+    mass_times(mass, &zs, &mut rhs);
+    solver.solve(&rhs, &mut zs, observer)?;
+    pattern.to_vertices(&xy, &mut [&mut x, &mut y]);
+    pattern.to_vertices(&zs, &mut [&mut z]);
+    Ok((0..n)
+        .map(|k| crate::Point::new(x[k], y[k], z[k]))
+        .collect())
 }

@@ -144,7 +144,7 @@ fn both_fields_smoothed_with_one_system_are_smoothed_with_their_own() {
         };
         let smoother = ExtremalitySmoother::new(&mesh, tracer.smooth_time, None, solver)
             .unwrap()
-            .analyzed()
+            .analyzed(None)
             .unwrap();
         let mut shared = initial.to_vec();
         tracer
