@@ -8,7 +8,7 @@
 # The wheel is abi3: one wheel serves Blender's Python. The build uses
 # CARGO_TARGET_DIR (default: the repository's target/), so a release build made
 # before is reused. Where a `blender` binary is on the PATH, the zip is checked by
-# `blender --command extension validate`.
+# `blender --command extension validate`. PYTHON (default python3) runs the wheel's build.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$ROOT"
@@ -25,7 +25,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 if [[ -z "$wheel" ]]; then
     export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$ROOT/target}"
-    python3 -m pip wheel --quiet --no-deps --wheel-dir "$work/built" ./crates/crestline-py
+    "${PYTHON:-python3}" -m pip wheel --quiet --no-deps --wheel-dir "$work/built" ./crates/crestline-py
     wheel="$(ls "$work"/built/crestline-*.whl)"
 fi
 
