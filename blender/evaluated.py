@@ -14,7 +14,7 @@ def mesh_arrays(obj, depsgraph, world=False):
     if obj is None:
         raise Problem("no active object")
     if obj.type != "MESH":
-        raise Problem(f"'{obj.name}' is a {obj.type.lower()}, not a mesh")
+        raise Problem(f"'{obj.name}' is not a mesh (its type is {obj.type})")
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:

@@ -42,12 +42,18 @@ SVG = "{http://www.w3.org/2000/svg}"
 
 @pytest.fixture(scope="module")
 def extension():
+    """The extension's zip, built and installed (:func:`installed_extension`)."""
+    return installed_extension()
+
+
+def installed_extension():
     """The extension's zip, built by the script and installed into Blender with
     its add-on enabled; the wheel it bundles installed in Blender's site-packages."""
     command = [str(ROOT / "tools" / "build_blender_extension.sh")]
     if os.environ.get("CRESTLINE_WHEEL"):
         command += ["--wheel", os.environ["CRESTLINE_WHEEL"]]
-    built = subprocess.run(command, cwd=ROOT, check=True, capture_output=True, text=True)
+    environment = dict(os.environ, PYTHON=sys.executable)
+    built = subprocess.run(command, cwd=ROOT, check=True, capture_output=True, text=True, env=environment)
     archive = Path(built.stdout.strip().splitlines()[-1])
     assert archive.name == f"crestline-{crestline.__version__}-blender-linux-x64.zip"
     bpy.ops.extensions.package_install_files(filepath=str(archive), repo="user_default", enable_on_install=True)
@@ -66,7 +72,12 @@ def tool():
 
 @pytest.fixture
 def scene(extension):
-    """An empty scene (the extension stays enabled), its frame 1."""
+    """An empty scene (:func:`empty_scene`)."""
+    return empty_scene()
+
+
+def empty_scene():
+    """The scene emptied (the extension stays enabled), at its frame 1."""
     for collection in (bpy.data.objects, bpy.data.meshes, bpy.data.curves, bpy.data.grease_pencils,
                        bpy.data.materials, bpy.data.cameras, bpy.data.lights):
         for item in list(collection):
@@ -249,7 +260,7 @@ def camera_scene(scene, kind, size=(400, 300)):
     from mathutils import Vector
 
     bunny = imported(BUNNY)
-    bunny.rotation_euler = (0.2, 0.1, 0.6)
+    bunny.rotation_euler.z += 0.5  # upright as imported (y up in the file), turned
     bpy.context.view_layer.update()
     corners = [bunny.matrix_world @ Vector(corner) for corner in bunny.bound_box]
     center = sum(corners, Vector()) / 8
@@ -257,8 +268,8 @@ def camera_scene(scene, kind, size=(400, 300)):
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     scene.collection.objects.link(camera)
     scene.camera = camera
-    direction = Vector((0.4, -1.0, 0.5)).normalized()
-    camera.location = center + 2.4 * radius * direction
+    direction = Vector((0.3, -1.0, 0.35)).normalized()
+    camera.location = center + 2.8 * radius * direction
     camera.rotation_euler = (-direction).to_track_quat("-Z", "Y").to_euler()
     camera.data.type = kind
     camera.data.lens = 40
@@ -294,3 +305,68 @@ def test_the_svg_lies_on_the_render_of_the_camera(scene, tmp_path, kind):
     difference = np.abs(np.concatenate([drawn.min(axis=0) - projected.min(axis=0), drawn.max(axis=0) - projected.max(axis=0)]))
     print(f"{kind}: silhouettes' box {drawn.min(axis=0)}-{drawn.max(axis=0)}, vertices' {projected.min(axis=0)}-{projected.max(axis=0)}")
     assert difference.max() < 2.0
+
+
+def lit_bunny_with_curves(scene, size, samples, width):
+    """The bunny with its ridges and valleys as curves ``width`` thick (a share of
+    its diagonal), lit by the sun, seen by the camera; Cycles on the CPU."""
+    camera_scene(scene, "PERSP", size)
+    assert bpy.ops.object.crestline_feature_lines(output="CURVE", width=width) == {"FINISHED"}
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (0.6, 0.3, 0.8)
+    sun.data.energy = 3.0
+    if scene.world is None:
+        scene.world = bpy.data.worlds.new("World")
+    scene.world.color = (0.6, 0.6, 0.6)
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.view_settings.view_transform = "Standard"  # the emission's colour as it is
+    scene.render.image_settings.file_format = "PNG"
+
+
+def rendered(scene, path):
+    """Render ``scene`` into the PNG ``path``; its pixels, (height, width, 3) sRGB
+    in [0, 1], the first row the top."""
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(str(path))
+    pixels = np.array(image.pixels[:], dtype=np.float32).reshape(image.size[1], image.size[0], -1)[::-1, :, :3]
+    bpy.data.images.remove(image)
+    return pixels
+
+
+def pixels_of(pixels, colour, tolerance=0.06):
+    """How many pixels have ``colour`` (sRGB) to within ``tolerance`` in every channel."""
+    return int((np.abs(pixels - np.array(colour)) < tolerance).all(axis=-1).sum())
+
+
+def extension_module(name):
+    """A module of the installed extension."""
+    return __import__(f"bl_ext.user_default.crestline.{name}", fromlist=[name])
+
+
+def test_a_cycles_render_shows_the_ridges_red_and_the_valleys_blue(scene, tmp_path):
+    colours = extension_module("colours").family_colours()
+    red, blue = colours["ridges"], colours["valleys"]
+    assert red[0] > 2 * max(red[1:]) and blue[2] > 2 * blue[0]
+    lit_bunny_with_curves(scene, (200, 150), 8, width=0.01)
+    pixels = rendered(scene, tmp_path / "bunny.png")
+    counts = pixels_of(pixels, red), pixels_of(pixels, blue)
+    print(f"Cycles, 200 x 150: {counts[0]} red and {counts[1]} blue pixels")
+    assert counts[0] > 80 and counts[1] > 80
+    # Without the lines, neither colour is seen.
+    next(obj for obj in bpy.data.objects if "crestline_lines" in obj).hide_render = True
+    bare = rendered(scene, tmp_path / "bare.png")
+    assert pixels_of(bare, red) + pixels_of(bare, blue) < 5
+
+
+if __name__ == "__main__":
+    # The documentation's picture: python test_blender.py docs/drawings/blender_bunny.png
+    picture = Path(sys.argv[1]).resolve()
+    installed_extension()
+    the_scene = empty_scene()
+    lit_bunny_with_curves(the_scene, (800, 600), 64, width=0.004)
+    rendered(the_scene, picture)
