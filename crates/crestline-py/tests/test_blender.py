@@ -14,6 +14,9 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
+import tomllib
+import zipfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -231,6 +234,57 @@ def test_baking_makes_a_keyframe_per_frame_of_the_deforming_mesh(scene):
         per_frame[frame] = grease_pencil_strokes(lines, "ridges", frame)
         assert_same_lines(per_frame[frame], expected, 1e-4 * diagonal(vertices))
     assert per_frame[1][0][0].shape != per_frame[3][0][0].shape or not np.allclose(per_frame[1][0][0], per_frame[3][0][0])
+
+
+def test_morse_lines_and_both_families(scene):
+    bunny = imported(SMALL_BUNNY)
+    vertices, faces = evaluated_arrays(bunny)
+    tolerance = 1e-4 * diagonal(vertices)
+    morse = [(l.points, l.closed) for l in crestline.morse(vertices, faces)]
+    assert bpy.ops.object.crestline_feature_lines(lines="MORSE") == {"FINISHED"}
+    lines = lines_object(bunny)
+    assert [layer.name for layer in lines.data.layers] == ["ascending"]
+    assert_same_lines(grease_pencil_strokes(lines, "ascending"), morse, tolerance)
+    assert bpy.ops.object.crestline_feature_lines(lines="BOTH", keep_saddles=20) == {"FINISHED"}
+    lines = lines_object(bunny)
+    assert [layer.name for layer in lines.data.layers] == ["ridges", "valleys", "ascending"]
+    fewer = [(l.points, l.closed) for l in crestline.morse(vertices, faces, keep_saddles=20)]
+    assert len(fewer) < len(morse)
+    assert_same_lines(grease_pencil_strokes(lines, "ascending"), fewer, tolerance)
+
+
+def test_escape_stops_the_computation_between_two_stages(scene):
+    # The modal run's worker (Escape sets the job's cancel event): the library
+    # stops at the end of the stage under way.
+    job, tracing = extension_module("job"), extension_module("tracing")
+    bunny = imported(BUNNY)
+    options = tracing.Tracing(families="BOTH", estimator=None, scale=None, threshold=2.0, keep_saddles=100)
+    running = job.LinesJob(bpy.context, bunny, options, [1])
+    running.start(1)
+    while running.running() and not running.stage:
+        time.sleep(0.001)
+    first = running.stage
+    running.cancel.set()
+    while running.running():
+        time.sleep(0.01)
+    assert isinstance(running.error, tracing.Cancelled) and str(running.error) == first
+    assert running.results == {}
+
+
+def test_the_manifest_passes_blenders_validation(extension):
+    # What `blender --command extension validate` runs: Blender's extension tool,
+    # shipped in bpy, with the tags Blender knows.
+    scripts = Path(bpy.utils.system_resource("SCRIPTS"))
+    tool = scripts / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
+    tags = scripts / "modules" / "_bpy_internal" / "extensions" / "tags.py"
+    checked = subprocess.run([sys.executable, tool, "validate", "--valid-tags", tags, extension],
+                             capture_output=True, text=True)
+    assert checked.returncode == 0 and "Success" in checked.stdout, checked.stdout + checked.stderr
+    with zipfile.ZipFile(extension) as archive:
+        manifest = tomllib.loads(archive.read("blender_manifest.toml").decode())
+        assert manifest["version"] == crestline.__version__
+        assert manifest["wheels"] == [f"./{name}" for name in archive.namelist() if name.endswith(".whl")]
+        assert manifest["blender_version_min"] == "4.3.0"
 
 
 @pytest.mark.parametrize("case", ["no faces", "empty", "not a mesh", "bake to curves"])
