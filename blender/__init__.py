@@ -15,7 +15,7 @@ def object_menu(self, context):
 
 
 def export_menu(self, context):
-    self.layout.operator(CRESTLINE_OT_export_svg.bl_idname, text="Line drawing (crestline) (.svg)")
+    self.layout.operator(CRESTLINE_OT_export_svg.bl_idname, text="Line drawing (crestline)")
 
 
 MENUS = ((bpy.types.VIEW3D_MT_object, object_menu), (bpy.types.TOPBAR_MT_file_export, export_menu))

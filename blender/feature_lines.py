@@ -145,6 +145,8 @@ class OBJECT_OT_crestline_feature_lines(LineOptions, bpy.types.Operator):
         for lines in job.results.values():
             for kind, n in lines.kinds().items():
                 counts[kind] = counts.get(kind, 0) + n
+        for warning in job.warnings:
+            self.report({"WARNING"}, f"Feature lines: {warning}")
         found = ", ".join(f"{n} {kind}" for kind, n in sorted(counts.items())) or "no lines"
         self.report({"INFO"}, f"{obj.name}: {found}")
         return {"FINISHED"}

@@ -2,11 +2,12 @@
 thread or in a worker thread that Escape can stop between two stages."""
 
 import threading
+import warnings
 
 import numpy as np
 
 from .evaluated import mesh_arrays
-from .tracing import Cancelled, Problem, trace
+from .tracing import Cancelled, trace
 
 
 class LinesJob:
@@ -23,6 +24,7 @@ class LinesJob:
         self.results = {}
         self.diagonal = 0.0
         self.stage = ""
+        self.warnings = []
         self.error = None
         self.cancel = threading.Event()
         self._thread = None
@@ -48,7 +50,18 @@ class LinesJob:
         """Trace the lines at ``frame`` in this thread. Raises :class:`Problem`,
         :class:`Cancelled` or the library's errors."""
         vertices, faces = self.arrays(frame)
-        self.results[frame] = trace(vertices, faces, self.options, self.progress)
+        self.traced(frame, vertices, faces)
+
+    def traced(self, frame, vertices, faces):
+        """Trace the lines of the arrays, keeping the library's warnings about the
+        input (repaired samples, no line found) in :attr:`warnings`."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            self.results[frame] = trace(vertices, faces, self.options, self.progress)
+        for warning in caught:
+            text = f"frame {frame}: {warning.message}" if len(self.frames) > 1 else str(warning.message)
+            if text not in self.warnings:
+                self.warnings.append(text)
 
     def start(self, frame):
         """Trace the lines at ``frame`` in a worker thread; :attr:`error` holds
@@ -57,7 +70,7 @@ class LinesJob:
 
         def work():
             try:
-                self.results[frame] = trace(vertices, faces, self.options, self.progress)
+                self.traced(frame, vertices, faces)
             except Exception as error:  # reported by the operator in the main thread
                 self.error = error
 
@@ -71,6 +84,3 @@ class LinesJob:
     def next_frame(self):
         """The first frame without lines yet, or None when all are traced."""
         return next((frame for frame in self.frames if frame not in self.results), None)
-
-
-__all__ = ["LinesJob", "Problem", "Cancelled"]

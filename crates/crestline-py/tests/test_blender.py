@@ -361,6 +361,20 @@ def test_the_svg_lies_on_the_render_of_the_camera(scene, tmp_path, kind):
     assert difference.max() < 2.0
 
 
+def test_the_export_on_a_page_and_without_a_camera(scene, tmp_path):
+    camera_scene(scene, "PERSP")
+    out = tmp_path / "page.svg"
+    assert bpy.ops.crestline.export_svg(filepath=str(out), page="a4", landscape=True, plot=True) == {"FINISHED"}
+    svg = ET.parse(out).getroot()
+    assert (svg.get("width"), svg.get("height")) == ("297mm", "210mm")
+    assert {g.get("id") for g in svg.iter(f"{SVG}g")} >= {"silhouettes", "ridges", "valleys"}
+    scene.camera = None
+    with pytest.raises(RuntimeError) as reported:
+        bpy.ops.crestline.export_svg(filepath=str(tmp_path / "none.svg"))
+    assert "the scene has no camera" in str(reported.value) and "Traceback" not in str(reported.value)
+    assert not (tmp_path / "none.svg").exists()
+
+
 def lit_bunny_with_curves(scene, size, samples, width):
     """The bunny with its ridges and valleys as curves ``width`` thick (a share of
     its diagonal), lit by the sun, seen by the camera; Cycles on the CPU."""
