@@ -75,14 +75,14 @@ class OBJECT_OT_crestline_feature_lines(LineOptions, bpy.types.Operator):
         frames = self.frames(context)
         if len(frames) > 1 and self.output != "GREASE_PENCIL":
             raise Problem("a bake over frames makes Grease Pencil keyframes: choose the Grease Pencil output")
-        return LinesJob(context, obj, self.tracing(unit=unit_in_local(obj)), frames)
+        return LinesJob(obj, self.tracing(unit=unit_in_local(obj)), frames)
 
     def execute(self, context):
         current = context.scene.frame_current
         try:
             job = self.job(context)
             for frame in job.frames:
-                job.run(frame)
+                job.run(context, frame)
         except FAILURES as error:
             return self.failed(error)
         finally:
@@ -95,7 +95,7 @@ class OBJECT_OT_crestline_feature_lines(LineOptions, bpy.types.Operator):
         self._current = context.scene.frame_current
         try:
             self._job = self.job(context)
-            self._job.start(self._job.frames[0])
+            self._job.start(context, self._job.frames[0])
         except FAILURES as error:
             restore_frame(context, self._current)
             return self.failed(error)
@@ -121,7 +121,7 @@ class OBJECT_OT_crestline_feature_lines(LineOptions, bpy.types.Operator):
         following = None if job.error else job.next_frame()
         if following is not None:
             try:
-                job.start(following)
+                job.start(context, following)
                 return {"RUNNING_MODAL"}
             except FAILURES as error:
                 job.error = error

@@ -13,11 +13,11 @@ from .tracing import Cancelled, trace
 class LinesJob:
     """The lines of ``obj`` at each of ``frames`` (``{frame: crestline.Lines}`` in
     :attr:`results`), traced with ``options`` (:class:`tracing.Tracing`).
-    The mesh is read in the main thread (Blender's data is not thread-safe); the
-    library's computation may run in a worker thread."""
+    The mesh is read in the main thread, from the context of the call (Blender's
+    data is not thread-safe, and a context is not kept); the library's computation
+    may run in a worker thread."""
 
-    def __init__(self, context, obj, options, frames):
-        self.context = context
+    def __init__(self, obj, options, frames):
         self.obj = obj
         self.options = options
         self.frames = list(frames)
@@ -36,20 +36,20 @@ class LinesJob:
         if seconds is None:
             self.stage = stage
 
-    def arrays(self, frame):
+    def arrays(self, context, frame):
         """The evaluated mesh at ``frame`` (the scene is moved there when baking)."""
-        scene = self.context.scene
+        scene = context.scene
         if len(self.frames) > 1 and scene.frame_current != frame:
             scene.frame_set(frame)
-        vertices, faces = mesh_arrays(self.obj, self.context.evaluated_depsgraph_get())
+        vertices, faces = mesh_arrays(self.obj, context.evaluated_depsgraph_get())
         size = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))
         self.diagonal = max(self.diagonal, size)
         return vertices, faces
 
-    def run(self, frame):
+    def run(self, context, frame):
         """Trace the lines at ``frame`` in this thread. Raises :class:`Problem`,
         :class:`Cancelled` or the library's errors."""
-        vertices, faces = self.arrays(frame)
+        vertices, faces = self.arrays(context, frame)
         self.traced(frame, vertices, faces)
 
     def traced(self, frame, vertices, faces):
@@ -63,10 +63,10 @@ class LinesJob:
             if text not in self.warnings:
                 self.warnings.append(text)
 
-    def start(self, frame):
+    def start(self, context, frame):
         """Trace the lines at ``frame`` in a worker thread; :attr:`error` holds
         what it raised once :meth:`running` is False."""
-        vertices, faces = self.arrays(frame)
+        vertices, faces = self.arrays(context, frame)
 
         def work():
             try:

@@ -263,8 +263,8 @@ def test_escape_stops_the_computation_between_two_stages(scene):
     job, tracing = extension_module("job"), extension_module("tracing")
     bunny = imported(BUNNY)
     options = tracing.Tracing(families="BOTH", estimator=None, scale=None, threshold=2.0, keep_saddles=100)
-    running = job.LinesJob(bpy.context, bunny, options, [1])
-    running.start(1)
+    running = job.LinesJob(bunny, options, [1])
+    running.start(bpy.context, 1)
     while running.running() and not running.stage:
         time.sleep(0.001)
     first = running.stage
