@@ -6,7 +6,8 @@ Blender's camera and a Cycles render. Skipped when ``bpy`` is not importable
 built (``cargo build --release``; ``$CRESTLINE_TOOL`` names another build).
 
 The zip is built with the wheel of ``$CRESTLINE_WHEEL`` when set, else by the
-script (a maturin build reusing target/). ``python test_blender.py PICTURE.png``
+script (a maturin build reusing target/). The add-on must run the wheel it
+bundles: run these tests where crestline itself is not installed (as .ci/run does). ``python test_blender.py PICTURE.png``
 renders the documentation's picture."""
 
 import atexit
@@ -38,8 +39,6 @@ except ImportError as error:
 
 import tomllib  # Python 3.11, as bpy
 
-import crestline
-
 ROOT = Path(__file__).resolve().parents[3]
 TOOL = Path(os.environ.get("CRESTLINE_TOOL", ROOT / "target" / "release" / "crestline"))
 BUNNY = ROOT / "meshes" / "bunny.obj"
@@ -62,12 +61,25 @@ def installed_extension():
     environment = dict(os.environ, PYTHON=sys.executable)
     built = subprocess.run(command, cwd=ROOT, check=True, capture_output=True, text=True, env=environment)
     archive = Path(built.stdout.strip().splitlines()[-1])
-    assert archive.name == f"crestline-{crestline.__version__}-blender-linux-x64.zip"
     bpy.ops.extensions.package_install_files(filepath=str(archive), repo="user_default", enable_on_install=True)
     assert hasattr(bpy.ops.object, "crestline_feature_lines") and hasattr(bpy.ops.crestline, "export_svg")
     installed = list(Path(USER).rglob("site-packages/crestline/__init__.py"))
     assert installed, "the bundled wheel was not installed"
+    # The add-on runs the bundled package (the environment has no other crestline:
+    # one installed beside bpy would come first on the path).
+    import crestline
+
+    assert Path(crestline.__file__) == installed[0]
+    assert archive.name == f"crestline-{crestline.__version__}-blender-linux-x64.zip"
     return archive
+
+
+@pytest.fixture(scope="module")
+def crestline(extension):
+    """The crestline package the add-on runs: the bundled wheel's."""
+    import crestline as package
+
+    return package
 
 
 @pytest.fixture(scope="module")
@@ -204,7 +216,7 @@ def test_curve_lines_are_the_same_and_running_again_replaces_them(scene, tool, t
         assert_same_lines(curve_splines(lines, f"crestline {family}"), theirs[kind], tolerance)
 
 
-def test_a_subdivision_surface_modifier_changes_the_lines(scene):
+def test_a_subdivision_surface_modifier_changes_the_lines(scene, crestline):
     bunny = imported(SMALL_BUNNY)
     assert bpy.ops.object.crestline_feature_lines() == {"FINISHED"}
     plain = grease_pencil_strokes(lines_object(bunny), "ridges")
@@ -218,7 +230,7 @@ def test_a_subdivision_surface_modifier_changes_the_lines(scene):
     assert len(plain) != len(subdivided) or any(a.shape != b.shape for (a, _), (b, _) in zip(plain, subdivided))
 
 
-def test_baking_makes_a_keyframe_per_frame_of_the_deforming_mesh(scene):
+def test_baking_makes_a_keyframe_per_frame_of_the_deforming_mesh(scene, crestline):
     bunny = imported(SMALL_BUNNY)
     twist = bunny.modifiers.new("Twist", "SIMPLE_DEFORM")
     for frame, angle in ((1, 0.0), (2, 0.4), (3, 0.8)):
@@ -240,7 +252,7 @@ def test_baking_makes_a_keyframe_per_frame_of_the_deforming_mesh(scene):
     assert per_frame[1][0][0].shape != per_frame[3][0][0].shape or not np.allclose(per_frame[1][0][0], per_frame[3][0][0])
 
 
-def test_morse_lines_and_both_families(scene):
+def test_morse_lines_and_both_families(scene, crestline):
     bunny = imported(SMALL_BUNNY)
     vertices, faces = evaluated_arrays(bunny)
     tolerance = 1e-4 * diagonal(vertices)
@@ -275,7 +287,7 @@ def test_escape_stops_the_computation_between_two_stages(scene):
     assert running.results == {}
 
 
-def test_the_manifest_passes_blenders_validation(extension):
+def test_the_manifest_passes_blenders_validation(extension, crestline):
     # What `blender --command extension validate` runs: Blender's extension tool,
     # shipped in bpy, with the tags Blender knows.
     scripts = Path(bpy.utils.system_resource("SCRIPTS"))
