@@ -2,17 +2,12 @@
 object as Grease Pencil or curves, parented to it."""
 
 import bpy
-import crestline
 
 from .evaluated import unit_in_local
 from .job import LinesJob
 from .line_objects import replace_lines
 from .options import LineOptions
-from .tracing import Cancelled, Problem
-
-FAILURES = (Problem, crestline.Error, ValueError, TypeError)
-"""What a computation may raise that is reported to the user rather than shown as
-a traceback."""
+from .tracing import FAILURES, Cancelled, Problem
 
 
 class OBJECT_OT_crestline_feature_lines(LineOptions, bpy.types.Operator):

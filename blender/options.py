@@ -6,6 +6,8 @@ import typing
 import bpy
 import crestline
 
+from .tracing import Tracing
+
 RIDGES = crestline.defaults()["ridges"]
 MORSE = crestline.defaults()["morse"]
 
@@ -79,8 +81,6 @@ class LineOptions:
     def tracing(self, unit=1.0):
         """These options as :func:`tracing.trace` takes them; ``unit`` is the length
         of one scene unit in the coordinates the lines are traced in."""
-        from .tracing import Tracing
-
         return Tracing(
             families=self.lines,
             estimator=estimator_name(self.estimator),

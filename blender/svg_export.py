@@ -9,9 +9,8 @@ from bpy_extras.io_utils import ExportHelper
 
 from .camera_view import camera_view
 from .evaluated import mesh_arrays, merged
-from .feature_lines import FAILURES
 from .options import LineOptions
-from .tracing import Problem, built, trace
+from .tracing import FAILURES, Problem, built, trace
 
 DRAW = crestline.defaults()["draw"]
 

@@ -17,6 +17,11 @@ class Cancelled(Exception):
     """Raised by the progress callback when the user asked to stop."""
 
 
+FAILURES = (Problem, crestline.Error, ValueError, TypeError)
+"""What tracing or drawing may raise that is reported to the user rather than shown
+as a traceback: bad input, and the library's errors and refused arguments."""
+
+
 @dataclass(frozen=True)
 class Tracing:
     """Which lines to trace and the options of the library's jobs."""
