@@ -15,7 +15,8 @@ use super::ReportArg;
 #[derive(clap::Args, Debug)]
 pub struct CompareArgs {
     /// Lines or landmarks (.json as `ridges`, `crest-lines`, `morse` or
-    /// `landmarks` write them; .csv landmarks).
+    /// `landmarks` write them; lines as .obj or legacy .vtk, from any program;
+    /// 3D Slicer markups, .mrk.json; .csv landmarks).
     pub a: PathBuf,
     /// The lines or landmarks to compare with A's.
     pub b: PathBuf,

@@ -232,3 +232,57 @@ def test_lines_and_meshes_are_saved_as_the_tool_saves_them(bunny, tmp_path):
     assert np.array_equal(again, vertices) and np.array_equal(again_faces, faces)
     with pytest.raises(ValueError, match=r"values\['k_max'\]: expected shape"):
         crestline.write_mesh(tmp_path / "short.ply", vertices, faces, {"k_max": k_max[:5]})
+
+
+def test_compare_reads_lines_that_meshio_and_vtk_write(tmp_path):
+    """The bunny's lines written as VTK by meshio (5.1: an unstructured grid of
+    segments, offsets, connectivity and a field array `kind`) and by VTK's own
+    legacy writer (4.2: poly data, counted cells and a scalar `kind`) compare with
+    the lines' JSON as the same lines, kind by kind."""
+    meshio = pytest.importorskip("meshio")
+    vtk = pytest.importorskip("vtk")
+    lines = crestline.ridges(*crestline.read_mesh(ROOT / "meshes" / "bunny_small.obj")[:2])
+    lines.save(tmp_path / "lines.json")
+    codes = {"ridge": 0, "valley": 1}
+    paths = [np.vstack([line.points, line.points[:1]]) if line.closed else line.points
+             for line in lines]
+    points = np.vstack(paths)
+    starts = np.cumsum([0] + [len(p) for p in paths])
+    cells = [np.arange(s, e) for s, e in zip(starts[:-1], starts[1:])]
+    kinds = np.array([codes[line.kind] for line in lines], dtype=np.int32)
+    # meshio writes an unstructured grid of two-point lines: each segment a cell.
+    segments = np.vstack([np.column_stack([c[:-1], c[1:]]) for c in cells])
+    segment_kinds = np.concatenate([np.full(len(c) - 1, k, dtype=np.int32) for c, k in zip(cells, kinds)])
+    meshio.write(str(tmp_path / "meshio.vtk"),
+                 meshio.Mesh(points, [("line", segments)], cell_data={"kind": [segment_kinds]}),
+                 binary=False)
+
+    polydata = vtk.vtkPolyData()
+    vtk_points = vtk.vtkPoints()
+    for p in points:
+        vtk_points.InsertNextPoint(*p)
+    polydata.SetPoints(vtk_points)
+    vtk_lines = vtk.vtkCellArray()
+    for c in cells:
+        vtk_lines.InsertNextCell(len(c), [int(i) for i in c])
+    polydata.SetLines(vtk_lines)
+    kind = vtk.vtkIntArray()
+    kind.SetName("kind")
+    for k in kinds:
+        kind.InsertNextValue(int(k))
+    polydata.GetCellData().SetScalars(kind)
+    writer = vtk.vtkPolyDataWriter()
+    writer.SetFileName(str(tmp_path / "vtk.vtk"))
+    writer.SetFileVersion(42)
+    writer.SetInputData(polydata)
+    writer.Write()
+
+    for name in ("meshio.vtk", "vtk.vtk"):
+        # VTK writes the points as floats of six significant digits.
+        found = crestline.compare(tmp_path / "lines.json", tmp_path / name, tolerance="0.01%")
+        rows = {row["kind"]: row for row in found["lines"]}
+        assert set(rows) == {"ridge", "valley"}, name
+        for row in rows.values():
+            assert row["a_in_b"] == pytest.approx(1.0) and row["b_in_a"] == pytest.approx(1.0), name
+        assert rows["ridge"]["b_count"] == (rows["ridge"]["a_count"] if name == "vtk.vtk"
+                                            else sum(len(c) - 1 for c, k in zip(cells, kinds) if k == 0))

@@ -23,7 +23,8 @@ def compare(
     tolerance: Union[None, float, str] = None,
 ) -> Dict[str, Any]:
     """The agreement of two lines or landmarks files (``.json`` as the tool and
-    :meth:`Lines.save` write them, or landmarks ``.csv``), kind by kind and both
+    :meth:`Lines.save` write them, lines as ``.obj`` or legacy ``.vtk`` from any
+    program, 3D Slicer markups ``.mrk.json``, or landmarks ``.csv``), kind by kind and both
     ways: for each kind of line, the share of A's length within ``tolerance`` of
     B's lines of that kind (the distance to B's segments, not its vertices), for
     each kind of landmark the share of A's with one of B's that near, and the

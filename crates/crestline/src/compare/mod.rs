@@ -10,6 +10,7 @@
 //! and the same from B to A. B's points can first be moved into A's frame by a
 //! rigid motion ([`read_transform`](crate::register::read_transform)).
 
+mod line_files;
 mod markups;
 mod near;
 mod read;
@@ -318,9 +319,12 @@ fn of_kind<'m, T>(map: &'m BTreeMap<String, Vec<T>>, kind: &str) -> &'m [T] {
     map.get(kind).map_or(&[], Vec::as_slice)
 }
 
-/// The summed length of `segments`.
+/// The summed length of `segments` (0, not the empty sum's −0, when there are
+/// none).
 fn total_length(segments: &[[Point; 2]]) -> f64 {
-    segments.iter().map(|[p, q]| (q - p).norm()).sum()
+    segments
+        .iter()
+        .fold(0.0, |sum, [p, q]| sum + (q - p).norm())
 }
 
 /// `part` of `whole` (at most 1: the pieces' lengths add up to the whole's to

@@ -1,12 +1,12 @@
 //! Reading the features [`super::compare`] takes: lines files (`crestline-lines`
-//! JSON) and landmark files (`crestline-landmarks` JSON, or the CSV the
+//! JSON, OBJ and legacy VTK, [`super::line_files`]) and landmark files (`crestline-landmarks` JSON, or the CSV the
 //! `landmarks` job writes), positions in RAS when the file states its frame.
 
 use std::path::Path;
 
 use super::Features;
 use crate::landmarks::{holds_landmarks, read_landmarks, LandmarkFormat};
-use crate::lines::read_json;
+use crate::lines::{read_json, LineFormat};
 use crate::space::Space;
 use crate::{Error, Point, Result};
 
@@ -20,10 +20,16 @@ use crate::{Error, Point, Result};
 /// Errors are [`Error::File`] naming `path`: another kind of file, or one that
 /// does not read.
 pub fn read_features(path: &Path) -> Result<Features> {
+    match LineFormat::from_path(path) {
+        Ok(LineFormat::Obj) => return super::line_files::read_obj_lines(path),
+        Ok(LineFormat::Vtk) => return super::line_files::read_vtk_lines(path),
+        _ => {}
+    }
     let format = LandmarkFormat::from_path(path).map_err(|_| Error::File {
         path: path.to_path_buf(),
         message: "not a file of lines or landmarks: compare reads .json (lines or \
-                  landmarks), .mrk.json (3D Slicer markups) and .csv (landmarks)"
+                  landmarks), .obj and .vtk (lines), .mrk.json (3D Slicer markups) and \
+                  .csv (landmarks)"
             .into(),
     })?;
     match format {

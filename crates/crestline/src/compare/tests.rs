@@ -1,6 +1,7 @@
 use nalgebra::Rotation3;
 
 use super::*;
+use crate::lines::{LineKind, Polyline};
 use crate::Vector;
 
 /// Features with one open line of `kind` through `points`.
@@ -165,4 +166,125 @@ fn a_file_without_a_frame_meets_the_other_as_it_was_written() {
     nifti.declared = Some(Space::Ras);
     let (a, b) = in_one_frame(nifti, markups);
     assert!((compare(&a, &b, 0.01).lines[0].a_in_b - 1.0).abs() < 1e-12);
+}
+
+/// Lines of two kinds, one closed, in a frame, as the jobs write them.
+fn written_lines() -> FeatureLines {
+    let mut lines = FeatureLines::new("a test");
+    lines.space = Some(Space::Lps);
+    let square = vec![
+        p(0.0, 0.0, 0.0),
+        p(1.0, 0.0, 0.0),
+        p(1.0, 1.0, 0.5),
+        p(0.0, 1.0, 0.0),
+    ];
+    lines.push(Polyline::new(LineKind::Ridge, true, 2.5, square));
+    let bend = vec![
+        p(0.1, 0.2, 0.3),
+        p(0.4, 0.25, 1.0 / 3.0),
+        p(2.0, -1.0, 1e-7),
+    ];
+    lines.push(Polyline::new(LineKind::Valley, false, 3.0, bend));
+    lines
+}
+
+#[test]
+fn obj_and_vtk_lines_read_as_the_json_of_the_same_lines() {
+    let folder = tempfile::tempdir().unwrap();
+    let lines = written_lines();
+    let expected = Features::of_lines(&lines);
+    for name in ["lines.obj", "lines.vtk", "lines.json"] {
+        let path = folder.path().join(name);
+        crate::lines::write_lines(&path, &lines).unwrap();
+        let read = read_features(&path).unwrap();
+        assert_eq!(read, expected, "{name}");
+        assert_eq!(read.line_counts["ridge"], 1, "{name}");
+        // The closed square's four segments, its closing one included.
+        assert_eq!(read.segments["ridge"].len(), 4, "{name}");
+    }
+}
+
+#[test]
+fn another_programs_obj_polylines_are_lines_of_no_kind() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = folder.path().join("drawn.obj");
+    // Corners with texture indices, relative indices, a closed triangle, and a
+    // lone vertex record, as Blender and others write polylines.
+    let text = "o Curve\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nl 1/1 2/1 3/1 1/1\nv 5 5 5\nv 6 5 5\nl -2 -1\n";
+    std::fs::write(&path, text).unwrap();
+    let read = read_features(&path).unwrap();
+    assert_eq!(read.declared, None);
+    assert_eq!(read.line_counts[line_files::UNNAMED_KIND], 2);
+    let segments = &read.segments[line_files::UNNAMED_KIND];
+    assert_eq!(segments.len(), 4);
+    assert_eq!(segments[2], [p(1.0, 1.0, 0.0), p(0.0, 0.0, 0.0)]);
+    assert_eq!(segments[3], [p(5.0, 5.0, 5.0), p(6.0, 5.0, 5.0)]);
+}
+
+#[test]
+fn vtk_5_1_cells_and_field_arrays_give_the_kinds() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = folder.path().join("lines.vtk");
+    let text = "# vtk DataFile Version 5.1\nlines SPACE=RAS\nASCII\nDATASET POLYDATA\n\
+        POINTS 4 float\n0 0 0 1 0 0 2 0 0 3 1 0\n\
+        LINES 3 4\nOFFSETS vtktypeint64\n0 2 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\n\
+        CELL_DATA 2\nFIELD FieldData 1\nkind 1 2 int\n1 0\n";
+    std::fs::write(&path, text).unwrap();
+    let read = read_features(&path).unwrap();
+    assert_eq!(read.declared, Some(Space::Ras));
+    assert_eq!(
+        read.segments["valley"],
+        vec![[p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0)]]
+    );
+    assert_eq!(
+        read.segments["ridge"],
+        vec![[p(2.0, 0.0, 0.0), p(3.0, 1.0, 0.0)]]
+    );
+}
+
+#[test]
+fn a_mesh_or_a_broken_lines_file_is_refused_naming_it() {
+    let folder = tempfile::tempdir().unwrap();
+    let refused = |name: &str, text: &str, says: &str| {
+        let path = folder.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let message = read_features(&path).unwrap_err().to_string();
+        assert!(
+            message.contains(name) && message.contains(says),
+            "{message}"
+        );
+    };
+    refused("mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "a mesh");
+    refused(
+        "far.obj",
+        "v 0 0 0\nv 1 0 0\nl 1 3\n",
+        "line 3: a line refers to point 3",
+    );
+    refused(
+        "zero.obj",
+        "v 0 0 0\nl 0 1\n",
+        "line 2: `0` is not a vertex index",
+    );
+    refused(
+        "nan.obj",
+        "v 0 NaN 0\n",
+        "line 1: the coordinate NaN is not finite",
+    );
+    let header = "# vtk DataFile Version 3.0\nt\n";
+    refused("binary.vtk", &format!("{header}BINARY\n"), "only ASCII");
+    refused(
+        "mesh.vtk",
+        &format!("{header}ASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n"),
+        "a mesh",
+    );
+    refused(
+        "short.vtk",
+        &format!("{header}ASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0\n"),
+        "ends early",
+    );
+    refused(
+        "huge.vtk",
+        &format!("{header}ASCII\nDATASET POLYDATA\nPOINTS 1 float\n0 0 0\nLINES 18446744073709551615 2\n2 0 0\n"),
+        "ends early",
+    );
 }
