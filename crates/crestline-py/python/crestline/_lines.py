@@ -41,9 +41,10 @@ class Line:
     """One feature line.
 
     ``kind`` is ``"ridge"``, ``"valley"``, ``"ascending"``, ``"crest"``,
-    ``"parabolic"``, ``"gauss"``, ... (every kind: :func:`families`); ``points`` is (k, 3) float64, without a
-    repeated first point when ``closed``; ``strength`` is how pronounced it is (for
-    ridges and valleys ∫|k| ds, dimensionless); ``values`` holds per-point arrays
+    ``"parabolic"``, ``"gauss"``, ... (every kind: :func:`families`); ``points``
+    is (k, 3) float64, without a repeated first point when ``closed``;
+    ``strength`` is how pronounced it is (for ridges and valleys ∫|k| ds,
+    dimensionless); ``values`` holds per-point arrays
     (e.g. ``k_max``, ``e_max``). Lines traced on a mesh also tell where each point
     lies on it: ``location_vertices`` (k, 3) int64 and ``location_weights`` (k, 3)
     float64, so that ``(weights[:, :, None] * vertices[location_vertices]).sum(1)``
