@@ -2,29 +2,15 @@
 (ridges red, valleys blue, ...), read from the library rather than restated."""
 
 import functools
-import json
-
-import numpy as np
 
 import crestline
-
-KINDS = ("ridge", "valley", "ascending", "descending")
 
 
 @functools.lru_cache(maxsize=None)
 def family_colours():
     """``{family: (r, g, b)}`` in [0, 1] (sRGB), by the family's name as drawings
-    name their layers (``"ridges"``, ``"valleys"``, ``"ascending"``, ...). The
-    library tells a family's colour in the data of its interactive view; this asks
-    it for the view of one triangle with a short line of every kind."""
-    vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-    faces = np.array([[0, 1, 2]])
-    segment = np.array([[0.1, 0.1, 0.0], [0.2, 0.2, 0.0]])
-    lines = crestline.Lines(crestline.Line(kind, False, 1.0, segment) for kind in KINDS)
-    page = crestline.view(vertices, faces, lines=lines).html
-    start = page.index('"families":') + len('"families":')
-    families, _ = json.JSONDecoder().raw_decode(page, start)
-    return {family["name"]: rgb(family["color"]) for family in families}
+    name their layers (``"ridges"``, ``"valleys"``, ``"ascending"``, ...)."""
+    return {family: rgb(css) for family, css in crestline.colors().items()}
 
 
 def rgb(css):

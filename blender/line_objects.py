@@ -5,18 +5,20 @@ its local coordinates, replacing the lines made before."""
 import bpy
 import numpy as np
 
+import crestline
+
 from .colours import family_colours, linear
 
 MARK = "crestline_lines"
 """The custom property that marks an object made here (its value: the output)."""
 
-FAMILY_OF_KIND = {"ridge": "ridges", "valley": "valleys"}
-"""A line's family (the drawings' layer name) by its kind, where they differ."""
+FAMILY_OF_KIND = crestline.families()
+"""A line's family (the drawings' layer name) by its kind, as the library names them."""
 
 
 def family(line):
     """The family of ``line``: ``"ridges"``, ``"valleys"``, ``"ascending"``, ..."""
-    return FAMILY_OF_KIND.get(line.kind, line.kind)
+    return FAMILY_OF_KIND[line.kind]
 
 
 def families(frames):

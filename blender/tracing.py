@@ -1,8 +1,6 @@
 """Feature lines of a mesh given as arrays: ridges and valleys, Morse lines or
 both, as the library traces them."""
 
-import os
-import tempfile
 from dataclasses import dataclass
 from typing import Optional
 
@@ -48,30 +46,14 @@ def trace(vertices, faces, options, progress=None):
 
 
 def built(vertices, faces):
-    """The library's mesh of the arrays; a mesh that needs repairs renumbering its
-    vertices (duplicate or loose vertices, as Blender meshes often have) is repaired
-    as the command-line tool repairs a file. Raises :class:`Problem`."""
+    """The library's mesh of the arrays, repaired as ``crestline.read_mesh``
+    repairs a file: a Blender mesh often has duplicate or loose vertices, whose
+    repairs renumber its vertices, which ``crestline.Mesh`` refuses. Raises
+    :class:`Problem`."""
     if len(faces) == 0:
         raise Problem("the mesh has no faces")
     try:
-        return crestline.Mesh(vertices, faces)
-    except crestline.Error as error:
+        repaired, repaired_faces, _ = crestline.repair_mesh(vertices, faces)
+        return crestline.Mesh(repaired, repaired_faces)
+    except (crestline.Error, ValueError) as error:
         raise Problem(str(error)) from error
-    except ValueError as error:
-        if "repairs" not in str(error):
-            raise Problem(str(error)) from error
-    return crestline.Mesh(*repaired(vertices, faces))
-
-
-def repaired(vertices, faces):
-    """The arrays repaired by ``crestline.read_mesh`` (through a temporary file)."""
-    with tempfile.TemporaryDirectory() as folder:
-        path = os.path.join(folder, "mesh.ply")
-        crestline.write_mesh(path, vertices, faces)
-        try:
-            fixed, fixed_faces, _ = crestline.read_mesh(path)
-        except crestline.Error as error:
-            raise Problem(str(error)) from error
-    if len(fixed_faces) == 0:
-        raise Problem("the mesh has no faces left after its repairs")
-    return fixed, fixed_faces

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use crate::errors::raised;
 
 /// The triangle soup of the arrays.
-fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
+pub fn soup(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> TriangleSoup {
     TriangleSoup {
         positions: points(vertices),
         triangles: match faces.as_slice() {
@@ -59,8 +59,8 @@ pub fn mesh_of(vertices: ArrayView2<f64>, faces: ArrayView2<i64>) -> PyResult<Me
             .all(|(p, r)| p.x == r[0] && p.y == r[1] && p.z == r[2]);
     if !kept {
         return Err(PyValueError::new_err(format!(
-            "the mesh needs repairs that renumber its vertices ({}); read it with \
-             crestline.read_mesh, which returns the repaired arrays",
+            "the mesh needs repairs that renumber its vertices ({}); \
+             crestline.repair_mesh returns the repaired arrays",
             report.messages().join("; ")
         )));
     }

@@ -27,6 +27,7 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     volume::register(m)?;
     jobs::register(m)?;
     compare::register(m)?;
+    m.add_function(wrap_pyfunction!(lines::line_kinds, m)?)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
     m.add_function(wrap_pyfunction!(lines::write_line_labels, m)?)?;
     m.add_function(wrap_pyfunction!(arrays::write_mesh, m)?)?;

@@ -98,6 +98,17 @@ pub fn feature_lines(lines: Vec<LineParts<'_>>) -> PyResult<FeatureLines> {
     })
 }
 
+/// Every kind of line in the order of its code ([`LineKind::ALL`]): its name, the
+/// name of its family ([`LineKind::family`]) and the family's colour as `#rrggbb`
+/// ([`LineKind::color_hex`]).
+#[pyfunction]
+pub fn line_kinds() -> Vec<(&'static str, &'static str, String)> {
+    LineKind::ALL
+        .iter()
+        .map(|kind| (kind.name(), kind.family(), kind.color_hex()))
+        .collect()
+}
+
 /// Write lines to `path` in the format of its extension (.json, .obj, .ply,
 /// .vtk, .mrk.json: 3D Slicer markups), atomically.
 #[pyfunction]

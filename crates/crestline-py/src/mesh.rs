@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use crestline::curvature::{CurvatureField, Estimator, GivenCurvature};
 use crestline::jobs::{self, Surface};
-use crestline::mesh::Mesh;
+use crestline::mesh::{Mesh, RepairReport};
 use crestline::Vector;
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -13,7 +13,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{faces, points, report_json, rows};
+use crate::arrays::{faces, points, report_json, rows, soup};
 use crate::built_mesh::BuiltMesh;
 use crate::errors::raised;
 use crate::jobs::job_options;
@@ -24,6 +24,7 @@ use crate::volume::landmarks_json;
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(repair_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(curvature, m)?)?;
     m.add_function(wrap_pyfunction!(ridges, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_landmarks, m)?)?;
@@ -39,11 +40,31 @@ type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<i64>>, St
 #[pyfunction]
 fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<MeshArrays<'py>> {
     let path = path.as_path();
-    let (mesh, report) = py
+    let repaired = py
         .detach(|| crestline::io::read_mesh(path).and_then(Mesh::from_soup))
         .map_err(raised)?;
+    Ok(mesh_arrays(py, repaired))
+}
+
+/// Repair the mesh of the arrays as [`read_mesh`] repairs a file's
+/// ([`Mesh::from_soup`]).
+#[pyfunction]
+fn repair_mesh<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+) -> PyResult<MeshArrays<'py>> {
+    let (vertices, faces) = (vertices.as_array(), faces.as_array());
+    let repaired = py
+        .detach(|| Mesh::from_soup(soup(vertices, faces)))
+        .map_err(raised)?;
+    Ok(mesh_arrays(py, repaired))
+}
+
+/// The arrays of a repaired mesh, with its repairs.
+fn mesh_arrays<'py>(py: Python<'py>, (mesh, report): (Mesh, RepairReport)) -> MeshArrays<'py> {
     let vertices = rows(py, mesh.positions().iter().map(|p| [p.x, p.y, p.z]));
-    Ok((vertices, faces(py, &mesh), report_json(&report)))
+    (vertices, faces(py, &mesh), report_json(&report))
 }
 
 /// Principal curvatures and directions per vertex ([`jobs::curvature`] with the

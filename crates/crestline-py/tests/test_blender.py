@@ -269,6 +269,28 @@ def test_morse_lines_and_both_families(scene, crestline):
     assert_same_lines(grease_pencil_strokes(lines, "ascending"), fewer, tolerance)
 
 
+def test_a_mesh_with_a_split_and_a_loose_vertex_is_traced_as_repaired(scene, crestline):
+    # As Blender meshes often are: a vertex split in two (a seam) and a loose one.
+    # The lines are those of the mesh with the copy welded and the loose vertex
+    # dropped (coordinates in float32, as Blender keeps them).
+    vertices, faces, _ = crestline.read_mesh(SMALL_BUNNY)
+    vertices = vertices.astype(np.float32).astype(np.float64)
+    n = len(vertices)
+    first = int(np.argmax((faces == 0).any(axis=1)))
+    split = faces.copy()
+    split[first] = np.where(split[first] == 0, n, split[first])
+    mesh = bpy.data.meshes.new("split bunny")
+    mesh.from_pydata(np.vstack([vertices, vertices[:1], [[9.0, 9.0, 9.0]]]).tolist(), [], split.tolist())
+    obj = bpy.data.objects.new("split bunny", mesh)
+    scene.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    with pytest.raises(ValueError, match="renumber its vertices"):
+        crestline.Mesh(*evaluated_arrays(obj))
+    assert bpy.ops.object.crestline_feature_lines() == {"FINISHED"}
+    expected = [(l.points, l.closed) for l in crestline.ridges(vertices, faces).of_kind("ridge")]
+    assert_same_lines(grease_pencil_strokes(lines_object(obj), "ridges"), expected, 1e-4 * diagonal(vertices))
+
+
 def test_escape_stops_the_computation_between_two_stages(scene):
     # The modal run's worker (Escape sets the job's cancel event): the library
     # stops at the end of the stage under way.

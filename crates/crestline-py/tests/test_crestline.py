@@ -115,6 +115,47 @@ def test_morse_lines_follow_the_given_values():
         assert np.array_equal(a.points, b.points)
 
 
+def test_repair_mesh_repairs_arrays_as_read_mesh_repairs_their_file(tmp_path):
+    vertices, faces = icosphere(1.0, 2)
+    n = len(vertices)
+    # A copy of vertex 0 that the first face around it uses, a loose vertex, and a
+    # degenerate face (a repeated corner).
+    copied = np.vstack([vertices, vertices[:1], [[3.0, 3.0, 3.0]]])
+    first = int(np.argmax((faces == 0).any(axis=1)))
+    broken = faces.copy()
+    broken[first] = np.where(broken[first] == 0, n, broken[first])
+    broken = np.vstack([broken, [[1, 1, 2]]])
+    with pytest.raises(ValueError, match="renumber its vertices"):
+        crestline.Mesh(copied, broken)
+
+    repaired, repaired_faces, repairs = crestline.repair_mesh(copied, broken)
+    crestline.write_mesh(tmp_path / "broken.ply", copied, broken)
+    read, read_faces, read_repairs = crestline.read_mesh(tmp_path / "broken.ply")
+    assert np.array_equal(repaired, read) and np.array_equal(repaired_faces, read_faces)
+    assert repairs == read_repairs
+    assert repaired.dtype == np.float64 and repaired_faces.dtype == np.int64
+    nonzero = {name: count for name, count in repairs.items() if count}
+    assert nonzero == {"welded_vertices": 1, "unreferenced_vertices": 1, "degenerate_faces": 1}
+    # The copy welded into vertex 0, the loose vertex and the degenerate face
+    # dropped: the sphere as it was, which the functions on arrays take.
+    assert np.array_equal(repaired, vertices) and np.array_equal(repaired_faces, faces)
+    assert crestline.Mesh(repaired, repaired_faces).faces.shape == faces.shape
+
+
+def test_repair_mesh_refuses_bad_arrays_and_a_mesh_without_faces():
+    vertices, faces = icosphere(1.0, 1)
+    unknown = vertices.copy()
+    unknown[3, 1] = np.nan
+    with pytest.raises(ValueError, match="vertices: row 3 is not finite"):
+        crestline.repair_mesh(unknown, faces)
+    with pytest.raises(ValueError, match=r"faces: expected shape \(m, 3\)"):
+        crestline.repair_mesh(vertices, faces[:, :2])
+    with pytest.raises(ValueError, match="faces: row 0 .* refers to a vertex outside"):
+        crestline.repair_mesh(vertices, faces + len(vertices))
+    with pytest.raises(crestline.MeshError, match="no faces"):
+        crestline.repair_mesh(vertices, np.array([[0, 0, 1], [2, 2, 2]]))
+
+
 def test_objects_with_vertices_and_faces_are_accepted():
     class Mesh:  # the shape of a trimesh.Trimesh
         def __init__(self, vertices, faces):

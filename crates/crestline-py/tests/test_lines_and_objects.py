@@ -2,6 +2,7 @@
 exception hierarchy and the mesh objects of trimesh, pymeshlab and pyvista."""
 
 from pathlib import Path
+from xml.etree import ElementTree
 
 import numpy as np
 import pytest
@@ -54,6 +55,24 @@ def test_a_drawing_is_svg_with_the_lines_and_a_png_on_request(bunny):
         crestline.draw(vertices, faces, lines, view=(float("nan"), 0))
     with pytest.raises(TypeError, match="lines: expected crestline.Lines"):
         crestline.draw(vertices, faces, [{"kind": "ridge"}])
+
+
+def test_every_kind_is_drawn_in_the_layer_of_its_family_in_its_colour(bunny):
+    # Each kind alone, drawn as the ridges' copies: the drawing's only layer is the
+    # kind's family, its stroke the family's colour.
+    vertices, faces = bunny
+    ridges = crestline.ridges(vertices, faces).of_kind("ridge")
+    families, colors = crestline.families(), crestline.colors()
+    assert {"ridge": "ridges", "valley": "valleys", "ascending": "ascending"}.items() <= families.items()
+    assert list(colors) == list(dict.fromkeys(families.values()))
+    drawn = {}
+    for kind in families:
+        lines = crestline.Lines(crestline.Line(kind, line.closed, line.strength, line.points) for line in ridges)
+        svg = ElementTree.fromstring(crestline.draw(vertices, faces, lines, view=(20, 15), silhouettes=False))
+        (layer,) = svg.iter("{http://www.w3.org/2000/svg}g")
+        drawn[kind] = (layer.get("id"), layer.get("stroke"))
+    assert drawn == {kind: (family, colors[family]) for kind, family in families.items()}
+    assert colors["ridges"] != colors["valleys"]
 
 
 def test_a_callable_estimator_is_used_as_given(bunny):
@@ -182,7 +201,7 @@ def test_a_built_mesh_pickles_as_its_arrays(bunny):
 def test_a_mesh_that_needs_renumbering_is_refused_when_built(bunny):
     vertices, faces = bunny
     doubled = np.vstack([vertices, vertices[:1]])  # an unreferenced vertex is dropped
-    with pytest.raises(ValueError, match="renumber its vertices"):
+    with pytest.raises(ValueError, match="renumber its vertices.*crestline.repair_mesh"):
         crestline.Mesh(doubled, faces)
     with pytest.raises(ValueError, match=r"faces: expected shape \(m, 3\)"):
         crestline.Mesh(vertices, faces[:, :2])

@@ -29,6 +29,8 @@ USAGE = textwrap.dedent('''
     built = crestline.Mesh(vertices, faces)
     unit: float = built.mean_edge_length()
     again: crestline.Lines = crestline.ridges(built, threshold=3.0)
+    fixed, fixed_faces, fixes = crestline.repair_mesh(vertices, faces)
+    ridge_color: str = crestline.colors()[crestline.families()[first.kind]]
     try:
         crestline.read_mesh("missing.obj")
     except crestline.FileError as error:

@@ -35,7 +35,7 @@ from ._crestline import __version__
 from ._built import Mesh
 from ._compare import compare
 from ._errors import ArgumentError, Error, FileError, MeshError, StageError
-from ._lines import Line, Lines
+from ._lines import Line, Lines, colors, families
 from ._view import View, view
 from ._mesh import (
     Curvature,
@@ -46,6 +46,7 @@ from ._mesh import (
     morse,
     read_mesh,
     read_vertex_values,
+    repair_mesh,
     ridges,
     write_mesh,
     write_vertex_values,
@@ -94,12 +95,14 @@ __all__ = [
     "StageError",
     "View",
     "Volume",
+    "colors",
     "compare",
     "crease_surface",
     "crest_lines",
     "curvature",
     "defaults",
     "draw",
+    "families",
     "isosurface",
     "landmarks",
     "morse",
@@ -107,6 +110,7 @@ __all__ = [
     "read_vertex_values",
     "read_volume",
     "register",
+    "repair_mesh",
     "ridges",
     "view",
     "write_landmarks",

@@ -18,7 +18,7 @@ class Mesh:
     from them at each call; ``Mesh(vertices, faces)`` does it once, and is then
     passed in their place (``crestline.curvature(mesh)``, ``crestline.ridges(mesh)``,
     ...). The mesh must need no repairs that renumber its vertices, as for those
-    functions (read files with :func:`read_mesh`, which returns repaired arrays).
+    functions (:func:`repair_mesh` and :func:`read_mesh` return repaired arrays).
 
     ``vertices`` (n, 3) float64 and ``faces`` (m, 3) int64 are read-only copies of
     the arrays given: the mesh cannot change under the built structure.

@@ -16,14 +16,35 @@ if TYPE_CHECKING:
     from ._view import View
 
 
+def families() -> Dict[str, str]:
+    """The family of every kind of line, ``{kind: family}`` in the order of the
+    kinds' codes: ``{"ridge": "ridges", "valley": "valleys", "ascending":
+    "ascending", ...}``. The family's name is what drawings name their layers,
+    views their toggles, and style files their entries."""
+    from . import _crestline
+
+    return {kind: family for kind, family, _ in _crestline.line_kinds()}
+
+
+def colors() -> Dict[str, str]:
+    """The colour of every family of lines (:func:`families`), ``{family:
+    "#rrggbb"}``: ridges red, valleys blue, ascending Morse-Smale lines orange,
+    descending ones teal, ... as drawings, views, label and border files draw
+    them."""
+    from . import _crestline
+
+    return {family: color for _, family, color in _crestline.line_kinds()}
+
+
 @dataclass(frozen=True)
 class Line:
     """One feature line.
 
     ``kind`` is ``"ridge"``, ``"valley"``, ``"ascending"``, ``"crest"``,
-    ``"parabolic"``, ``"gauss"``, ...; ``points`` is (k, 3) float64, without a
-    repeated first point when ``closed``; ``strength`` is how pronounced it is (for
-    ridges and valleys ∫|k| ds, dimensionless); ``values`` holds per-point arrays
+    ``"parabolic"``, ``"gauss"``, ... (every kind: :func:`families`); ``points``
+    is (k, 3) float64, without a repeated first point when ``closed``;
+    ``strength`` is how pronounced it is (for ridges and valleys ∫|k| ds,
+    dimensionless); ``values`` holds per-point arrays
     (e.g. ``k_max``, ``e_max``). Lines traced on a mesh also tell where each point
     lies on it: ``location_vertices`` (k, 3) int64 and ``location_weights`` (k, 3)
     float64, so that ``(weights[:, :, None] * vertices[location_vertices]).sum(1)``

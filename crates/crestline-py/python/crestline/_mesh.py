@@ -61,6 +61,26 @@ def read_mesh(path: Union[str, "PathLike[str]"]) -> Tuple[Vertices, Faces, Dict[
     return vertices, faces, json.loads(repairs)
 
 
+def repair_mesh(vertices: Any, faces: Optional[npt.ArrayLike] = None) -> Tuple[Vertices, Faces, Dict[str, Any]]:
+    """Repair a mesh given as arrays (or a mesh object of trimesh, pymeshlab or
+    pyvista) as :func:`read_mesh` repairs a file's: duplicate vertices welded,
+    degenerate, repeated and back-to-back faces dropped, non-manifold edges and
+    vertices split, faces oriented consistently, unreferenced vertices dropped.
+    The functions that take arrays refuse a mesh whose repairs renumber its
+    vertices (their per-vertex results would not match its rows); pass them the
+    repaired arrays.
+
+    Returns ``(vertices, faces, repairs)`` as :func:`read_mesh` does: an (n, 3)
+    float64 array, an (m, 3) int64 array and a dict counting each repair made.
+    Raises ``ValueError`` or ``TypeError`` naming the argument for bad arrays
+    (wrong shape or type, a non-finite coordinate, an index out of range), and
+    :class:`crestline.MeshError` if no face is left.
+    """
+    v, f = mesh_arrays(vertices, faces)
+    repaired, repaired_faces, repairs = _crestline.repair_mesh(v, f)
+    return repaired, repaired_faces, json.loads(repairs)
+
+
 def write_mesh(
     path: Union[str, "PathLike[str]"],
     vertices: Any,
@@ -145,7 +165,7 @@ def curvature(vertices: Any, faces: Optional[npt.ArrayLike] = None, estimator: O
     callable (see ``Estimator``), whose result is checked and returned.
     Positive curvature is convex (a sphere with outward faces has ``k > 0``).
     Raises ``ValueError`` naming the argument for bad arrays, and for a mesh that
-    needs repairs which renumber its vertices (use :func:`read_mesh`).
+    needs repairs which renumber its vertices (repair it with :func:`repair_mesh`).
     """
     mesh = built_mesh(vertices, faces)
     if callable(estimator):
