@@ -117,6 +117,10 @@ fn a_mesh_is_not_a_lines_file() {
     assert_one_line_error(
         &out,
         "meshes/bunny_small.obj",
-        "not a file of lines or landmarks",
+        "a mesh (faces and no lines)",
     );
+    let out = crestline(&["compare", "meshes/bone.ply", "meshes/bone.ply"]);
+    assert_one_line_error(&out, "meshes/bone.ply", "a mesh (faces and no lines)");
+    let out = crestline(&["compare", "meshes/README.md", "meshes/README.md"]);
+    assert_one_line_error(&out, "meshes/README.md", "not a file of lines or landmarks");
 }

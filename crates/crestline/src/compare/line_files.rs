@@ -1,15 +1,18 @@
-//! Polylines of Wavefront OBJ and legacy VTK files, as [`super::compare`] takes
-//! them: the files the `ridges` and `crest-lines` jobs write, and those of other
-//! programs (Blender's, meshio's, VTK's own writers). A line's kind comes from
-//! the file where it says one — the OBJ object named `line<i>_<kind>`, the VTK
-//! cell scalar `kind` (a [`LineKind::code`]) — and is `line` otherwise. The frame
-//! is 3D Slicer's `SPACE=` mark in the OBJ's leading comments or the VTK title,
+//! Polylines of Wavefront OBJ and legacy VTK files, and the edges of PLY files,
+//! as [`super::compare`] takes them: the files the `ridges` and `crest-lines`
+//! jobs write, and those of other programs (Blender's, meshio's, VTK's own
+//! writers). A line's kind comes from the file where it says one — the OBJ object
+//! named `line<i>_<kind>`, the VTK cell scalar or the PLY edge property `kind` (a
+//! [`LineKind::code`]) — and is `line` otherwise. The frame is 3D Slicer's
+//! `SPACE=` mark in the OBJ's leading comments, the VTK title or the PLY header,
 //! if any.
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
 
 use super::Features;
+use crate::io::read_ply_edges;
 use crate::lines::LineKind;
 use crate::space::{convert_all, Space};
 use crate::{Error, Point, Result};
@@ -17,6 +20,47 @@ use crate::{Error, Point, Result};
 /// What a file of faces and no lines is told.
 const MESH_NOT_LINES: &str = "a mesh (faces and no lines): compare takes the lines \
      or landmarks found on it, e.g. by `crestline ridges`";
+
+/// The segments of a PLY file's `edge` element (as the lines' PLY writer writes
+/// them, or any program that writes edges), kinds from its `kind` property, lines
+/// counted by its `line` property (each edge a line without it). Errors name the
+/// file.
+pub fn read_ply_lines(path: &Path) -> Result<Features> {
+    let bytes = crate::io::file::read(path)?;
+    let ply = read_ply_edges(&bytes).map_err(|e| e.in_file(path))?;
+    if ply.faces && ply.edges.is_empty() {
+        return Err(file_error(path, MESH_NOT_LINES.into()));
+    }
+    let mut features = Features {
+        declared: ply.space,
+        ..Features::default()
+    };
+    let mut lines: BTreeMap<&str, BTreeSet<u64>> = BTreeMap::new();
+    for (index, edge) in ply.edges.iter().enumerate() {
+        let kind = edge.kind.map_or(UNNAMED_KIND, kind_of_code);
+        let mut ends = edge.ends.map(|v| ply.positions[v]).to_vec();
+        convert_all(features.declared, Space::Ras, &mut ends);
+        features
+            .segments
+            .entry(kind.to_string())
+            .or_default()
+            .push([ends[0], ends[1]]);
+        let line = edge.line.map_or(index as u64, |line| line.to_bits());
+        lines.entry(kind).or_default().insert(line);
+    }
+    for (kind, ids) in lines {
+        features.line_counts.insert(kind.to_string(), ids.len());
+    }
+    Ok(features)
+}
+
+/// The kind of the code `code` ([`LineKind::code`]), or [`UNNAMED_KIND`].
+fn kind_of_code(code: f64) -> &'static str {
+    LineKind::ALL
+        .iter()
+        .find(|kind| f64::from(kind.code()) == code)
+        .map_or(UNNAMED_KIND, |kind| kind.name())
+}
 
 /// A parsed value, or what is wrong.
 type Parsed<T> = std::result::Result<T, String>;
@@ -96,8 +140,7 @@ pub fn read_vtk_lines(path: &Path) -> Result<Features> {
             .kinds
             .as_ref()
             .and_then(|kinds| kinds.get(*cell))
-            .and_then(|&code| LineKind::ALL.iter().find(|k| f64::from(k.code()) == code))
-            .map_or(UNNAMED_KIND, |k| k.name());
+            .map_or(UNNAMED_KIND, |&code| kind_of_code(code));
         let points = points_of(indices, &parsed.points).map_err(bad)?;
         add_polyline(&mut features, kind, indices, points);
     }

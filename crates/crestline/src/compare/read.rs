@@ -1,5 +1,5 @@
 //! Reading the features [`super::compare`] takes: lines files (`crestline-lines`
-//! JSON, OBJ and legacy VTK, [`super::line_files`]) and landmark files (`crestline-landmarks` JSON, or the CSV the
+//! JSON, OBJ, PLY and legacy VTK, [`super::line_files`]) and landmark files (`crestline-landmarks` JSON, or the CSV the
 //! `landmarks` job writes), positions in RAS when the file states its frame.
 
 use std::path::Path;
@@ -23,12 +23,13 @@ pub fn read_features(path: &Path) -> Result<Features> {
     match LineFormat::from_path(path) {
         Ok(LineFormat::Obj) => return super::line_files::read_obj_lines(path),
         Ok(LineFormat::Vtk) => return super::line_files::read_vtk_lines(path),
+        Ok(LineFormat::Ply) => return super::line_files::read_ply_lines(path),
         _ => {}
     }
     let format = LandmarkFormat::from_path(path).map_err(|_| Error::File {
         path: path.to_path_buf(),
         message: "not a file of lines or landmarks: compare reads .json (lines or \
-                  landmarks), .obj and .vtk (lines), .mrk.json (3D Slicer markups) and \
+                  landmarks), .obj, .ply and .vtk (lines), .mrk.json (3D Slicer markups) and \
                   .csv (landmarks)"
             .into(),
     })?;

@@ -202,6 +202,22 @@ fn obj_and_vtk_lines_read_as_the_json_of_the_same_lines() {
         // The closed square's four segments, its closing one included.
         assert_eq!(read.segments["ridge"].len(), 4, "{name}");
     }
+    // PLY holds 32-bit floats: the same segments to their precision.
+    let path = folder.path().join("lines.ply");
+    crate::lines::write_lines(&path, &lines).unwrap();
+    let read = read_features(&path).unwrap();
+    assert_eq!(read.line_counts, expected.line_counts);
+    assert_eq!(read.declared, expected.declared);
+    for (kind, segments) in &expected.segments {
+        let near = read.segments[kind]
+            .iter()
+            .zip(segments)
+            .all(|(a, b)| (0..2).all(|end| (a[end] - b[end]).norm() < 1e-6));
+        assert!(
+            near && read.segments[kind].len() == segments.len(),
+            "{kind}"
+        );
+    }
 }
 
 #[test]
@@ -255,6 +271,15 @@ fn a_mesh_or_a_broken_lines_file_is_refused_naming_it() {
         );
     };
     refused("mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "a mesh");
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+        property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+        0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    refused("mesh.ply", ply, "a mesh");
+    let edge = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n\
+        property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n\
+        0 0 0\n1 0 0\n";
+    refused("far.ply", &format!("{edge}0 5\n"), "joins vertices 0 and 5");
+    refused("short.ply", edge, "edge");
     refused(
         "far.obj",
         "v 0 0 0\nv 1 0 0\nl 1 3\n",
