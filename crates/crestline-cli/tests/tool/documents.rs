@@ -125,7 +125,9 @@ fn every_documented_command_runs_as_written() {
         for command in commands {
             let missing = missing_inputs(&root, &command);
             if !missing.is_empty() {
-                failures.push(format!("{name}: `{command}` names {missing:?}, not in the repository"));
+                failures.push(format!(
+                    "{name}: `{command}` names {missing:?}, not in the repository"
+                ));
                 continue;
             }
             if let Some(why) = missing_data(&root, &command) {
@@ -141,7 +143,10 @@ fn every_documented_command_runs_as_written() {
                 .output()
                 .expect("sh runs");
             ran += 1;
-            eprintln!("{name}: `{command}`: {:.2} s", start.elapsed().as_secs_f64());
+            eprintln!(
+                "{name}: `{command}`: {:.2} s",
+                start.elapsed().as_secs_f64()
+            );
             if !out.status.success() {
                 failures.push(format!(
                     "{name}: `{command}` exited with {:?}: {}",
@@ -152,7 +157,10 @@ fn every_documented_command_runs_as_written() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert!(ran >= 10, "only {ran} documented commands ran; the documents promise ten");
+    assert!(
+        ran >= 10,
+        "only {ran} documented commands ran; the documents promise ten"
+    );
 }
 
 #[test]
@@ -169,7 +177,10 @@ fn command_lines_are_found_in_sh_blocks_only() {
     );
     let root = repository();
     assert!(missing_inputs(&root, "crestline info meshes/cow.obj -o meshes/new.json").is_empty());
-    assert_eq!(missing_inputs(&root, "crestline info meshes/no.obj"), vec!["meshes/no.obj"]);
+    assert_eq!(
+        missing_inputs(&root, "crestline info meshes/no.obj"),
+        vec!["meshes/no.obj"]
+    );
     assert!(missing_data(&root, "crestline info data/no/such.ply # comment").is_some());
 }
 
@@ -300,6 +311,72 @@ fn links_and_anchors_are_read_as_github_does() {
         link_targets("see [a](docs/a.md#x-y) and ![b](p.png \"t\"), `[c](not)` [d](https://x)"),
         vec!["docs/a.md#x-y", "p.png", "https://x"]
     );
-    assert_eq!(anchor(" Images, landmarks and registration"), "images-landmarks-and-registration");
+    assert_eq!(
+        anchor(" Images, landmarks and registration"),
+        "images-landmarks-and-registration"
+    );
     assert_eq!(anchor("The `draw` command"), "the-draw-command");
+}
+
+/// README.md's Rust quick start, as the README shows it between the markers (the
+/// test below checks that the README's ```` ```rust ```` block is this text).
+#[allow(unused_variables)]
+fn readme_rust_quick_start() -> Result<(), Box<dyn std::error::Error>> {
+    // README begin
+    use crestline::jobs::{self, Surface};
+    use crestline::progress::Silent;
+
+    let soup = crestline::io::read_mesh("meshes/bunny.obj".as_ref())?;
+    let (mesh, _repairs) = jobs::build_mesh(soup, false, &mut Silent)?;
+    let ridges = jobs::ridges(&Surface::of_mesh(mesh), &Default::default(), &mut Silent)?;
+    crestline::lines::write_lines("ridges.vtk".as_ref(), &ridges)?;
+    // README end
+    Ok(())
+}
+
+#[test]
+#[ignore = "run by readme_rust_quick_start_is_this_code_and_runs, in a directory with meshes/"]
+fn readme_rust_quick_start_child() {
+    readme_rust_quick_start().unwrap();
+}
+
+/// The first ```` ```rust ```` block of `text`.
+fn first_rust_block(text: &str) -> Option<String> {
+    let start = text.find("```rust\n")? + "```rust\n".len();
+    let end = start + text[start..].find("```")?;
+    Some(text[start..end].to_string())
+}
+
+#[test]
+fn readme_rust_quick_start_is_this_code_and_runs() {
+    let source = include_str!("documents.rs");
+    let begin = source.find("\n    // README begin\n").unwrap() + "\n    // README begin\n".len();
+    let end = source.find("\n    // README end\n").unwrap() + 1;
+    let code: String = source[begin..end]
+        .lines()
+        .map(|line| line.strip_prefix("    ").unwrap_or(line))
+        .map(|line| format!("{line}\n"))
+        .collect();
+    let root = repository();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    assert_eq!(first_rust_block(&readme).as_deref(), Some(code.as_str()));
+
+    // Run it where a user would, beside `meshes/`.
+    let dir = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(root.join("meshes"), dir.path().join("meshes")).unwrap();
+    let out = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "documents::readme_rust_quick_start_child",
+            "--ignored",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(dir.path().join("ridges.vtk").is_file());
 }
