@@ -2,7 +2,8 @@
 //! `cargo run --release -- …` line, run as `crestline …`) of a ```` ```sh ```` block in
 //! README.md and docs/guide/*.md runs as written and exits with 0, and every relative
 //! link of README.md and docs/ names a file that exists (and a heading, where it
-//! names one).
+//! names one). The first ```` ```rust ```` blocks of README.md and
+//! docs/guide/library.md are code of this file, compiled and run.
 //!
 //! The commands of one page run in order in one temporary directory holding links
 //! to the repository's `meshes/`, `volumes/` and, when fetched, `data/`, so a command
@@ -319,10 +320,10 @@ fn links_and_anchors_are_read_as_github_does() {
 }
 
 /// README.md's Rust quick start, as the README shows it between the markers (the
-/// test below checks that the README's ```` ```rust ```` block is this text).
+/// test below checks that the page's first ```` ```rust ```` block is this text).
 #[allow(unused_variables)]
 fn readme_rust_quick_start() -> Result<(), Box<dyn std::error::Error>> {
-    // README begin
+    // README.md begin
     use crestline::jobs::{self, Surface};
     use crestline::progress::Silent;
 
@@ -330,14 +331,32 @@ fn readme_rust_quick_start() -> Result<(), Box<dyn std::error::Error>> {
     let (mesh, _repairs) = jobs::build_mesh(soup, false, &mut Silent)?;
     let ridges = jobs::ridges(&Surface::of_mesh(mesh), &Default::default(), &mut Silent)?;
     crestline::lines::write_lines("ridges.vtk".as_ref(), &ridges)?;
-    // README end
+    // README.md end
+    Ok(())
+}
+
+/// The jobs of docs/guide/library.md, as its first ```` ```rust ```` block shows them.
+#[allow(unused_variables)]
+fn guide_library_jobs() -> Result<(), Box<dyn std::error::Error>> {
+    // docs/guide/library.md begin
+    use crestline::jobs::{self, CrestLinesOptions, Surface};
+    use crestline::progress::Silent;
+
+    let volume = crestline::io::read_volume("volumes/mni152_t1_1mm.nii.gz".as_ref())?;
+    let crests = jobs::crest_lines(&volume, 60.0, &CrestLinesOptions::default(), &mut Silent)?;
+    let soup = crestline::io::read_mesh("meshes/bunny.obj".as_ref())?;
+    let (mesh, _repairs) = jobs::build_mesh(soup, false, &mut Silent)?;
+    let ridges = jobs::ridges(&Surface::of_mesh(mesh), &Default::default(), &mut Silent)?;
+    // docs/guide/library.md end
+    assert!(!crests.is_empty() && !ridges.is_empty());
     Ok(())
 }
 
 #[test]
-#[ignore = "run by readme_rust_quick_start_is_this_code_and_runs, in a directory with meshes/"]
-fn readme_rust_quick_start_child() {
+#[ignore = "run by the_documents_rust_blocks_are_this_code_and_run, beside meshes/ and volumes/"]
+fn documents_rust_blocks_child() {
     readme_rust_quick_start().unwrap();
+    guide_library_jobs().unwrap();
 }
 
 /// The first ```` ```rust ```` block of `text`.
@@ -347,27 +366,41 @@ fn first_rust_block(text: &str) -> Option<String> {
     Some(text[start..end].to_string())
 }
 
-#[test]
-fn readme_rust_quick_start_is_this_code_and_runs() {
+/// The lines of this file between the markers `// <page> begin` and `// <page> end`,
+/// as a page would show them (four spaces less indented).
+fn marked_code(page: &str) -> String {
     let source = include_str!("documents.rs");
-    let begin = source.find("\n    // README begin\n").unwrap() + "\n    // README begin\n".len();
-    let end = source.find("\n    // README end\n").unwrap() + 1;
-    let code: String = source[begin..end]
+    let begin_marker = format!("\n    // {page} begin\n");
+    let end_marker = format!("\n    // {page} end\n");
+    let begin = source.find(&begin_marker).unwrap() + begin_marker.len();
+    let end = source.find(&end_marker).unwrap() + 1;
+    source[begin..end]
         .lines()
         .map(|line| line.strip_prefix("    ").unwrap_or(line))
         .map(|line| format!("{line}\n"))
-        .collect();
-    let root = repository();
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    assert_eq!(first_rust_block(&readme).as_deref(), Some(code.as_str()));
+        .collect()
+}
 
-    // Run it where a user would, beside `meshes/`.
+#[test]
+fn the_documents_rust_blocks_are_this_code_and_run() {
+    let root = repository();
+    for page in ["README.md", "docs/guide/library.md"] {
+        let text = std::fs::read_to_string(root.join(page)).unwrap();
+        assert_eq!(
+            first_rust_block(&text).as_deref(),
+            Some(marked_code(page).as_str()),
+            "{page}'s first rust block is not the code compiled in documents.rs"
+        );
+    }
+    // Run them where a user would, beside `meshes/` and `volumes/`.
     let dir = tempfile::tempdir().unwrap();
-    std::os::unix::fs::symlink(root.join("meshes"), dir.path().join("meshes")).unwrap();
+    for folder in ["meshes", "volumes"] {
+        std::os::unix::fs::symlink(root.join(folder), dir.path().join(folder)).unwrap();
+    }
     let out = Command::new(std::env::current_exe().unwrap())
         .args([
             "--exact",
-            "documents::readme_rust_quick_start_child",
+            "documents::documents_rust_blocks_child",
             "--ignored",
         ])
         .current_dir(dir.path())
