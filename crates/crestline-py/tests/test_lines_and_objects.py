@@ -240,7 +240,7 @@ def test_lines_and_meshes_are_saved_as_the_tool_saves_them(bunny, tmp_path):
         assert np.array_equal(np.array(written["values"]["e_max"]), line.values["e_max"])
     for suffix in ("ply", "obj", "vtk"):
         lines.save(tmp_path / f"lines.{suffix}")
-        assert (tmp_path / f"lines.{suffix}").stat().st_size > 0
+    assert_read_by_other_programs(lines, tmp_path)
     with pytest.raises(crestline.FileError, match="lines.txt"):
         lines.save(tmp_path / "lines.txt")
     assert not (tmp_path / "lines.txt").exists()
@@ -305,3 +305,50 @@ def test_compare_reads_lines_that_meshio_and_vtk_write(tmp_path):
             assert row["a_in_b"] == pytest.approx(1.0) and row["b_in_a"] == pytest.approx(1.0), name
         assert rows["ridge"]["b_count"] == (rows["ridge"]["a_count"] if name == "vtk.vtk"
                                             else sum(len(c) - 1 for c, k in zip(cells, kinds) if k == 0))
+
+
+def polylines(lines):
+    """Every line's points, a closed line's first point repeated at its end."""
+    return [np.vstack([line.points, line.points[:1]]) if line.closed else line.points
+            for line in lines]
+
+
+def assert_read_by_other_programs(lines, folder):
+    """``lines`` saved in ``folder`` as OBJ, VTK and PLY read back as the same
+    polylines by programs other than ours: the OBJ's ``v`` and ``l`` records as
+    written, VTK's own legacy reader, and pymeshlab's PLY reader (points and
+    edges)."""
+    expected = polylines(lines)
+    records = [row.split() for row in (folder / "lines.obj").read_text().splitlines()]
+    vertices = np.array([[float(t) for t in r[1:4]] for r in records if r and r[0] == "v"])
+    obj = [vertices[[int(i) - 1 for i in r[1:]]] for r in records if r and r[0] == "l"]
+    assert len(obj) == len(expected)
+    for read, line in zip(obj, expected):
+        assert np.array_equal(read, line)
+
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkPolyDataReader()
+    reader.SetFileName(str(folder / "lines.vtk"))
+    reader.ReadAllScalarsOn()
+    reader.Update()
+    data = reader.GetOutput()
+    points = vtk_to_numpy(data.GetPoints().GetData())
+    cells = data.GetLines()
+    assert cells.GetNumberOfCells() == len(expected)
+    ids = vtk.vtkIdList()
+    cells.InitTraversal()
+    for line in expected:
+        cells.GetNextCell(ids)
+        indices = [ids.GetId(k) for k in range(ids.GetNumberOfIds())]
+        assert np.array_equal(points[indices], line)
+    kinds = vtk_to_numpy(data.GetCellData().GetArray("kind"))
+    assert list(kinds) == [{"ridge": 0, "valley": 1}[line.kind] for line in lines]
+
+    pymeshlab = pytest.importorskip("pymeshlab")
+    meshes = pymeshlab.MeshSet()
+    meshes.load_new_mesh(str(folder / "lines.ply"))
+    ply = meshes.current_mesh()
+    assert ply.edge_number() == sum(len(line) - 1 for line in expected)
+    assert np.allclose(ply.vertex_matrix(), np.vstack([line.points for line in lines]), rtol=0, atol=1e-6)

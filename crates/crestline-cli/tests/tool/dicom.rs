@@ -20,10 +20,10 @@ fn two_series() -> Option<tempfile::TempDir> {
     for name in ["MR_small.dcm", "CT_small.dcm"] {
         let source: PathBuf = data.join(name);
         if !source.is_file() {
-            eprintln!(
-                "skipped: {} is absent (run tools/fetch_pydicom_data.sh)",
+            common::skip(&format!(
+                "{} is absent (run tools/fetch_pydicom_data.sh)",
                 source.display()
-            );
+            ));
             return None;
         }
         std::fs::copy(&source, dir.path().join(name)).unwrap();

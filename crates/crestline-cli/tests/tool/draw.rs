@@ -2,8 +2,6 @@
 
 use crate::common;
 
-use std::process::Command;
-
 use common::crestline;
 
 /// The drawing of `meshes/bunny_small.obj` with silhouettes and `extra` options,
@@ -198,14 +196,14 @@ fn the_draw_command_rejects_absurd_values_with_one_line() {
 /// silhouette, as `tools/silhouette_overlap.py` measures them from the SVG; `None`
 /// (with a message) where no Python 3 interpreter is installed.
 fn overlap_shares(svg: &std::path::Path) -> Option<Vec<(String, f64, f64)>> {
-    let run = Command::new("python3")
+    let run = common::python()
         .arg("tools/silhouette_overlap.py")
         .arg(svg)
         .arg("3")
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .output();
     let Ok(run) = run else {
-        eprintln!("skipped: python3 is not installed to run tools/silhouette_overlap.py");
+        common::skip("python3 is not installed to run tools/silhouette_overlap.py");
         return None;
     };
     assert!(

@@ -2125,7 +2125,7 @@ fn other_seeds() -> Vec<OtherSeed> {
             .map(|name| (*name, pydicom_bytes(name)))
             .collect();
     if dicom.iter().any(|(_, bytes)| bytes.is_none()) {
-        eprintln!("skipped: the DICOM seeds (run tools/fetch_pydicom_data.sh)");
+        crate::common::skip("the DICOM seeds are absent (run tools/fetch_pydicom_data.sh)");
         return seeds;
     }
     let names = ["DICOM native", "DICOM RLE", "DICOM JPEG extended"];

@@ -300,10 +300,10 @@ fn pydicom_file(name: &str) -> Option<PathBuf> {
     if path.is_file() {
         Some(path)
     } else {
-        eprintln!(
-            "skipped: {} is absent (run tools/fetch_pydicom_data.sh)",
+        crate::common::skip(&format!(
+            "{} is absent (run tools/fetch_pydicom_data.sh)",
             path.display()
-        );
+        ));
         None
     }
 }

@@ -26,7 +26,7 @@ fn sorted_percentile(sorted: &[f64], p: f64) -> f64 {
 #[test]
 fn info_prints_the_exact_percentiles_of_the_mni_template() {
     if !Path::new(MNI).exists() {
-        eprintln!("skipped: {MNI} is absent");
+        crate::common::skip(&format!("{MNI} is absent"));
         return;
     }
     let volume = crestline::io::read_volume(Path::new(MNI)).unwrap();

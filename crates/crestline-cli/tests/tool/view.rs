@@ -18,7 +18,7 @@ fn chromium() -> Option<PathBuf> {
         .map(PathBuf::from)
         .find(|p| p.is_file());
     if found.is_none() {
-        eprintln!("skipped: no Chromium at /usr/bin/chromium (apt-get install chromium)");
+        common::skip("no Chromium at /usr/bin/chromium (apt-get install chromium)");
     }
     found
 }

@@ -14,7 +14,7 @@ use crestline::io::{read_dicom, read_volume, read_volume_with, volume_files, Vol
 use crestline::volume::Volume;
 use crestline::Space;
 
-use crate::common::mutation;
+use crate::common::{self, mutation};
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/dicom/pydicom")
@@ -26,10 +26,10 @@ fn fetched(name: &str) -> Option<PathBuf> {
     if path.is_file() {
         Some(path)
     } else {
-        eprintln!(
-            "skipped: {} is absent (run tools/fetch_pydicom_data.sh)",
+        common::skip(&format!(
+            "{} is absent (run tools/fetch_pydicom_data.sh)",
             path.display()
-        );
+        ));
         None
     }
 }

@@ -3,7 +3,7 @@
 //! with a message when python3 with vtk and numpy is not installed
 //! (`pip install -r tools/requirements.txt`).
 
-use std::process::Command;
+use crate::common;
 
 use crestline::volume::{isosurface, Volume};
 use nalgebra::Matrix3;
@@ -30,12 +30,12 @@ print(properties.GetSurfaceArea())
 "#;
 
 fn vtk_available() -> bool {
-    let probe = Command::new("python3")
-        .args(["-c", "import vtk, numpy"])
-        .output();
+    let probe = common::python().args(["-c", "import vtk, numpy"]).output();
     let ok = probe.is_ok_and(|out| out.status.success());
     if !ok {
-        eprintln!("skipped: python3 with vtk and numpy is not installed (pip install -r tools/requirements.txt)");
+        common::skip(
+            "python3 with vtk and numpy is not installed (pip install -r tools/requirements.txt)",
+        );
     }
     ok
 }
@@ -67,7 +67,7 @@ fn vtk_area(volume: &Volume, level: f64) -> f64 {
         .flat_map(|s| s.to_le_bytes())
         .collect();
     std::fs::write(&raw, bytes).unwrap();
-    let out = Command::new("python3")
+    let out = common::python()
         .args(["-c", VTK_AREA])
         .arg(&raw)
         .arg(volume.dims()[0].to_string())

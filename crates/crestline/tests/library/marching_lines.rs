@@ -16,6 +16,8 @@ use crestline::volume::{
 use crestline::Point;
 use nalgebra::Matrix3;
 
+use crate::common;
+
 /// A unit-spaced volume of `n³` samples centred on the origin, with the samples of
 /// `f` and of `g` (world functions).
 fn fields(n: usize, f: impl Fn(Point) -> f64, g: impl Fn(Point) -> f64) -> (Volume, Vec<f32>) {
@@ -595,10 +597,10 @@ fn the_tip_of_the_nose_is_on_a_ridge_of_the_skin() {
         "/../../data/head/mean_head_t1.nii.gz"
     ));
     if !path.exists() {
-        eprintln!(
-            "skipping: {} is missing (run tools/fetch_head_template.sh to fetch it)",
+        common::skip(&format!(
+            "{} is missing (run tools/fetch_head_template.sh to fetch it)",
             path.display()
-        );
+        ));
         return;
     }
     let volume = crestline::io::read_volume(path).unwrap();

@@ -10,6 +10,8 @@ use crestline::progress::Silent;
 use crestline::ridges::ExtremalityTracer;
 use crestline::{Error, Result};
 
+use crate::common;
+
 /// A way to build a mesh from a soup: [`Mesh::from_soup`], [`Mesh::from_soup_strict`]
 /// or [`Mesh::from_oriented_soup`].
 type Build = fn(TriangleSoup) -> Result<(Mesh, RepairReport)>;
@@ -556,11 +558,11 @@ fn dragon_scans_open_with_their_repairs_reported() {
         .filter(|name| !dir.join(name).is_file())
         .collect();
     if !missing.is_empty() {
-        eprintln!(
-            "skipping: {} missing from {} (run tools/fetch_dragon.sh to fetch the scans)",
+        common::skip(&format!(
+            "{} missing from {} (run tools/fetch_dragon.sh to fetch the scans)",
             missing.join(", "),
             dir.display()
-        );
+        ));
         return;
     }
     for name in DRAGONS {

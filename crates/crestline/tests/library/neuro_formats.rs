@@ -17,6 +17,8 @@ use crestline::mesh::{Mesh, TriangleSoup, VertexId};
 use crestline::progress::Silent;
 use crestline::{Point, Space};
 
+use crate::common;
+
 /// An octahedron (closed, outward) with two extra input vertices: vertex 6 a
 /// copy of vertex 0 that one face uses instead (welded), and vertex 7 that no
 /// face uses (dropped).
@@ -188,6 +190,63 @@ fn freesurfer_surfaces_are_told_by_content_and_written_back_unchanged() {
     std::fs::write(&curv, [0xFF, 0xFF, 0xFF, 0, 0, 0, 1]).unwrap();
     let error = read_mesh(&curv).unwrap_err().to_string();
     assert!(error.contains("curv file"), "{error}");
+}
+
+/// The FreeSurfer surface we write, read by nibabel (`read_geometry` with its
+/// metadata): the vertices in tkr-RAS (the scanner positions less c_ras, as
+/// FreeSurfer keeps them), the triangles, and the footer's volume geometry.
+#[test]
+fn nibabel_reads_the_freesurfer_surfaces_we_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let soup = octahedron_with_repairs();
+    let scanner: Vec<Point> = soup.positions.iter().map(|p| p * 30.0).collect();
+    let pial = dir.path().join("lh.pial");
+    let footer = geometry([1.5, -17.25, 20.0]);
+    write_surface(&pial, &scanner, &soup.triangles, Some(&footer)).unwrap();
+    let script = "import json, sys, nibabel\n\
+        coords, faces, meta = nibabel.freesurfer.read_geometry(sys.argv[1], read_metadata=True)\n\
+        print(json.dumps({'coords': coords.tolist(), 'faces': faces.tolist(),\n\
+        'volume': [int(v) for v in meta['volume']], 'voxelsize': list(map(float, meta['voxelsize'])),\n\
+        'xras': list(map(float, meta['xras'])), 'cras': list(map(float, meta['cras']))}))";
+    let out = common::python()
+        .args(["-c", script, pial.to_str().unwrap()])
+        .output();
+    let Some(out) = out.ok().filter(|out| out.status.success()) else {
+        common::skip(
+            "python3 with nibabel is not installed (pip install -r tools/requirements.txt)",
+        );
+        return;
+    };
+    let read: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let numbers = |key: &str| -> Vec<f64> {
+        read[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    let coords = read["coords"].as_array().unwrap();
+    assert_eq!(coords.len(), scanner.len());
+    for (row, p) in coords.iter().zip(&scanner) {
+        let tkr = p.coords - nalgebra::Vector3::from(footer.c_ras);
+        for axis in 0..3 {
+            let value = row[axis].as_f64().unwrap();
+            assert!((value - tkr[axis]).abs() < 1e-5, "{row} against {p}");
+        }
+    }
+    let faces: Vec<[u64; 3]> = read["faces"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| [0, 1, 2].map(|k| f[k].as_u64().unwrap()))
+        .collect();
+    let ours: Vec<[u64; 3]> = soup.triangles.iter().map(|t| t.map(u64::from)).collect();
+    assert_eq!(faces, ours);
+    assert_eq!(numbers("cras"), footer.c_ras.to_vec());
+    assert_eq!(numbers("xras"), footer.x_ras.to_vec());
+    assert_eq!(numbers("voxelsize"), footer.voxel_size.to_vec());
+    assert_eq!(numbers("volume"), footer.volume.map(|v| v as f64).to_vec());
 }
 
 /// fsaverage5's left pial surface: from `data/fsaverage/` when

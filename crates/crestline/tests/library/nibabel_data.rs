@@ -6,8 +6,8 @@
 //! The files are fetched by `tools/fetch_nibabel_data.sh` into `data/nibabel/`; the
 //! test is skipped, with a message, when they or nibabel are absent.
 
+use crate::common;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use crestline::io::read_volume;
 use crestline::volume::Volume;
@@ -60,21 +60,21 @@ fn inputs() -> Option<Vec<PathBuf>> {
     files.retain(|p| p.to_string_lossy().contains(".nii"));
     files.sort();
     if files.is_empty() {
-        eprintln!("skipped: no data/nibabel/*.nii*; run tools/fetch_nibabel_data.sh");
+        common::skip("no data/nibabel/*.nii*; run tools/fetch_nibabel_data.sh");
         return None;
     }
-    let nibabel = Command::new("python3")
-        .args(["-c", "import nibabel"])
-        .output();
+    let nibabel = common::python().args(["-c", "import nibabel"]).output();
     if !nibabel.is_ok_and(|out| out.status.success()) {
-        eprintln!("skipped: python3 with nibabel is not installed (pip install -r tools/requirements.txt)");
+        common::skip(
+            "python3 with nibabel is not installed (pip install -r tools/requirements.txt)",
+        );
         return None;
     }
     Some(files)
 }
 
 fn nibabel_reads(path: &Path) -> Reference {
-    let out = Command::new("python3")
+    let out = common::python()
         .args(["-c", NIBABEL_DUMP])
         .arg(path)
         .arg(STRIDE.to_string())
