@@ -218,7 +218,7 @@ pub struct IsoCurvature {
 
 /// Curvature and extremalities of the iso-surface f = f(p) through a point p, from
 /// the gradient, Hessian and third derivatives of the image f at p (Thirion and
-/// Gourdon 1993, part 1, with the conventions of docs/design.md): n = −g/|g|,
+/// Gourdon 1993, part 1, with the conventions of docs/design/images.md): n = −g/|g|,
 /// P = I − n nᵀ, shape operator W = −P H P / |g|, restricted to the tangent plane
 /// ([`PrincipalCurvatures::from_tangent_operator`], symmetric in x, y and z).
 ///

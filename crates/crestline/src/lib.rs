@@ -30,7 +30,7 @@
 //! gradient and cancellation queue of the Morse-Smale complex, the smoothing and
 //! tracing steps of the ridge pipeline, grid arithmetic and the Gaussian
 //! derivative kernels of images. Their design, with the details
-//! the papers leave open, is `docs/design.md` in the repository; their tests are
+//! the papers leave open, is `docs/design/` in the repository; their tests are
 //! unit tests next to them.
 //!
 //! ## Where new things go

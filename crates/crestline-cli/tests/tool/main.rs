@@ -6,6 +6,7 @@ mod common;
 mod cli;
 mod compare;
 mod dicom;
+mod documents;
 mod draw;
 mod fuzz_volumes;
 mod hostile;

@@ -1,7 +1,7 @@
 //! Crest lines of the isosurfaces of a 3D image, by the Marching Lines algorithm
 //! (Thirion & Gourdon 1993, "The 3D marching lines algorithm", §5): the lines where
 //! the isosurface `f = I` of the smoothed image meets the zero set of an
-//! extremality, with the conventions of docs/design.md ("Isosurfaces and implicit
+//! extremality, with the conventions of docs/design/images.md ("Isosurfaces and implicit
 //! curvature").
 //!
 //! - The image is smoothed by a Gaussian of standard deviation σ (world units) and

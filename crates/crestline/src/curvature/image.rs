@@ -1,6 +1,6 @@
 //! Curvature of an isosurface taken from the image it was extracted from, not from
 //! its triangles (Thirion & Gourdon 1993, part 1: differential characteristics of
-//! iso-intensity surfaces; conventions of docs/design.md, "Isosurfaces and implicit
+//! iso-intensity surfaces; conventions of docs/design/images.md, "Isosurfaces and implicit
 //! curvature").
 //!
 //! At a point p of the surface f = I, with g = ∇f and H the Hessian of the

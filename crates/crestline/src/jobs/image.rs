@@ -88,7 +88,7 @@ pub struct IsoOptions {
     /// Close the surface where it reaches the border of the grid (the image is
     /// padded by one voxel outside the surface), so that it is watertight; the
     /// caps' vertices lie outside the image, so their image curvature is marked
-    /// unreliable. Default: on (see `docs/design.md`, "Isosurfaces").
+    /// unreliable. Default: on (see `docs/design/images.md`, "Isosurfaces").
     pub close: bool,
 }
 

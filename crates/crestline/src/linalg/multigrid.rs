@@ -669,7 +669,7 @@ fn compressed_rows<C: Copy + Default + Send + Sync, S>(
 /// costs fewer products than Σ_i Σ_k P_iI a_ik P_k, where a fine k reached from
 /// several i multiplies its row of P once per path; and of each row of P only the
 /// columns J ≥ I are needed. On the dragon ×16's first level: 2.0 s, against
-/// 3.1–4.1 s for both triangles averaged with their transpose (design.md).
+/// 3.1–4.1 s for both triangles averaged with their transpose (docs/design/numerics.md).
 fn galerkin(a: &SymmetricMatrix, p: &Rows, pt: &Rows, count: usize) -> SymmetricMatrix {
     let scratch = || (Accumulator::new(a.size()), Accumulator::new(count));
     let (ptr, cols, values) = compressed_rows(

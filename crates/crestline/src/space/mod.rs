@@ -6,7 +6,7 @@
 //! means nothing without its frame, and a tool that guesses guesses LPS (3D
 //! Slicer reads a model without a mark as LPS): so every result crestline derives
 //! from an image carries the image's [`Space`] and every writer records it where
-//! its format can (see `docs/design.md`, "World frames").
+//! its format can (see `docs/design/formats.md`, "World frames").
 //!
 //! Slicer's mark, read in its model storage node
 //! (`vtkMRMLModelStorageNode::GetCoordinateSystemFromFileHeader`), is the text

@@ -3,7 +3,7 @@
 //!
 //! This is the differentiation step of Thirion & Gourdon (1993): the image is taken
 //! as `f = G_σ * i`, and the derivatives of `f` are separable filters of the
-//! samples with the moment-corrected kernels of [`super::kernels`] (see docs/design.md,
+//! samples with the moment-corrected kernels of [`super::kernels`] (see docs/design/images.md,
 //! "Isosurfaces and implicit curvature"). σ is isotropic in the world: along index
 //! axis `a` it is `σ / spacing[a]` voxels, and derivatives are taken with respect to
 //! world length along the axes, then turned into world coordinates by the

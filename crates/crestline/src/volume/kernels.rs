@@ -9,7 +9,7 @@
 //! `∂ᵐf(n) = Σ_k c_m[k] · i[n + k]`,  `c_m[k] = (−1)ᵐ G_σ⁽ᵐ⁾(k)`
 //!
 //! (the `(−1)ᵐ` turns the convolution with `G⁽ᵐ⁾` into a correlation). Sampling and
-//! truncating `c_m` breaks its moments, and docs/design.md ("Isosurfaces and implicit
+//! truncating `c_m` breaks its moments, and docs/design/images.md ("Isosurfaces and implicit
 //! curvature") records what that costs: at σ = 0.7 voxel the plain kernels carry
 //! spurious third derivatives that double the crest lines. The kernels here are
 //! therefore corrected so that their moments of degree 0 to 3 are exactly those of

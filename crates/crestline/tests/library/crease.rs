@@ -99,7 +99,7 @@ fn straddling_edges(dims: [usize; 3], centre: Point, radius: f64) -> Vec<u64> {
 #[test]
 fn without_the_degenerate_rule_the_shell_would_grow_spurious_sheets() {
     // With ε = 0 (no degenerate ends), the tiny random h outside the shell is
-    // crossed all over: the rule of docs/design.md is what keeps the result clean.
+    // crossed all over: the rule of docs/design/crease.md is what keeps the result clean.
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
@@ -438,7 +438,7 @@ fn the_marching_cubes_baseline_finds_the_sphere_of_the_shell() {
         .collect();
     // The vertices on the sphere, and those of the spurious sheets off it: outside,
     // where λ2 = λ3 < 0 and the sign of g·e3 is noise (the crease surface rejects
-    // these edges, docs/design.md; the baseline cannot), and inside, in cells whose corner
+    // these edges, docs/design/crease.md; the baseline cannot), and inside, in cells whose corner
     // 0 lies where λ2 ≈ λ3 and orients the e3 of the others at random.
     let near: Vec<f64> = signed
         .iter()

@@ -1,5 +1,5 @@
 //! Where crease surfaces cross the edges of the grid (Schultz, Theisel and Seidel
-//! 2010, §4.3 and eq. 6, with the rules of docs/design.md, "Crease surfaces").
+//! 2010, §4.3 and eq. 6, with the rules of docs/design/crease.md, "Crease surfaces").
 
 use rayon::prelude::*;
 

@@ -146,7 +146,7 @@ impl CreaseField {
     }
 
     /// The default options: ε a fraction [`DEFAULT_EPSILON_FRACTION`] of the range
-    /// of the Hessian's eigenvalues over the grid (docs/design.md), θ =
+    /// of the Hessian's eigenvalues over the grid (docs/design/crease.md), θ =
     /// [`DEFAULT_THETA`], and the strength a fraction [`DEFAULT_STRENGTH_FRACTION`]
     /// of the strongest −λ3 over the grid.
     pub fn default_options(&self) -> CrossingOptions {

@@ -1,6 +1,6 @@
 //! Crease (ridge and valley) surfaces of 3D scalar fields after Schultz, Theisel and
 //! Seidel (2010), "Crease Surfaces: From Theory to Extraction and Application to
-//! Diffusion Tensor MRI", §3–4, with the rules of docs/design.md ("Crease surfaces").
+//! Diffusion Tensor MRI", §3–4, with the rules of docs/design/crease.md ("Crease surfaces").
 //!
 //! A ridge surface is where g·e3 = 0 and λ3 < 0 (λ1 ≥ λ2 ≥ λ3 the Hessian's
 //! eigenvalues, e3 the eigenvector of λ3); valleys are ridges of −f. The building

@@ -1,5 +1,5 @@
 //! Where a crease may be strong enough to keep: the side constraint λ3 < 0 with the
-//! margin of the strength s (Schultz, Theisel and Seidel 2010, §4.5; docs/design.md,
+//! margin of the strength s (Schultz, Theisel and Seidel 2010, §4.5; docs/design/crease.md,
 //! "Crease surfaces": skip cells where no corner has −λ3 ≥ s, then trim).
 //!
 //! λ3 is concave in the Hessian, and the Hessian is interpolated linearly between

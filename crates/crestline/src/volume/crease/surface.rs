@@ -1,7 +1,7 @@
 //! Crease surfaces from the edge crossings and the degenerate points: per face, the
 //! points are paired into segments; per cell, the segments of its six faces and the
 //! pairs of its degenerate points close into polygons, which are triangulated
-//! (Schultz, Theisel and Seidel 2010, §4.3–4.5; docs/design.md, "Crease surfaces").
+//! (Schultz, Theisel and Seidel 2010, §4.3–4.5; docs/design/crease.md, "Crease surfaces").
 //! Only the cells with a corner as strong as the strength are built, from
 //! crossings of any strength, and the surface is then trimmed along −λ3 = s.
 

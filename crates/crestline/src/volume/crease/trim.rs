@@ -1,5 +1,5 @@
 //! Trimming a crease surface to the strength: the part of each triangle where the
-//! strength −λ3, interpolated linearly from its corners, is at least s (docs/design.md,
+//! strength −λ3, interpolated linearly from its corners, is at least s (docs/design/crease.md,
 //! "Crease surfaces": skip weak cells, then trim). Triangles are cut along the
 //! iso-line −λ3 = s, each cut point computed once per edge and shared by the two
 //! triangles of the edge, so the trimmed surface keeps its connectivity and ends in

@@ -67,7 +67,7 @@ fn decider_corners(face: usize) -> [usize; 4] {
     [at(0, 0), at(1, 0), at(1, 1), at(0, 1)]
 }
 
-/// The asymptotic decider (Thirion & Gourdon 1993, equation 1; docs/design.md): on an
+/// The asymptotic decider (Thirion & Gourdon 1993, equation 1; docs/design/images.md): on an
 /// ambiguous face with corner values `(s00, s10, s11, s01)`, the value of the
 /// bilinear interpolant at the crossing of its asymptotes,
 /// `v̂ = (s00 s11 − s10 s01) / (s00 + s11 − s10 − s01)`, decides: `v̂ ≥ level`

@@ -1,6 +1,6 @@
 //! Isosurfaces `f = I` of a volume as closed, oriented triangle meshes, after
 //! Thirion & Gourdon 1993 ("The 3D marching lines algorithm"), second part §2–3,
-//! with the conventions of docs/design.md ("Isosurfaces and implicit curvature").
+//! with the conventions of docs/design/images.md ("Isosurfaces and implicit curvature").
 //!
 //! - **Inside** is `f ≥ I` (the object/background convention: a sample equal to the
 //!   level is inside). A grid edge whose two samples differ in this respect carries

@@ -1,7 +1,7 @@
 //! Bi-iso-lines: the curves where the isosurface `f = I` of a volume meets the
 //! level set `g = J` of a second field on the same grid, by the Marching Lines
 //! algorithm of Thirion & Gourdon 1993 ("The 3D marching lines algorithm", §4),
-//! with the conventions of docs/design.md ("Isosurfaces and implicit curvature").
+//! with the conventions of docs/design/images.md ("Isosurfaces and implicit curvature").
 //!
 //! In every cell the isosurface is cut into its oriented polygons, exactly as
 //! [`isosurface()`](crate::volume::isosurface()) does (BUILDCYCLES, asymptotic
@@ -31,7 +31,7 @@
 //!
 //! A [`SecondField`] may also orient its values per cell and drop segments
 //! ([`SecondField::keep`]), as crest lines need (`g` = extremality, whose sign
-//! follows a principal direction chosen per cell; docs/design.md): the chaining is
+//! follows a principal direction chosen per cell; docs/design/crest-lines.md): the chaining is
 //! therefore undirected, and a line is given the direction of the majority of its
 //! segments, which for a field with a global sign is the convention's.
 //!
