@@ -347,3 +347,23 @@ def test_an_undecodable_transfer_syntax_is_refused_by_name(tmp_path):
 def test_a_folder_without_images_is_refused(tmp_path):
     (tmp_path / "notes.txt").write_text("no images")
     refused(tmp_path, str(tmp_path), "holds no DICOM file")
+
+
+def test_a_decoder_panic_is_an_error_without_its_text(tmp_path, capfd):
+    """pydicom's RLE image with an empty second segment made dicom-rs's decoder
+    index past what it decoded and panic on a worker thread: the package raises
+    the library's error about the file, and Rust's panic text stays off stderr."""
+    source = PYDICOM_DATA / "MR_small_RLE.dcm"
+    if not source.exists():
+        pytest.skip(f"{source} is absent (run tools/fetch_pydicom_data.sh)")
+    data = bytearray(source.read_bytes())
+    # The RLE header of the 16-bit frame: 2 segments, the first at byte 64. The
+    # second is made to start where the data end (offsets count from the header).
+    at = data.find(bytes([2, 0, 0, 0, 64, 0, 0, 0]))
+    end = data.find(bytes([0xFE, 0xFF, 0xDD, 0xE0]), at)
+    data[at + 8:at + 12] = ((end if end > 0 else len(data)) - at).to_bytes(4, "little")
+    victim = tmp_path / "empty.dcm"
+    victim.write_bytes(bytes(data))
+    with pytest.raises(crestline.FileError, match="cannot be decoded"):
+        crestline.read_volume(victim)
+    assert "panicked" not in capfd.readouterr().err

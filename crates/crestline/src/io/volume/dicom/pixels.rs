@@ -12,6 +12,8 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering as AtomicOrdering};
+use std::sync::Once;
 
 use dicom_pixeldata::{PixelDecoder, PixelRepresentation};
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
@@ -51,6 +53,34 @@ pub(super) fn check_transfer_syntax(uid: &str) -> Result<()> {
 /// samples go (rows × columns values, row by row).
 pub(super) type Target<'a> = (u32, Rescale, &'a mut [f32]);
 
+/// How many decodings run now, on any thread: while one does, panics are silent.
+static DECODING: AtomicUsize = AtomicUsize::new(0);
+
+/// Sets, once, a process panic hook that is silent while a decoding runs (a
+/// decoder's panic, on the calling thread or a worker, becomes an error about the
+/// file, without its text on stderr) and passes every other panic to the hook
+/// that was set before: the default one, Python's, or a program's own.
+fn chain_quiet_hook() {
+    static CHAINED: Once = Once::new();
+    CHAINED.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if DECODING.load(AtomicOrdering::SeqCst) == 0 {
+                previous(info);
+            }
+        }));
+    });
+}
+
+/// `decode()`, a panic in it caught ([`chain_quiet_hook`]).
+fn quietly<T>(decode: impl FnOnce() -> T) -> std::thread::Result<T> {
+    chain_quiet_hook();
+    DECODING.fetch_add(1, AtomicOrdering::SeqCst);
+    let result = catch_unwind(AssertUnwindSafe(decode));
+    DECODING.fetch_sub(1, AtomicOrdering::SeqCst);
+    result
+}
+
 /// Decode the frames of the file at `path` that `targets` ask for. Errors name
 /// the file: one that cannot be read or decoded, or whose pixel data is shorter
 /// than its frames.
@@ -62,9 +92,8 @@ pub(super) fn decode(path: &Path, targets: Vec<Target<'_>>) -> Result<()> {
     let object = super::header::open(path, None)?;
     super::encapsulated::check(&object).map_err(|e| super::super::in_file(e, path))?;
     // dicom-rs's RLE decoder indexes corrupt segments without checking them: its
-    // panic is an error about the file like any other. (The command-line tool's
-    // panic hook keeps the panic's text off stderr.)
-    let decoded = catch_unwind(AssertUnwindSafe(|| object.decode_pixel_data()))
+    // panic is an error about the file like any other.
+    let decoded = quietly(|| object.decode_pixel_data())
         .map_err(|_| {
             fail(
                 "its pixel data cannot be decoded: the decoder stopped on corrupt data".to_string(),
