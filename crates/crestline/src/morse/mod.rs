@@ -9,7 +9,7 @@
 //!    (`morse/gradient.rs`);
 //! 3. the 1-cells of every saddle, measured up to their first merge (`morse/cells.rs`);
 //! 4. the cancellation hierarchy by the feature-preserving criterion or by
-//!    persistence (`morse/cancel.rs`);
+//!    persistence (`morse/cancel/`);
 //! 5. discarding lines forced by topology (§3.5), optional smoothing (§3.6), and
 //!    output of the ascending (ridge-like) and descending (valley-like) 1-cells.
 //!
