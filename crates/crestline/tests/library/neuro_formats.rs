@@ -152,14 +152,22 @@ fn geometry(c_ras: [f64; 3]) -> VolumeGeometry {
     VolumeGeometry::conformed("../mri/filled-pretess255.mgz", c_ras)
 }
 
+/// The octahedron scaled to 30 mm in scanner RAS, written to `pial` as a
+/// FreeSurfer surface with a conformed image's footer: the soup, the scanner
+/// positions and the footer.
+fn written_pial(pial: &Path) -> (TriangleSoup, Vec<Point>, VolumeGeometry) {
+    let soup = octahedron_with_repairs();
+    let scanner: Vec<Point> = soup.positions.iter().map(|p| p * 30.0).collect();
+    let footer = geometry([1.5, -17.25, 20.0]);
+    write_surface(pial, &scanner, &soup.triangles, Some(&footer)).unwrap();
+    (soup, scanner, footer)
+}
+
 #[test]
 fn freesurfer_surfaces_are_told_by_content_and_written_back_unchanged() {
     let dir = tempfile::tempdir().unwrap();
-    let soup = octahedron_with_repairs();
-    let scanner: Vec<Point> = soup.positions.iter().map(|p| p * 30.0).collect();
     let pial = dir.path().join("lh.pial");
-    let footer = geometry([1.5, -17.25, 20.0]);
-    write_surface(&pial, &scanner, &soup.triangles, Some(&footer)).unwrap();
+    let (soup, scanner, footer) = written_pial(&pial);
     // The file holds tkr-RAS: the scanner position less c_ras.
     let bytes = std::fs::read(&pial).unwrap();
     let first = bytes.iter().position(|&b| b == b'\n').unwrap() + 2 + 8;
@@ -198,11 +206,8 @@ fn freesurfer_surfaces_are_told_by_content_and_written_back_unchanged() {
 #[test]
 fn nibabel_reads_the_freesurfer_surfaces_we_write() {
     let dir = tempfile::tempdir().unwrap();
-    let soup = octahedron_with_repairs();
-    let scanner: Vec<Point> = soup.positions.iter().map(|p| p * 30.0).collect();
     let pial = dir.path().join("lh.pial");
-    let footer = geometry([1.5, -17.25, 20.0]);
-    write_surface(&pial, &scanner, &soup.triangles, Some(&footer)).unwrap();
+    let (soup, scanner, footer) = written_pial(&pial);
     let script = "import json, sys, nibabel\n\
         coords, faces, meta = nibabel.freesurfer.read_geometry(sys.argv[1], read_metadata=True)\n\
         print(json.dumps({'coords': coords.tolist(), 'faces': faces.tolist(),\n\

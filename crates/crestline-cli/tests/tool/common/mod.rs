@@ -27,23 +27,8 @@ pub fn assert_one_line_error(out: &Output, file: &str, words: &str) {
     assert!(err.contains(words), "{err}");
 }
 
-/// Skips the calling test for `reason` (data or a tool it needs is absent), or,
-/// in continuous integration (`CI=true`, where `.ci/run` provides every such
-/// input), fails it: a green run then means every cross-check ran.
-#[allow(dead_code)]
-pub fn skip(reason: &str) {
-    if std::env::var("CI").is_ok_and(|ci| ci == "true") {
-        panic!("{reason}; in CI every test's data and tools must be present");
-    }
-    eprintln!("skipped: {reason}");
-}
+#[path = "../../../../crestline/tests/library/common/ci.rs"]
+mod ci;
 
-/// The Python interpreter of the cross-checks: `CRESTLINE_PYTHON` (`.ci/run`
-/// points it at its virtual environment, which holds tools/requirements.txt), or
-/// `python3`.
-#[allow(dead_code)]
-pub fn python() -> std::process::Command {
-    std::process::Command::new(
-        std::env::var("CRESTLINE_PYTHON").unwrap_or_else(|_| "python3".into()),
-    )
-}
+#[allow(unused_imports)]
+pub use ci::{python, skip};
