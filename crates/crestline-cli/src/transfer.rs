@@ -47,6 +47,10 @@ pub struct TransferArgs {
     /// Iterations at each scale.
     #[arg(long, value_name = "N", default_value_t = TransferOptions::default().iterations)]
     pub iterations: usize,
+    /// Pair points of the two scans' lines only if their tangents make at most
+    /// this angle (degrees; 90: any).
+    #[arg(long, value_name = "DEG", default_value_t = TransferOptions::default().max_angle)]
+    pub max_angle: f64,
     /// Write the positions in this frame (default RAS).
     #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
     pub output_space: Option<Space>,
@@ -73,6 +77,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let options = TransferOptions {
         scales: args.scales.clone(),
         iterations: args.iterations,
+        max_angle: args.max_angle,
         ..TransferOptions::default()
     };
     options.validate()?;

@@ -9,8 +9,10 @@
 //! 2. a smooth displacement field is then grown coarse to fine, as Thirion's
 //!    demons (1998) grow theirs, on line points instead of voxels: at each
 //!    iteration every template point is paired with the closest subject point of
-//!    the same line kind and every subject point with the closest template point of
-//!    its kind (both ways, so that neither side's extra lines pull the other);
+//!    the same line kind whose line runs along its own (tangents within
+//!    [`TransferOptions::max_angle`]), and every subject point with the closest
+//!    such template point (both ways, so that neither side's extra lines pull the
+//!    other);
 //!    pairs farther apart than [`TransferOptions::max_distance`] smoothing scales
 //!    are dropped (lines present in one scan only); the pairs' displacements are
 //!    averaged by a Gaussian of the current scale σ (their sum over the weight
@@ -34,7 +36,7 @@ use serde::{Deserialize, Serialize};
 use crate::lines::{FeatureLines, LineKind};
 use crate::progress::{checkpoint, Observer};
 use crate::register::{register, PointSet, Registration, RegistrationOptions};
-use crate::{Error, Point, Result};
+use crate::{Error, Point, Result, Vector};
 
 pub use files::{read_labelled, write_labelled, LabelledPoint};
 
@@ -52,6 +54,9 @@ pub struct TransferOptions {
     /// Pairs of points farther apart than this many smoothing scales σ are not
     /// used (positive).
     pub max_distance: f64,
+    /// Points are paired only if their lines' tangents make at most this angle, in
+    /// degrees (0 to 90; 90 pairs any two).
+    pub max_angle: f64,
     /// At most this many line points of each scan are paired (evenly strided; at
     /// least 100).
     pub max_points: usize,
@@ -67,6 +72,7 @@ impl Default for TransferOptions {
             scales: vec![24.0, 16.0, 10.0, 6.0, 4.0],
             iterations: 6,
             max_distance: 2.0,
+            max_angle: 30.0,
             max_points: 40_000,
             confidence_radius: 5.0,
         }
@@ -98,6 +104,12 @@ impl TransferOptions {
                 return bad(format!("`{name}` is {value}, expected a positive number"));
             }
         }
+        if !(0.0..=90.0).contains(&self.max_angle) {
+            return bad(format!(
+                "`max_angle` is {}, expected 0 to 90 degrees",
+                self.max_angle
+            ));
+        }
         if self.max_points < 100 {
             return bad(format!(
                 "`max_points` is {}, expected at least 100",
@@ -121,21 +133,44 @@ pub struct Transfer {
     pub rms: f64,
 }
 
-/// The line points of one scan, by kind, at most `at_most` of them.
+/// The line points of one scan with their line's kind and unit tangent.
 struct KindedPoints {
     points: Vec<Point>,
     kinds: Vec<LineKind>,
+    tangents: Vec<Vector>,
 }
 
 impl KindedPoints {
+    /// At most `at_most` of the points of `lines` (evenly strided).
     fn of(lines: &FeatureLines, at_most: usize) -> KindedPoints {
-        let all: Vec<(Point, LineKind)> = lines
+        let all: Vec<(Point, LineKind, Vector)> = lines
             .iter()
-            .flat_map(|line| line.points.iter().map(|p| (*p, line.kind)))
+            .flat_map(|line| {
+                let n = line.points.len();
+                (0..n).map(move |i| {
+                    let (before, after) = if line.closed {
+                        ((i + n - 1) % n, (i + 1) % n)
+                    } else {
+                        (i.saturating_sub(1), (i + 1).min(n - 1))
+                    };
+                    let chord = line.points[after] - line.points[before];
+                    let tangent = chord.try_normalize(0.0).unwrap_or_else(Vector::zeros);
+                    (line.points[i], line.kind, tangent)
+                })
+            })
             .collect();
         let stride = all.len().div_ceil(at_most).max(1);
-        let (points, kinds) = all.into_iter().step_by(stride).unzip();
-        KindedPoints { points, kinds }
+        let mut set = KindedPoints {
+            points: Vec::new(),
+            kinds: Vec::new(),
+            tangents: Vec::new(),
+        };
+        for (point, kind, tangent) in all.into_iter().step_by(stride) {
+            set.points.push(point);
+            set.kinds.push(kind);
+            set.tangents.push(tangent);
+        }
+        set
     }
 }
 
@@ -150,14 +185,24 @@ fn distinct(kinds: &[LineKind]) -> Vec<LineKind> {
     found
 }
 
-/// Closest-point queries among the points of one kind.
-struct ByKind {
+/// How many closest points of a kind are tried for one whose line runs along the
+/// query's.
+const CANDIDATES: usize = 8;
+
+/// Closest-point queries among the points of one kind whose lines run along the
+/// query's.
+struct ByKind<'a> {
     /// Per kind: the kind, the indices of its points and a tree over them.
     trees: Vec<(LineKind, Vec<usize>, ImmutableKdTree<f64, 3>)>,
+    /// The unit tangents of the points.
+    tangents: &'a [Vector],
+    /// The smallest |cosine| between the query's tangent and a match's.
+    alignment: f64,
 }
 
-impl ByKind {
-    fn new(points: &[Point], kinds: &[LineKind]) -> ByKind {
+impl<'a> ByKind<'a> {
+    fn new(set: &'a KindedPoints, alignment: f64) -> ByKind<'a> {
+        let (points, kinds) = (&set.points, &set.kinds);
         let trees = distinct(kinds)
             .into_iter()
             .map(|kind| {
@@ -169,15 +214,27 @@ impl ByKind {
                 (kind, indices, ImmutableKdTree::new_from_slice(&coordinates))
             })
             .collect();
-        ByKind { trees }
+        ByKind {
+            trees,
+            tangents: &set.tangents,
+            alignment,
+        }
     }
 
-    /// The index of the closest point of `kind` to `query` and its distance; `None`
-    /// when there is no point of that kind.
-    fn closest(&self, kind: LineKind, query: &Point) -> Option<(usize, f64)> {
+    /// The index and distance of the closest point of `kind` to `query` among
+    /// its [`CANDIDATES`] closest whose tangent is within the alignment of
+    /// `tangent` (either way); `None` when there is none.
+    fn closest(&self, kind: LineKind, query: &Point, tangent: &Vector) -> Option<(usize, f64)> {
         let (_, indices, tree) = self.trees.iter().find(|(k, _, _)| *k == kind)?;
-        let nearest = tree.nearest_one::<SquaredEuclidean>(&[query.x, query.y, query.z]);
-        Some((indices[nearest.item as usize], nearest.distance.sqrt()))
+        let nearest = tree.nearest_n::<SquaredEuclidean>(
+            &[query.x, query.y, query.z],
+            std::num::NonZero::new(CANDIDATES).expect("a positive count"),
+        );
+        nearest.into_iter().find_map(|found| {
+            let index = indices[found.item as usize];
+            (self.tangents[index].dot(tangent).abs() >= self.alignment)
+                .then(|| (index, found.distance.sqrt()))
+        })
     }
 }
 
@@ -219,17 +276,19 @@ pub fn transfer(
             &options.registration,
         )
     })?;
-    for p in &mut moving.points {
+    for (p, t) in moving.points.iter_mut().zip(&mut moving.tangents) {
         *p = rigid.transform.apply(p);
+        *t = rigid.transform.rotation * *t;
     }
+    let alignment = options.max_angle.to_radians().cos();
     let mut positions: Vec<Point> = landmarks.iter().map(|p| rigid.transform.apply(p)).collect();
-    let targets = ByKind::new(&fixed.points, &fixed.kinds);
+    let targets = ByKind::new(&fixed, alignment);
     let mut pairs = 0;
     crate::progress::try_stage(observer, "deform", || -> Result<()> {
         for &sigma in &options.scales {
             for _ in 0..options.iterations {
-                let (sites, steps) =
-                    paired_steps(&moving, &fixed, &targets, options.max_distance * sigma);
+                let reach = options.max_distance * sigma;
+                let (sites, steps) = paired_steps(&moving, &fixed, &targets, reach, alignment);
                 pairs = sites.len();
                 let weights = vec![1.0; sites.len()];
                 let mut queries = moving.points.clone();
@@ -237,10 +296,10 @@ pub fn transfer(
                 let field = smooth::smoothed(&sites, &steps, &weights, sigma, 1.0, &queries);
                 let (on_lines, on_landmarks) = field.split_at(moving.points.len());
                 for (p, (step, _)) in moving.points.iter_mut().zip(on_lines) {
-                    *p += crate::Vector::from(*step);
+                    *p += Vector::from(*step);
                 }
                 for (p, (step, _)) in positions.iter_mut().zip(on_landmarks) {
-                    *p += crate::Vector::from(*step);
+                    *p += Vector::from(*step);
                 }
             }
         }
@@ -251,7 +310,8 @@ pub fn transfer(
         .points
         .par_iter()
         .zip(&moving.kinds)
-        .map(|(p, kind)| targets.closest(*kind, p).map(|(_, d)| d))
+        .zip(&moving.tangents)
+        .map(|((p, kind), t)| targets.closest(*kind, p, t).map(|(_, d)| d))
         .collect();
     let (sites, squares): (Vec<Point>, Vec<[f64; 1]>) = moving
         .points
@@ -300,22 +360,25 @@ fn paired_steps(
     fixed: &KindedPoints,
     targets: &ByKind,
     reach: f64,
+    alignment: f64,
 ) -> (Vec<Point>, Vec<[f64; 3]>) {
-    let sources = ByKind::new(&moving.points, &moving.kinds);
+    let sources = ByKind::new(moving, alignment);
     let forward = moving
         .points
         .par_iter()
         .zip(&moving.kinds)
-        .filter_map(|(p, kind)| {
-            let (j, d) = targets.closest(*kind, p)?;
+        .zip(&moving.tangents)
+        .filter_map(|((p, kind), t)| {
+            let (j, d) = targets.closest(*kind, p, t)?;
             (d <= reach).then(|| (*p, <[f64; 3]>::from(fixed.points[j] - p)))
         });
     let backward = fixed
         .points
         .par_iter()
         .zip(&fixed.kinds)
-        .filter_map(|(q, kind)| {
-            let (i, d) = sources.closest(*kind, q)?;
+        .zip(&fixed.tangents)
+        .filter_map(|((q, kind), t)| {
+            let (i, d) = sources.closest(*kind, q, t)?;
             let p = moving.points[i];
             (d <= reach).then(|| (p, <[f64; 3]>::from(q - p)))
         });
