@@ -194,9 +194,7 @@ fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
     // One huge scale: a rigid motion and a near-uniform shift.
     let rigid = run("rigid.mrk.json", "1000");
     eprintln!("median error: rigid {rigid:.2} mm, deformed {deformed:.2} mm");
-    assert!(rigid > 1.5, "the warp should not be rigid: {rigid} mm");
-    assert!(
-        deformed < 0.5 * rigid && deformed < 1.5,
-        "{deformed} mm; rigid {rigid} mm"
-    );
+    // Measured: 3.80 mm rigid, 0.58 mm deformed.
+    assert!(rigid > 2.5, "the warp should not be rigid: {rigid} mm");
+    assert!(deformed < 0.9, "{deformed} mm; rigid {rigid} mm");
 }

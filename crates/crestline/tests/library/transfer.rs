@@ -107,10 +107,11 @@ fn landmarks_on_warped_lines_land_where_the_warp_takes_them() {
     });
     let (deformed, carried) = errors(&TransferOptions::default());
     println!("median error: rigid {rigid:.2} mm, deformed {deformed:.2} mm");
-    assert!(rigid > 2.0, "the warp is not rigid: {rigid} mm");
+    // Measured: 4.19 mm rigid, 0.03 mm deformed.
+    assert!(rigid > 3.0, "the warp is not rigid: {rigid} mm");
     assert!(
-        deformed < 0.8,
-        "median error {deformed} mm (rigid: {rigid} mm)"
+        deformed < 0.1,
+        "median error {deformed} mm (rigid {rigid} mm)"
     );
     // Each landmark sits on a line of the subject: its residual is small.
     assert!(
