@@ -51,7 +51,8 @@ pub struct TransferArgs {
     /// this angle (degrees; 90: any).
     #[arg(long, value_name = "DEG", default_value_t = TransferOptions::default().max_angle)]
     pub max_angle: f64,
-    /// Write the positions in this frame (default RAS).
+    /// Write the positions of a .json or .csv output in this frame (default RAS;
+    /// .mrk.json is in LPS, as 3D Slicer reads it).
     #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
     pub output_space: Option<Space>,
     #[command(flatten)]
