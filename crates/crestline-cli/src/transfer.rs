@@ -108,6 +108,13 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let subject = lines_of(&args.subject, args.level, &args.series, &mut report)?;
     let carried = transfer(&template, &subject, &landmarks, &options, &mut report)
         .map_err(|e| naming(e, &args.subject))?;
+    println!(
+        "{} landmarks; rigid stage: rotation {:.3}°, rms {:.4}; after the deformation: rms {:.4}",
+        landmarks.len(),
+        carried.rigid.transform.angle_degrees(),
+        carried.rigid.rms,
+        carried.rms
+    );
     let moved: Vec<LabelledPoint> = landmarks
         .iter()
         .zip(&carried.positions)

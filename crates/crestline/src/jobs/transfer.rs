@@ -10,8 +10,9 @@ use crate::{Error, Result};
 /// The `landmarks` of the template (positions in RAS), whose crest lines are
 /// `template`, carried onto the subject whose crest lines are `subject`
 /// ([`crate::transfer::transfer`]): the stages `rigid` and `deform`, the counts
-/// `pairs` and `landmarks`. The lines are taken to RAS from the frame they
-/// declare; lines that declare none are an [`Error::Argument`] naming which.
+/// `pairs` and `landmarks` and the measure `rms`. The lines are taken to RAS
+/// from the frame they declare; lines that declare none are an
+/// [`Error::Argument`] naming which.
 pub fn transfer(
     template: &FeatureLines,
     subject: &FeatureLines,

@@ -18,8 +18,8 @@
 //!    averaged by a Gaussian of the current scale σ (their sum over the weight
 //!    plus a prior of one pair of zero displacement, so that where pairs are few
 //!    the points move less), and the template points and the landmarks move by
-//!    that average. The largest scales take up the affine part of the motion, the
-//!    smaller ones the local shape;
+//!    that average. The largest scales take up most of the global (affine) part
+//!    of the motion, the smaller ones the local shape;
 //! 3. each landmark gets a confidence: the RMS distance of the template's line
 //!    points around it (Gaussian weights of [`TransferOptions::confidence_radius`])
 //!    to their closest subject points of their kind after the last step, in
@@ -241,7 +241,8 @@ impl<'a> ByKind<'a> {
 /// The landmarks `landmarks` of the template, whose crest lines are `template`,
 /// carried onto the subject of crest lines `subject` (both in the same frame; see
 /// the [module](self) documentation). The stages are reported to `observer`:
-/// `rigid`, then `deform` with the count `pairs` of the last iteration.
+/// `rigid`, then `deform` with the count `pairs` of the last iteration, and the
+/// measure `rms` ([`Transfer::rms`]).
 ///
 /// Errors ([`Error::Argument`]) if an option is out of range, the two sets share
 /// no line kind, or the rigid registration fails (too few points).
@@ -290,10 +291,9 @@ pub fn transfer(
                 let reach = options.max_distance * sigma;
                 let (sites, steps) = paired_steps(&moving, &fixed, &targets, reach, alignment);
                 pairs = sites.len();
-                let weights = vec![1.0; sites.len()];
                 let mut queries = moving.points.clone();
                 queries.extend_from_slice(&positions);
-                let field = smooth::smoothed(&sites, &steps, &weights, sigma, 1.0, &queries);
+                let field = smooth::smoothed(&sites, &steps, sigma, 1.0, &queries);
                 let (on_lines, on_landmarks) = field.split_at(moving.points.len());
                 for (p, (step, _)) in moving.points.iter_mut().zip(on_lines) {
                     *p += Vector::from(*step);
@@ -325,24 +325,17 @@ pub fn transfer(
         .filter(|s| s.sqrt() <= options.max_distance * options.scales[options.scales.len() - 1])
         .collect();
     let rms = (kept.iter().sum::<f64>() / kept.len().max(1) as f64).sqrt();
-    let weights = vec![1.0; sites.len()];
-    let confidence = smooth::smoothed(
-        &sites,
-        &squares,
-        &weights,
-        options.confidence_radius,
-        0.0,
-        &positions,
-    )
-    .into_iter()
-    .map(|([mean], weight)| {
-        if weight > 1e-3 {
-            mean.sqrt()
-        } else {
-            f64::INFINITY
-        }
-    })
-    .collect();
+    observer.measure("rms", rms);
+    let confidence = smooth::smoothed(&sites, &squares, options.confidence_radius, 0.0, &positions)
+        .into_iter()
+        .map(|([mean], weight)| {
+            if weight > 1e-3 {
+                mean.sqrt()
+            } else {
+                f64::INFINITY
+            }
+        })
+        .collect();
     Ok(Transfer {
         positions,
         confidence,

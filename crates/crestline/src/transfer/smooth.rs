@@ -99,15 +99,14 @@ impl Grid {
 }
 
 /// At each point of `queries`, the Gaussian-weighted mean
-/// `Σ G(x − sᵢ) wᵢ vᵢ / (Σ G(x − sᵢ) wᵢ + prior)` of the `values` `vᵢ` at the
-/// `sites` `sᵢ` with `weights` `wᵢ`, G of standard deviation `sigma` and peak 1:
-/// a `prior` of 1 counts as one site of value zero at every query, so that a
-/// query far from every site gets a value near zero. Also returns the weight
-/// `Σ G wᵢ` at each query. `sigma` is positive.
+/// `Σ G(x − sᵢ) vᵢ / (Σ G(x − sᵢ) + prior)` of the `values` `vᵢ` at the `sites`
+/// `sᵢ`, G of standard deviation `sigma` and peak 1: a `prior` of 1 counts as one
+/// site of value zero at every query, so that a query far from every site gets a
+/// value near zero. Also returns the weight `Σ G` at each query. `sigma` is
+/// positive.
 pub(crate) fn smoothed<const C: usize>(
     sites: &[Point],
     values: &[[f64; C]],
-    weights: &[f64],
     sigma: f64,
     prior: f64,
     queries: &[Point],
@@ -118,12 +117,12 @@ pub(crate) fn smoothed<const C: usize>(
     // Each node holds the weighted values and, last, the weight.
     let mut data = vec![[0.0; 4]; cells];
     assert!(C <= 3, "at most three values per site");
-    for ((site, value), &weight) in sites.iter().zip(values).zip(weights) {
+    for (site, value) in sites.iter().zip(values) {
         for (node, share) in grid.corners(site) {
             for c in 0..C {
-                data[node][c] += share * weight * value[c];
+                data[node][c] += share * value[c];
             }
-            data[node][3] += share * weight;
+            data[node][3] += share;
         }
     }
     let reach = (REACH * sigma / spacing).ceil() as usize;
@@ -161,13 +160,12 @@ mod tests {
             .flat_map(|i| (0..20).map(move |j| Point::new(i as f64, j as f64, 0.0)))
             .collect();
         let values = vec![[2.0, -1.0, 0.5]; sites.len()];
-        let weights = vec![1.0; sites.len()];
         let queries = [Point::new(9.5, 9.5, 0.0), Point::new(200.0, 0.0, 0.0)];
-        let found = smoothed(&sites, &values, &weights, 3.0, 0.0, &queries);
+        let found = smoothed(&sites, &values, 3.0, 0.0, &queries);
         for (c, expected) in [2.0, -1.0, 0.5].into_iter().enumerate() {
             assert!((found[0].0[c] - expected).abs() < 1e-9, "{found:?}");
         }
-        let damped = smoothed(&sites, &values, &weights, 3.0, 1.0, &queries);
+        let damped = smoothed(&sites, &values, 3.0, 1.0, &queries);
         assert!(damped[0].0[0] < 2.0 && damped[0].0[0] > 1.9, "{damped:?}");
         // Far away there is no weight and, with a prior, no value.
         assert_eq!(damped[1].1, 0.0);
@@ -178,7 +176,7 @@ mod tests {
     fn one_site_spreads_as_a_gaussian() {
         let site = [Point::new(0.0, 0.0, 0.0)];
         let queries = [Point::new(0.0, 0.0, 0.0), Point::new(4.0, 0.0, 0.0)];
-        let found = smoothed(&site, &[[1.0]], &[1.0], 4.0, 0.0, &queries);
+        let found = smoothed(&site, &[[1.0]], 4.0, 0.0, &queries);
         // Trilinear splatting and reading add a little blur to the Gaussian's.
         assert!((found[0].1 - 1.0).abs() < 0.1, "{found:?}");
         assert!((found[1].1 - (-0.5f64).exp()).abs() < 0.1, "{found:?}");
