@@ -30,6 +30,7 @@ mod ridges;
 mod signals;
 mod structure;
 mod surface;
+mod transfer;
 mod view;
 mod volume_info;
 
@@ -79,6 +80,9 @@ enum Command {
     Morse(morse::MorseCommand),
     /// Find the rigid motion taking one scan's feature lines onto another's (trimmed ICP).
     Register(register::RegisterArgs),
+    /// Carry a template's labelled landmarks onto another scan through their crest lines
+    /// (rigid, then a smooth deformation).
+    Transfer(Box<transfer::TransferArgs>),
     /// How well two files of lines or landmarks agree, kind by kind, both ways (test–retest).
     Compare(compare::CompareArgs),
     /// An interactive 3D view of the surface and its lines, as one self-contained HTML file.
@@ -185,6 +189,7 @@ fn main() -> ExitCode {
         Command::Draw(args) => draw::run(&args),
         Command::Morse(args) => morse::run(&args),
         Command::Register(args) => register::run(&args),
+        Command::Transfer(args) => transfer::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::View(args) => view::run(&args),
     });

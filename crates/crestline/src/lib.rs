@@ -85,6 +85,7 @@ pub mod register;
 pub mod ridges;
 mod slices;
 pub mod space;
+pub mod transfer;
 #[cfg(feature = "view")]
 pub mod view;
 pub mod volume;

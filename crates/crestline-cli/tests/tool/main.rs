@@ -14,4 +14,5 @@ mod hostile_readers;
 mod info_percentiles;
 mod parity;
 mod quality;
+mod transfer;
 mod view;

@@ -6,6 +6,7 @@ use std::path::Path;
 use serde_json::Value;
 
 use super::Features;
+use crate::lines::markups;
 use crate::space::Space;
 use crate::{Error, Point, Result};
 
@@ -43,15 +44,11 @@ pub(super) fn read_markups(path: &Path) -> Result<Features> {
 
 /// Add the points or the line of one markup.
 fn add_markup(features: &mut Features, markup: &Value) -> std::result::Result<(), String> {
-    let frame = match markup["coordinateSystem"].as_str() {
-        None | Some("LPS") => Space::Lps,
-        Some("RAS") => Space::Ras,
-        Some(other) => return Err(format!("unknown coordinate system '{other}'")),
-    };
+    let frame = markups::frame(markup)?;
     let points = markup["controlPoints"]
         .as_array()
         .map_or(&[][..], Vec::as_slice);
-    let ras = |point: &Value| position(point).map(|p| frame.to_ras(&p));
+    let ras = |point: &Value| markups::position(point).map(|p| frame.to_ras(&p));
     match markup["type"].as_str().unwrap_or_default() {
         "Fiducial" => {
             for point in points {
@@ -70,21 +67,6 @@ fn add_markup(features: &mut Features, markup: &Value) -> std::result::Result<()
         _ => {}
     }
     Ok(())
-}
-
-/// The position of a control point.
-fn position(point: &Value) -> std::result::Result<Point, String> {
-    let xyz: Vec<f64> = point["position"]
-        .as_array()
-        .map(|values| values.iter().filter_map(Value::as_f64).collect())
-        .unwrap_or_default();
-    match xyz[..] {
-        [x, y, z] if xyz.iter().all(|v| v.is_finite()) => Ok(Point::new(x, y, z)),
-        _ => Err(format!(
-            "control point '{}' has no position of three numbers",
-            point["label"].as_str().unwrap_or("")
-        )),
-    }
 }
 
 /// The kind a label or name gives: what stands before a trailing `-number`.

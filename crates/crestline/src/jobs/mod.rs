@@ -27,6 +27,7 @@
 //! | `draw` | [`draw`] | [`DrawingOptions`] |
 //! | `register` | [`register()`] | [`RegistrationOptions`](crate::register::RegistrationOptions) |
 //! | `landmarks` | [`landmarks`] | [`LandmarksOptions`] |
+//! | `transfer` | [`transfer()`] | [`TransferOptions`](crate::transfer::TransferOptions) |
 //! | `view` | [`view`] | [`ViewOptions`] |
 //!
 //! [`defaults`] gives every options struct's defaults as JSON, as the Python
@@ -45,6 +46,7 @@ mod morse;
 mod register;
 mod ridges;
 pub mod scale;
+mod transfer;
 mod view;
 
 pub use crease::{crease, CreaseOptions};
@@ -62,6 +64,7 @@ pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
 pub use register::{read_point_set, register};
 pub use ridges::{ridges, RidgesOptions};
+pub use transfer::transfer;
 pub use view::{view, ViewOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":
@@ -78,6 +81,7 @@ pub fn defaults() -> serde_json::Value {
         "draw": DrawingOptions::default(),
         "register": crate::register::RegistrationOptions::default(),
         "landmarks": LandmarksOptions::default(),
+        "transfer": crate::transfer::TransferOptions::default(),
         "view": ViewOptions::default(),
     })
 }

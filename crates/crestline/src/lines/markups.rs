@@ -42,6 +42,31 @@ pub(crate) fn control_point(id: usize, label: String, description: String, lps: 
     })
 }
 
+/// The frame of a markup's positions: its `coordinateSystem`, LPS when it names
+/// none (as 3D Slicer writes).
+pub(crate) fn frame(markup: &Value) -> std::result::Result<Space, String> {
+    match markup["coordinateSystem"].as_str() {
+        None | Some("LPS") => Ok(Space::Lps),
+        Some("RAS") => Ok(Space::Ras),
+        Some(other) => Err(format!("unknown coordinate system '{other}'")),
+    }
+}
+
+/// The position of a control point, in its markup's frame.
+pub(crate) fn position(point: &Value) -> std::result::Result<Point, String> {
+    let xyz: Vec<f64> = point["position"]
+        .as_array()
+        .map(|values| values.iter().filter_map(Value::as_f64).collect())
+        .unwrap_or_default();
+    match xyz[..] {
+        [x, y, z] if xyz.iter().all(|v| v.is_finite()) => Ok(Point::new(x, y, z)),
+        _ => Err(format!(
+            "control point '{}' has no position of three numbers",
+            point["label"].as_str().unwrap_or("")
+        )),
+    }
+}
+
 /// A curve markup (`ClosedCurve` when `closed`) named `name` through `points` of
 /// frame `space`, with `description` on its first point.
 pub(crate) fn curve(

@@ -1,9 +1,10 @@
 //! The core crate's modules form layers along the data flow
 //! (base helpers → mesh → chaining → volume → io → curvature → lines → extractors →
-//! drawing → views → jobs, which assemble them for the command-line tool and Python),
-//! and no module imports from a layer above its own: volumes produce meshes
-//! (isosurfaces), so `volume` sits above `mesh`. This test reads every `crate::`
-//! path in `src/` and fails on an upward (or sideways, between extractors) edge.
+//! drawing, comparison and transfer → views → jobs, which assemble them for the
+//! command-line tool and Python), and no module imports from a layer above its
+//! own: volumes produce meshes (isosurfaces), so `volume` sits above `mesh`. This
+//! test reads every `crate::` path in `src/` and fails on an upward (or sideways,
+//! between extractors) edge.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -33,6 +34,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("register", 7),
     ("draw", 8),
     ("compare", 8),
+    ("transfer", 8),
     ("view", 9),
     ("jobs", 10),
 ];

@@ -30,5 +30,6 @@ mod ridges;
 mod sampling;
 mod solver;
 mod soup_writer;
+mod transfer;
 mod volume_derivatives;
 mod volume_readers;

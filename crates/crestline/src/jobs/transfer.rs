@@ -1,0 +1,34 @@
+//! A template's labelled landmarks carried onto another scan through their crest
+//! lines (`crestline transfer`; [`crate::transfer`]).
+
+use crate::lines::FeatureLines;
+use crate::progress::Observer;
+use crate::space::Space;
+use crate::transfer::{transfer as carry, LabelledPoint, Transfer, TransferOptions};
+use crate::{Error, Result};
+
+/// The `landmarks` of the template (positions in RAS), whose crest lines are
+/// `template`, carried onto the subject whose crest lines are `subject`
+/// ([`crate::transfer::transfer`]): the stages `rigid` and `deform`, the counts
+/// `pairs` and `landmarks` and the measure `rms`. The lines are taken to RAS
+/// from the frame they declare; lines that declare none are an
+/// [`Error::Argument`] naming which.
+pub fn transfer(
+    template: &FeatureLines,
+    subject: &FeatureLines,
+    landmarks: &[LabelledPoint],
+    options: &TransferOptions,
+    observer: &mut dyn Observer,
+) -> Result<Transfer> {
+    let in_ras = |lines: &FeatureLines, what: &str| match lines.space {
+        Some(_) => Ok(lines.in_space(Space::Ras)),
+        None => Err(Error::Argument(format!(
+            "the {what}'s lines do not say the frame of their points (RAS or LPS)"
+        ))),
+    };
+    let (template, subject) = (in_ras(template, "template")?, in_ras(subject, "subject")?);
+    let points: Vec<_> = landmarks.iter().map(|l| l.position).collect();
+    let carried = carry(&template, &subject, &points, options, observer)?;
+    observer.count("landmarks", landmarks.len());
+    Ok(carried)
+}
