@@ -93,14 +93,11 @@ impl VertexLayout {
             .filter(|p| matches!(p.kind, PropertyType::Scalar(_)))
             .map(|p| p.name.as_str())
             .collect();
-        let column = |name: &str| {
-            scalars.iter().position(|&s| s == name).ok_or_else(|| {
-                Error::Parse(format!(
-                    "the PLY vertex element has no scalar property '{name}'"
-                ))
-            })
-        };
-        let xyz = [column("x")?, column("y")?, column("z")?];
+        let xyz = [
+            def.scalar_column("x")?,
+            def.scalar_column("y")?,
+            def.scalar_column("z")?,
+        ];
         let extras = scalars
             .iter()
             .enumerate()

@@ -5,7 +5,7 @@
 //! ASCII and binary files of either byte order, through the mesh reader's header
 //! and record parsers.
 
-use super::ply_header::{self, Element};
+use super::ply_header;
 use super::ply_records::read_element;
 use super::Input;
 use crate::{Error, Point, Result, Space};
@@ -49,7 +49,7 @@ pub(crate) fn read_ply_edges(bytes: &[u8]) -> Result<PlyEdges> {
     for element in &header.elements {
         match element.name.as_str() {
             "vertex" => {
-                let [x, y, z] = ["x", "y", "z"].map(|name| column(element, name));
+                let [x, y, z] = ["x", "y", "z"].map(|name| element.scalar_column(name));
                 let xyz = [x?, y?, z?];
                 read_element(&mut input, header.encoding, element, None, |record| {
                     let p = xyz.map(|c| record.scalars[c]);
@@ -58,8 +58,14 @@ pub(crate) fn read_ply_edges(bytes: &[u8]) -> Result<PlyEdges> {
                 })?;
             }
             "edge" => {
-                let ends = [column(element, "vertex1")?, column(element, "vertex2")?];
-                let (kind, line) = (column(element, "kind").ok(), column(element, "line").ok());
+                let ends = [
+                    element.scalar_column("vertex1")?,
+                    element.scalar_column("vertex2")?,
+                ];
+                let (kind, line) = (
+                    element.scalar_column("kind").ok(),
+                    element.scalar_column("line").ok(),
+                );
                 read_element(&mut input, header.encoding, element, None, |record| {
                     let [a, b] = ends.map(|c| record.scalars[c]).map(vertex_index);
                     found.edges.push(PlyEdge {
@@ -84,21 +90,6 @@ pub(crate) fn read_ply_edges(bytes: &[u8]) -> Result<PlyEdges> {
         )));
     }
     Ok(found)
-}
-
-/// The column of the scalar property `name` among the scalars of `element`.
-fn column(element: &Element, name: &str) -> Result<usize> {
-    element
-        .properties
-        .iter()
-        .filter(|p| matches!(p.kind, ply_header::PropertyType::Scalar(_)))
-        .position(|p| p.name == name)
-        .ok_or_else(|| {
-            Error::Parse(format!(
-                "the PLY {} element has no scalar property '{name}'",
-                element.name
-            ))
-        })
 }
 
 /// A vertex index read as a number: a whole number, at least 0.

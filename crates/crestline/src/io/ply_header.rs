@@ -147,6 +147,21 @@ impl Element {
             .find(|(_, p)| p.name == name)
     }
 
+    /// The column of the scalar property `name` among the element's scalar
+    /// properties (the order of a record's scalars, [`super::ply_records::Record`]).
+    pub(super) fn scalar_column(&self, name: &str) -> Result<usize> {
+        self.properties
+            .iter()
+            .filter(|p| matches!(p.kind, PropertyType::Scalar(_)))
+            .position(|p| p.name == name)
+            .ok_or_else(|| {
+                Error::Parse(format!(
+                    "the PLY {} element has no scalar property '{name}'",
+                    self.name
+                ))
+            })
+    }
+
     /// Fewest bytes a binary record can take (a list may be empty).
     fn min_binary_bytes(&self) -> usize {
         self.properties
