@@ -344,6 +344,24 @@ pub fn transfer(
     })
 }
 
+/// The pairs (a, b) of every point a of `from` with its closest point b of the
+/// set `index` was made of (same kind, aligned tangents), within `reach`.
+fn closest_pairs<'a>(
+    from: &'a KindedPoints,
+    index: &'a ByKind<'_>,
+    reach: f64,
+) -> impl ParallelIterator<Item = (usize, usize)> + 'a {
+    from.points
+        .par_iter()
+        .zip(&from.kinds)
+        .zip(&from.tangents)
+        .enumerate()
+        .filter_map(move |(a, ((p, kind), t))| {
+            let (b, d) = index.closest(*kind, p, t)?;
+            (d <= reach).then_some((a, b))
+        })
+}
+
 /// The displacements of one iteration: for every moving point its closest fixed
 /// point of its kind, and for every fixed point its closest moving point of its
 /// kind, pairs within `reach` only; each displacement (fixed minus moving) at the
@@ -356,24 +374,13 @@ fn paired_steps(
     alignment: f64,
 ) -> (Vec<Point>, Vec<[f64; 3]>) {
     let sources = ByKind::new(moving, alignment);
-    let forward = moving
-        .points
-        .par_iter()
-        .zip(&moving.kinds)
-        .zip(&moving.tangents)
-        .filter_map(|((p, kind), t)| {
-            let (j, d) = targets.closest(*kind, p, t)?;
-            (d <= reach).then(|| (*p, <[f64; 3]>::from(fixed.points[j] - p)))
-        });
-    let backward = fixed
-        .points
-        .par_iter()
-        .zip(&fixed.kinds)
-        .zip(&fixed.tangents)
-        .filter_map(|((q, kind), t)| {
-            let (i, d) = sources.closest(*kind, q, t)?;
+    let forward = closest_pairs(moving, targets, reach);
+    let backward = closest_pairs(fixed, &sources, reach).map(|(j, i)| (i, j));
+    forward
+        .chain(backward)
+        .map(|(i, j)| {
             let p = moving.points[i];
-            (d <= reach).then(|| (p, <[f64; 3]>::from(q - p)))
-        });
-    forward.chain(backward).unzip()
+            (p, <[f64; 3]>::from(fixed.points[j] - p))
+        })
+        .unzip()
 }
