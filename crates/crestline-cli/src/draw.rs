@@ -160,7 +160,10 @@ impl DrawArgs {
             fade_by_view: self.fade_by_view,
             plot: self.plot,
             ridges: self.features.tracer.options(),
-            morse: self.features.morse.options(self.features.tracer.estimator),
+            morse: self
+                .features
+                .morse
+                .options(self.features.tracer.ridges.estimator),
         }
     }
 }

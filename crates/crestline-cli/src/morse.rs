@@ -7,7 +7,7 @@ use crate::report::Report;
 use crestline::curvature::Estimator;
 use crestline::io::FileFormat;
 use crestline::lines::{write_on_surface, FeatureLines};
-use crestline::morse::{Cancellation, Cells, Criterion, Indicator, MorseSummary};
+use crestline::morse::{Cancellation, Indicator, MorseSummary};
 use crestline::Result;
 
 use super::failure::{explain, with_values};
@@ -22,45 +22,20 @@ use super::ReportArg;
 use crestline::curvature::DerivativeOrder;
 use crestline::jobs::{morse, IsoOptions, MorseOptions, Surface};
 
-/// Options of the Morse-Smale extractor, shared by every command that uses it.
+/// Options of the Morse-Smale extractor, shared by every command that uses it:
+/// the library's [`MorseOptions`] but the curvature estimator, which is the
+/// command's.
 #[derive(clap::Args, Debug, Clone)]
 pub struct MorseArgs {
-    /// Indicator: curvedness, kmax, kmin, the name of a PLY vertex property, or a
-    /// file of one value per vertex (text with one value per line, FreeSurfer curv
-    /// such as lh.sulc, GIfTI .shape.gii/.func.gii).
-    #[arg(long, default_value_t = MorseOptions::default().indicator, value_name = "NAME")]
-    pub indicator: Indicator,
-    /// Cancellation criterion: feature (the paper's significance) or persistence.
-    #[arg(long, default_value_t = MorseOptions::default().criterion,
-          value_parser = super::named::<Criterion>(Criterion::NAMES))]
-    pub criterion: Criterion,
-    /// Number of cancellations to make.
-    #[arg(long, value_name = "N", conflicts_with = "keep_saddles")]
-    pub cancel: Option<usize>,
-    /// Cancel until at most this many saddles that could be cancelled remain
-    /// (saddles forced by topology, e.g. 2g on a closed surface of genus g, are
-    /// kept besides).
-    #[arg(long, value_name = "N", default_value_t = MorseOptions::default().keep_saddles)]
-    pub keep_saddles: usize,
-    /// Which 1-cells to output: ascending (saddle to maximum: crests of the
-    /// indicator), descending (saddle to minimum: troughs) or both.
-    #[arg(long, default_value_t = MorseOptions::default().cells,
-          value_parser = super::named::<Cells>(Cells::NAMES))]
-    pub cells: Cells,
-    /// Keep lines forced by topology (no valid cancellation, low significance).
-    #[arg(long)]
-    pub keep_forced: bool,
-    /// Fairing iterations of the output lines on the surface, keeping them on
-    /// their crest (at most 1000; 0 leaves the staircases of mesh edges).
-    #[arg(long, default_value_t = MorseOptions::default().smooth, value_name = "N")]
-    pub smooth: usize,
+    #[command(flatten)]
+    pub options: MorseOptions,
 }
 
 impl MorseArgs {
     /// `--indicator` when it names an existing file of per-vertex values, with
     /// the property name its values are attached under (the name given).
     pub fn indicator_file(&self) -> Option<(&str, &Path)> {
-        match &self.indicator {
+        match &self.options.indicator {
             Indicator::Property(name) if Path::new(name).is_file() => {
                 Some((name.as_str(), Path::new(name)))
             }
@@ -71,14 +46,8 @@ impl MorseArgs {
     /// The job's options, with the curvature `estimator`.
     pub fn options(&self, estimator: Estimator) -> MorseOptions {
         MorseOptions {
-            indicator: self.indicator.clone(),
             estimator,
-            criterion: self.criterion,
-            cancel: self.cancel,
-            keep_saddles: self.keep_saddles,
-            cells: self.cells,
-            keep_forced: self.keep_forced,
-            smooth: self.smooth,
+            ..self.options.clone()
         }
     }
 }

@@ -4,12 +4,9 @@ use std::path::{Path, PathBuf};
 
 use crate::report::Report;
 use crestline::curvature::DerivativeOrder;
-use crestline::curvature::Estimator;
 use crestline::jobs::{ridges, IsoOptions, RidgesOptions, Surface};
 use crestline::lines::{write_on_surface, FeatureLines, SURFACE_FORMATS};
 use crestline::mesh::Mesh;
-use crestline::ridges::Kinds;
-use crestline::ridges::Solver;
 use crestline::{Error, Result};
 
 use super::failure::{explain, with_values};
@@ -21,51 +18,12 @@ use super::structure::StructureArg;
 use super::surface::{load_surface, Loaded, VolumeArgs};
 use super::ReportArg;
 
-/// Options of extremality tracing, shared by every command that traces ridges.
+/// Options of extremality tracing, shared by every command that traces ridges:
+/// the library's [`RidgesOptions`], and the files and image options around them.
 #[derive(clap::Args, Debug, Clone)]
 pub struct TracerArgs {
-    /// Which lines to extract: ridges (maxima of k_max: convex crests), valleys
-    /// (minima of k_min: concave creases) or both.
-    #[arg(long, default_value_t = RidgesOptions::default().kind,
-          value_parser = super::named::<Kinds>(Kinds::NAMES))]
-    pub kind: Kinds,
-    /// Curvature estimator: auto (the jet fit on a clean mesh, the shape operator on
-    /// a noisy one, told apart by the fit's residual), shape-operator (fast) or
-    /// jet-fit (accurate on irregular meshes).
-    #[arg(long, default_value_t = RidgesOptions::default().estimator,
-          value_parser = super::named::<Estimator>(Estimator::NAMES))]
-    pub estimator: Estimator,
-    /// Implicit smoothing steps of the extremalities [default: 3; 1 on an image's
-    /// isosurface, whose extremalities come from the smoothed image]. With jet-fit
-    /// the extremalities come from the fitted jets and are smoothed only where the
-    /// vertices deviate from them (noise), not on clean meshes.
-    #[arg(long, value_name = "N")]
-    pub smooth_steps: Option<usize>,
-    /// Smoothing time step, in units of the mean edge length squared [default: 2
-    /// with shape-operator or auto, 3 with jet-fit or with --presmooth, 0.25 on an
-    /// image's isosurface].
-    #[arg(long, value_name = "TAU")]
-    pub smooth_time: Option<f64>,
-    /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
-    /// ∫ |k_min| ds for valleys) is at least this.
-    #[arg(long, default_value_t = RidgesOptions::default().threshold, value_name = "T")]
-    pub threshold: f64,
-    /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
-    #[arg(long, default_value_t = RidgesOptions::default().presmooth, value_name = "N")]
-    pub presmooth: usize,
-    /// Solver of the implicit smoothing systems: auto (a multigrid-preconditioned
-    /// conjugate gradient from 2M vertices on or for a smoothing time of at most 0.5,
-    /// else sparse Cholesky), direct or iterative.
-    #[arg(long, default_value_t = RidgesOptions::default().solver,
-          value_parser = super::named::<Solver>(Solver::NAMES))]
-    pub solver: Solver,
-    /// Fair the lines as space curves (each point moves at most half a mean edge length).
-    #[arg(long)]
-    pub fair: bool,
-    /// Trace every extremal line, maxima and minima of both curvatures, without the
-    /// feature conditions of the paper (eqs. 5, 6).
-    #[arg(long)]
-    pub all_extrema: bool,
+    #[command(flatten)]
+    pub ridges: RidgesOptions,
     /// Per-vertex factors for inhomogeneous extremality smoothing: the name of a PLY
     /// vertex property, or a file with one value per vertex (text with one value
     /// per line, FreeSurfer curv such as lh.sulc, GIfTI .shape.gii/.func.gii).
@@ -85,20 +43,12 @@ impl TracerArgs {
             .collect()
     }
 
-    /// The options of the ridges job, the smoothing weights not yet read.
+    /// The options of the ridges job, with the image's `--scale`; the smoothing
+    /// weights not yet read.
     pub fn options(&self) -> RidgesOptions {
         RidgesOptions {
-            kind: self.kind,
-            estimator: self.estimator,
-            smooth_steps: self.smooth_steps,
-            smooth_time: self.smooth_time,
-            threshold: self.threshold,
-            presmooth: self.presmooth,
-            solver: self.solver,
-            fair: self.fair,
-            all_extrema: self.all_extrema,
             scale: self.volume.scale,
-            smoothing_weights: None,
+            ..self.ridges.clone()
         }
     }
 
@@ -106,7 +56,7 @@ impl TracerArgs {
     /// the mesh `--estimator`.
     pub fn iso_options(&self) -> IsoOptions {
         IsoOptions {
-            estimator: self.estimator,
+            estimator: self.ridges.estimator,
             ..self.volume.iso_options()
         }
     }
@@ -223,7 +173,7 @@ pub fn trace_loaded(
 pub fn run(args: &RidgesArgs) -> Result<()> {
     let format = line_output(&args.output, "ridge and valley lines", &SURFACE_FORMATS)?;
     if format.is_none() {
-        check_on_surface(&args.mesh, &args.output, args.tracer.fair)?;
+        check_on_surface(&args.mesh, &args.output, args.tracer.ridges.fair)?;
     }
     let outputs: Vec<Role<'_>> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())

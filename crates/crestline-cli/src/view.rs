@@ -51,7 +51,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let options = ViewOptions {
         lines: *lines,
         ridges: options_for(&loaded.surface.mesh, &args.mesh, tracer)?,
-        morse: morse.options(tracer.estimator),
+        morse: morse.options(tracer.ridges.estimator),
     };
     let input = (loaded.volume.as_ref(), None);
     let (lines, curvature) =

@@ -1,8 +1,8 @@
 //! Names for the options of the library's algorithms (estimators, line kinds,
 //! criteria), so that a command line, a configuration file or a Python caller
 //! spells them the same way: `NAMES`, `name()`, [`std::fmt::Display`],
-//! [`std::str::FromStr`] and serde's (de)serialization as that name, from one
-//! table per enum.
+//! [`std::str::FromStr`], serde's (de)serialization as that name and, with the
+//! feature `clap`, clap's `ValueEnum`, from one table per enum.
 
 /// Give a fieldless enum its names: `named!(Kinds, "line kind", { Ridges =>
 /// "ridges", ... })` adds `Kinds::NAMES`, `Kinds::name`, `Display`, a `FromStr`
@@ -35,6 +35,17 @@ macro_rules! named {
                     $($name => Ok($ty::$variant),)+
                     _ => Err($crate::Error::unknown_name($what, name, $ty::NAMES)),
                 }
+            }
+        }
+
+        #[cfg(feature = "clap")]
+        impl clap::ValueEnum for $ty {
+            fn value_variants<'a>() -> &'a [Self] {
+                &[$($ty::$variant),+]
+            }
+
+            fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+                Some(clap::builder::PossibleValue::new(self.name()))
             }
         }
 

@@ -10,32 +10,52 @@ use crate::morse::{Cells, Criterion, Indicator, MorseSmale, MorseSummary, Simpli
 use crate::progress::Observer;
 use crate::Result;
 
-/// Options of [`morse`].
+/// Options of [`morse`]. Each field is an option of the tool (`--keep-saddles`)
+/// and a keyword argument of the Python package (`keep_saddles=`), documented
+/// here once: with the feature `clap` this struct is the tool's arguments.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct MorseOptions {
-    /// The scalar field whose complex is built: curvedness, kmax, kmin, or the
-    /// name of a vertex property of the mesh. Default: curvedness.
+    /// Indicator: curvedness, kmax, kmin, the name of a PLY vertex property, or a
+    /// file of one value per vertex (text with one value per line, FreeSurfer curv
+    /// such as lh.sulc, GIfTI .shape.gii/.func.gii).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "NAME",
+        default_value_t = MorseOptions::default().indicator))]
     pub indicator: Indicator,
     /// Curvature estimator of curvature indicators (an isosurface may carry its
-    /// image's curvature instead). Default: the shape operator.
+    /// image's curvature instead). Default: the shape operator. (The tool's
+    /// `--estimator` is its command's, shared with the ridges of a drawing.)
+    #[cfg_attr(feature = "clap", arg(skip = MorseOptions::default().estimator))]
     pub estimator: Estimator,
-    /// How saddles are ranked for cancellation. Default: the paper's feature
-    /// significance.
+    /// Cancellation criterion: feature (the paper's significance) or persistence.
+    #[cfg_attr(feature = "clap", arg(long, value_enum,
+        default_value_t = MorseOptions::default().criterion))]
     pub criterion: Criterion,
-    /// Make this many cancellations; `None`: cancel down to `keep_saddles`.
-    /// Default: `None`.
+    /// Number of cancellations to make [default: cancel down to --keep-saddles].
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_name = "N", conflicts_with = "keep_saddles")
+    )]
     pub cancel: Option<usize>,
     /// Cancel until at most this many saddles that could be cancelled remain
-    /// (saddles forced by topology are kept besides). Default:
-    /// [`MorseSmale::DEFAULT_KEEP_SADDLES`].
+    /// (saddles forced by topology, e.g. 2g on a closed surface of genus g, are
+    /// kept besides).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = MorseOptions::default().keep_saddles))]
     pub keep_saddles: usize,
-    /// Which 1-cells to output. Default: the ascending ones.
+    /// Which 1-cells to output: ascending (saddle to maximum: crests of the
+    /// indicator), descending (saddle to minimum: troughs) or both.
+    #[cfg_attr(feature = "clap", arg(long, value_enum,
+        default_value_t = MorseOptions::default().cells))]
     pub cells: Cells,
-    /// Keep lines forced by topology. Default: no.
+    /// Keep lines forced by topology (no valid cancellation, low significance).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub keep_forced: bool,
-    /// Fairing iterations of the lines on the surface. Default:
-    /// [`MorseSmale::DEFAULT_SMOOTH_ITERATIONS`].
+    /// Fairing iterations of the output lines on the surface, keeping them on
+    /// their crest (at most 1000; 0 leaves the staircases of mesh edges).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = MorseOptions::default().smooth))]
     pub smooth: usize,
 }
 
@@ -49,8 +69,8 @@ impl Default for MorseOptions {
             cancel: None,
             keep_saddles: MorseSmale::DEFAULT_KEEP_SADDLES,
             cells: defaults.cells,
-            keep_forced: !defaults.hide_forced,
-            smooth: defaults.smooth_iterations,
+            keep_forced: defaults.keep_forced,
+            smooth: defaults.smooth,
         }
     }
 }
@@ -67,8 +87,8 @@ impl MorseOptions {
                 None => Simplification::KeepSaddles(self.keep_saddles),
             },
             cells: self.cells,
-            hide_forced: !self.keep_forced,
-            smooth_iterations: self.smooth,
+            keep_forced: self.keep_forced,
+            smooth: self.smooth,
         }
     }
 }

@@ -12,42 +12,53 @@ use crate::progress::Observer;
 use crate::ridges::{ExtremalityTracer, Fairing, Kinds};
 use crate::Result;
 
-/// Options of [`ridges`].
+/// Options of [`ridges`]. Each field is an option of the tool (`--smooth-steps`)
+/// and a keyword argument of the Python package (`smooth_steps=`), documented
+/// here once: with the feature `clap` this struct is the tool's arguments.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct RidgesOptions {
-    /// Which lines: ridges (maxima of k_max: convex crests), valleys (minima of
-    /// k_min: concave creases) or both. Default: both.
+    /// Which lines to extract: ridges (maxima of k_max: convex crests), valleys
+    /// (minima of k_min: concave creases) or both.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = RidgesOptions::default().kind))]
     pub kind: Kinds,
-    /// Curvature estimator of a mesh (an isosurface may carry its image's
-    /// curvature instead). Default: [`Estimator::Auto`], the jet fit on a clean
-    /// mesh and the shape operator on a noisy one.
+    /// Curvature estimator: auto (the jet fit on a clean mesh, the shape operator on
+    /// a noisy one, told apart by the fit's residual), shape-operator (fast) or
+    /// jet-fit (accurate on irregular meshes). An image's isosurface may carry its
+    /// image's curvature instead.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = RidgesOptions::default().estimator))]
     pub estimator: Estimator,
-    /// Implicit smoothing steps of the extremalities. Default (`None`): the
-    /// estimator's ([`ExtremalityTracer::smoothing_defaults`]), or one light step
-    /// on an isosurface with its image's extremalities (σ > 0), which come from
-    /// the smoothed image ([`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_STEPS`]).
+    /// Implicit smoothing steps of the extremalities [default: 3; 1 on an image's
+    /// isosurface, whose extremalities come from the smoothed image]. With jet-fit
+    /// the extremalities come from the fitted jets and are smoothed only where the
+    /// vertices deviate from them (noise), not on clean meshes.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N"))]
     pub smooth_steps: Option<usize>,
-    /// Smoothing time step, in units of the mean edge length squared. Default
-    /// (`None`): the estimator's, at least
-    /// [`ExtremalityTracer::DEFAULT_PRESMOOTHED_SMOOTH_TIME`] on a presmoothed
-    /// surface, or [`ExtremalityTracer::DEFAULT_IMAGE_SMOOTH_TIME`] on an
-    /// isosurface with its image's extremalities.
+    /// Smoothing time step, in units of the mean edge length squared [default: 2
+    /// with shape-operator or auto, 3 with jet-fit or with --presmooth, 0.25 on an
+    /// image's isosurface].
+    #[cfg_attr(feature = "clap", arg(long, value_name = "TAU"))]
     pub smooth_time: Option<f64>,
     /// Keep connected lines whose strength (dimensionless: ∫ k_max ds for ridges,
-    /// ∫ |k_min| ds for valleys) is at least this. Default:
-    /// [`ExtremalityTracer::DEFAULT_THRESHOLD`].
+    /// ∫ |k_min| ds for valleys) is at least this.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "T",
+        default_value_t = RidgesOptions::default().threshold))]
     pub threshold: f64,
     /// Implicit smoothing steps of the surface before tracing (for noisy meshes).
-    /// Default: 0.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N", default_value_t = RidgesOptions::default().presmooth))]
     pub presmooth: usize,
-    /// Solver of the implicit smoothing systems. Default: chosen by the size and
-    /// conditioning of the mesh.
+    /// Solver of the implicit smoothing systems: auto (a multigrid-preconditioned
+    /// conjugate gradient from 2M vertices on or for a smoothing time of at most 0.5,
+    /// else sparse Cholesky), direct or iterative.
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = RidgesOptions::default().solver))]
     pub solver: Solver,
-    /// Fair the lines as space curves ([`Fairing::default`]). Default: no.
+    /// Fair the lines as space curves (each point moves at most half a mean edge length).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub fair: bool,
-    /// Trace every extremal line, without the feature conditions of the paper
-    /// (eqs. 5, 6). Default: no.
+    /// Trace every extremal line, maxima and minima of both curvatures, without the
+    /// feature conditions of the paper (eqs. 5, 6).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub all_extrema: bool,
     /// The feature scale of a mesh, in world units ([`super::scale`]): the surface
     /// is smoothed for a time of scale² before its curvature is estimated, and the
@@ -56,10 +67,13 @@ pub struct RidgesOptions {
     /// (`smooth_steps`, `smooth_time` and `presmooth`, when given, still apply).
     /// An image's isosurface takes its image's scale instead (σ,
     /// [`super::IsoOptions::scale`]). Default: none, the smoothing counts mean edge
-    /// lengths.
+    /// lengths. (The tool's `--scale` is shared with the image's options.)
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub scale: Option<f64>,
     /// Per-vertex factors for inhomogeneous extremality smoothing. Default: none.
+    /// (The tool reads them from a file or a vertex property.)
     #[serde(skip)]
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub smoothing_weights: Option<Vec<f64>>,
 }
 
@@ -100,9 +114,9 @@ impl RidgesOptions {
             threshold: self.threshold,
             presmooth_steps: self.presmooth,
             presmooth_time: ExtremalityTracer::DEFAULT_PRESMOOTH_TIME,
-            fairing: self.fair.then(Fairing::default),
+            fair: self.fair.then(Fairing::default),
             smoothing_weights: self.smoothing_weights.clone(),
-            feature_conditions: !self.all_extrema,
+            all_extrema: self.all_extrema,
             solver: self.solver,
         };
         match (self.scale, surface.image) {

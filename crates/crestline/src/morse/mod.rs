@@ -64,14 +64,14 @@ pub struct MorseSmale {
     pub simplification: Simplification,
     /// Which 1-cells to output.
     pub cells: Cells,
-    /// Hide lines that no valid cancellation could remove and that are less
-    /// significant than the last cancellation (§3.5).
-    pub hide_forced: bool,
+    /// Keep the lines that no valid cancellation could remove and that are less
+    /// significant than the last cancellation (§3.5); hidden by default.
+    pub keep_forced: bool,
     /// Fairing iterations of the output lines (§3.6), done on the surface so that
     /// every point stays on the mesh and on the crest it follows (the indicator
     /// does not drop below the lower of its value before fairing and its upper
     /// quartile; for descending lines the mirror); 0 for none.
-    pub smooth_iterations: usize,
+    pub smooth: usize,
 }
 
 impl Default for MorseSmale {
@@ -82,8 +82,8 @@ impl Default for MorseSmale {
             criterion: Criterion::Feature,
             simplification: Simplification::KeepSaddles(Self::DEFAULT_KEEP_SADDLES),
             cells: Cells::Ascending,
-            hide_forced: true,
-            smooth_iterations: Self::DEFAULT_SMOOTH_ITERATIONS,
+            keep_forced: false,
+            smooth: Self::DEFAULT_SMOOTH_ITERATIONS,
         }
     }
 }
@@ -107,7 +107,7 @@ pub struct MorseSummary {
     /// Critical points after the cancellations.
     pub after: CriticalCounts,
     /// How many of the saddles left no valid cancellation could remove (forced by
-    /// topology; hidden from the output unless [`MorseSmale::hide_forced`] is off).
+    /// topology; hidden from the output unless [`MorseSmale::keep_forced`] is on).
     pub forced_saddles: usize,
     /// The cancellation sequence.
     pub hierarchy: Vec<Cancellation>,
@@ -139,7 +139,7 @@ impl MorseSmale {
     /// 40 iterations, while the share of their length on the indicator's crest
     /// (upper quartile) stays at 81–82% (`tests/library/morse_drawing.rs`).
     pub const DEFAULT_SMOOTH_ITERATIONS: usize = 30;
-    /// The most fairing iterations ([`Self::smooth_iterations`]) accepted.
+    /// The most fairing iterations ([`Self::smooth`]) accepted.
     pub const MAX_SMOOTH_ITERATIONS: usize = 1000;
 
     /// Compute the [`Self::indicator`] of `mesh`, then build, simplify and output its
@@ -215,10 +215,10 @@ impl MorseSmale {
 
     /// The options are in range: an error says which is not.
     fn check(&self) -> Result<()> {
-        if self.smooth_iterations > Self::MAX_SMOOTH_ITERATIONS {
+        if self.smooth > Self::MAX_SMOOTH_ITERATIONS {
             return Err(Error::Argument(format!(
                 "{} fairing iterations of the Morse-Smale lines; at most {} are accepted",
-                self.smooth_iterations,
+                self.smooth,
                 Self::MAX_SMOOTH_ITERATIONS
             )));
         }

@@ -33,7 +33,7 @@ crate::named::named!(Cells, "cells", {
 /// strength of a line is its saddle's significance. Ascending lines pass through
 /// triangle centroids and the midpoints of the edges between them, descending lines
 /// through vertices; each point keeps its location on the surface (where the
-/// fairing of [`MorseSmale::smooth_iterations`] moves it) and the indicator there
+/// fairing of [`MorseSmale::smooth`] moves it) and the indicator there
 /// (`"indicator"`).
 pub fn lines(
     mesh: &Mesh,
@@ -51,12 +51,12 @@ pub fn lines(
             let best = hierarchy.best(s).map(|(t, _)| t);
             let significance = best.unwrap_or_else(|| hierarchy.significance(s));
             let forced = best.is_none() && significance < last_t;
-            (!(config.hide_forced && forced)).then_some((s, significance))
+            (config.keep_forced || !forced).then_some((s, significance))
         })
         .collect();
     shown.sort_by(|a, b| b.1.total_cmp(&a.1));
 
-    let fairing = CrestFairing::new(values, config.smooth_iterations, config.cells);
+    let fairing = CrestFairing::new(values, config.smooth, config.cells);
     let mut drawn_faces = vec![false; mesh.face_count()];
     let mut drawn_vertices = vec![false; mesh.vertex_count()];
     let mut cells = Vec::new();

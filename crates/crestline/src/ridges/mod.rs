@@ -138,15 +138,15 @@ pub struct ExtremalityTracer {
     /// length squared ([`Self::DEFAULT_PRESMOOTH_TIME`]).
     pub presmooth_time: f64,
     /// Optional fairing of the lines as space curves.
-    pub fairing: Option<Fairing>,
+    pub fair: Option<Fairing>,
     /// Optional per-vertex factors for inhomogeneous extremality smoothing (§6).
     pub smoothing_weights: Option<Vec<f64>>,
-    /// Apply the feature conditions (eqs. 5, 6: maxima of k_max where it dominates
-    /// in magnitude, minima of k_min likewise). Off, every extremal line of either
-    /// curvature is traced, maxima and minima alike (the generic ridges of
-    /// Porteous; e.g. all three principal ellipses of an ellipsoid, where the
-    /// conditions keep only the sharpest one).
-    pub feature_conditions: bool,
+    /// Trace every extremal line of either curvature, maxima and minima alike (the
+    /// generic ridges of Porteous; e.g. all three principal ellipses of an
+    /// ellipsoid), without the feature conditions (eqs. 5, 6: maxima of k_max
+    /// where it dominates in magnitude, minima of k_min likewise), which keep only
+    /// the sharpest one.
+    pub all_extrema: bool,
     /// How the implicit smoothing systems (§5.1) are solved: sparse Cholesky,
     /// conjugate gradient, or by mesh size ([`Solver::Auto`], the default).
     pub solver: Solver,
@@ -257,9 +257,9 @@ impl Default for ExtremalityTracer {
             threshold: Self::DEFAULT_THRESHOLD,
             presmooth_steps: 0,
             presmooth_time: Self::DEFAULT_PRESMOOTH_TIME,
-            fairing: None,
+            fair: None,
             smoothing_weights: None,
-            feature_conditions: true,
+            all_extrema: false,
             solver: Solver::Auto,
         }
     }
@@ -479,7 +479,7 @@ impl ExtremalityTracer {
                 lines.push(with_extremalities(line, work, field, fields, &values));
             }
         }
-        if let Some(fairing) = self.fairing {
+        if let Some(fairing) = self.fair {
             let h = input.mean_edge_length();
             stage(observer, "fairing", || {
                 for line in &mut lines.lines {
@@ -519,7 +519,7 @@ impl ExtremalityTracer {
                 self.threshold,
             ));
         }
-        if let Some(f) = self.fairing {
+        if let Some(f) = self.fair {
             if !(f.max_distance.is_finite() && f.max_distance >= 0.0) {
                 return Err(negative("the fairing distance", f.max_distance));
             }
@@ -634,14 +634,7 @@ impl ExtremalityTracer {
             &format!("{name}_singular_share"),
             singular as f64 / regular.len() as f64,
         );
-        let ext = Extremality::new(
-            which,
-            values,
-            field,
-            signs,
-            &regular,
-            self.feature_conditions,
-        );
+        let ext = Extremality::new(which, values, field, signs, &regular, !self.all_extrema);
         let segments = stage(observer, &format!("{name}: tracing"), || {
             trace::trace(work, field, &ext)
         });

@@ -74,7 +74,7 @@ fn default_morse_lines_are_smooth_and_stay_on_the_crests() {
     let mesh = bunny();
     let morse = MorseSmale::default();
     let unfaired = MorseSmale {
-        smooth_iterations: 0,
+        smooth: 0,
         ..MorseSmale::default()
     };
     let (lines, raw) = (

@@ -140,7 +140,7 @@ fn default_ridge_of_a_rotated_ellipsoid_is_its_sharpest_principal_ellipse() {
 #[test]
 fn all_extremal_lines_of_an_ellipsoid_cover_its_three_principal_ellipses() {
     let tracer = ExtremalityTracer {
-        feature_conditions: false,
+        all_extrema: true,
         threshold: 0.5,
         ..Default::default()
     };
@@ -164,7 +164,7 @@ fn scaling_by_1000_gives_the_same_lines() {
     let mesh = ellipsoid();
     let big = transformed(&mesh, |p| p * 1000.0);
     let tracer = ExtremalityTracer {
-        feature_conditions: false,
+        all_extrema: true,
         threshold: 0.5,
         ..Default::default()
     };
@@ -445,7 +445,7 @@ fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
     let field = ShapeOperator.estimate(mesh).unwrap();
     for presmooth_steps in [0, 2] {
         let tracer = ExtremalityTracer {
-            feature_conditions: false,
+            all_extrema: true,
             threshold: 0.5,
             presmooth_steps,
             ..Default::default()
@@ -469,7 +469,7 @@ fn line_points_keep_their_place_on_the_surface_and_the_curvature_there() {
     }
     // Faired points leave the surface: no locations then.
     let faired = ExtremalityTracer {
-        fairing: Some(Default::default()),
+        fair: Some(Default::default()),
         ..Default::default()
     };
     let lines = faired.extract(mesh, &mut Silent).unwrap();
@@ -587,7 +587,7 @@ fn jet_path_scaling_by_1000_gives_the_same_lines() {
     let mesh = ellipsoid();
     let big = transformed(&mesh, |p| p * 1000.0);
     let tracer = ExtremalityTracer {
-        feature_conditions: false,
+        all_extrema: true,
         threshold: 0.5,
         ..jet_tracer()
     };
