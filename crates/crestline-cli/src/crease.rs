@@ -27,24 +27,8 @@ pub struct CreaseArgs {
     /// (GIfTI, RAS).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Valley surfaces (ridges of −f) instead of ridge surfaces.
-    #[arg(long)]
-    pub valley: bool,
-    /// Gaussian smoothing σ in world units (mm); 0 differentiates the approximating
-    /// cubic B-spline of the samples, which smooths least.
-    #[arg(
-        long,
-        default_value_t = CreaseOptions::default().sigma,
-        value_name = "S",
-        allow_hyphen_values = true
-    )]
-    pub sigma: f64,
-    /// Least ridge strength −λ3, as a fraction of the strongest in the image.
-    #[arg(long, default_value_t = CreaseOptions::default().strength, value_name = "T")]
-    pub strength: f64,
-    /// Drop connected pieces of fewer triangles than this.
-    #[arg(long, default_value_t = CreaseOptions::default().min_component, value_name = "N")]
-    pub min_component: usize,
+    #[command(flatten)]
+    pub options: CreaseOptions,
     #[command(flatten)]
     pub structure: StructureArg,
     #[command(flatten)]
@@ -56,12 +40,7 @@ pub struct CreaseArgs {
 /// Extract the crease surface and write it.
 pub fn run(args: &CreaseArgs) -> Result<()> {
     require_image(&args.volume, "crease")?;
-    let options = CreaseOptions {
-        valley: args.valley,
-        sigma: args.sigma,
-        strength: args.strength,
-        min_component: args.min_component,
-    };
+    let options = args.options;
     options.check()?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())

@@ -5,8 +5,7 @@
 use std::path::PathBuf;
 
 use crestline::curvature::{
-    write_curvature_ply_with_quality, write_curvature_values, Estimator, Quality,
-    PER_VERTEX_FORMATS,
+    write_curvature_ply_with_quality, write_curvature_values, PER_VERTEX_FORMATS,
 };
 use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, Surface};
@@ -34,18 +33,8 @@ pub struct CurvatureArgs {
     /// vertices).
     #[arg(short, long, value_name = "FILE.ply|FILE.shape.gii|FILE.curv")]
     pub output: PathBuf,
-    /// Curvature estimator: shape-operator is fast and best on regular meshes;
-    /// jet-fit (a quartic least-squares fit over a ring neighbourhood) is slower and
-    /// accurate on irregular ones.
-    #[arg(long, default_value_t = CurvatureOptions::default().estimator,
-          value_parser = super::named::<Estimator>(Estimator::NAMES))]
-    pub estimator: Estimator,
-    /// The curvature quantity also written as the vertex property `quality`, the
-    /// one MeshLab and pymeshlab colour and filter by; the quantity of a .shape.gii
-    /// or .curv output.
-    #[arg(long, default_value_t = CurvatureOptions::default().quality,
-          value_parser = super::named::<Quality>(Quality::NAMES))]
-    pub quality: Quality,
+    #[command(flatten)]
+    pub options: CurvatureOptions,
     #[command(flatten)]
     pub structure: StructureArg,
     #[command(flatten)]
@@ -67,10 +56,7 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let mut report = report_with_progress("curvature", &args.mesh);
     let (mesh, repairs) = load_mesh(&args.mesh, args.strict, &mut report)?;
     let surface = Surface::of_mesh(mesh);
-    let options = CurvatureOptions {
-        estimator: args.estimator,
-        quality: args.quality,
-    };
+    let options = args.options;
     let field = curvature(&surface, &options, &mut report).map_err(|e| explain(e, &args.mesh))?;
     let mesh = &surface.mesh;
     let mut files = OutputSet::default();

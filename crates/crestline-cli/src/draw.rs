@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crestline::draw::{svg_document, write_png, write_svg, Page, Paper, PaperLength, Style};
 use crestline::io::{choose_format, FileFormat};
-use crestline::jobs::{draw, DrawingOptions, LinesChoice};
+use crestline::jobs::{draw, DrawingOptions, MorseOptions, RidgesOptions};
 use crestline::Result;
 
 use super::failure::explain;
@@ -24,20 +24,11 @@ pub struct DrawArgs {
     /// Output drawing (.svg).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which feature lines, and how they are traced.
+    #[command(flatten)]
+    pub drawing: DrawingOptions,
+    /// How the feature lines are traced.
     #[command(flatten)]
     pub features: FeatureLineArgs,
-    /// Also draw the silhouettes (smooth occluding contours).
-    #[arg(long)]
-    pub silhouettes: bool,
-    /// Feature lines are left out where they run beside a visible silhouette
-    /// (nearly parallel) closer than this many pixels (millimetres with --page);
-    /// 0 keeps them. Default: 4 pixels (0.4 mm on a page)
-    #[arg(long, value_name = "PX")]
-    pub silhouette_clearance: Option<f64>,
-    /// Borders, creases and suggestive contours.
-    #[command(flatten)]
-    pub families: FamilyArgs,
     /// Viewing direction in degrees; 0,0 looks along -z with +y up, a positive
     /// azimuth turns the eye about +y towards +x, a positive elevation raises it.
     #[arg(long, value_name = "AZIMUTH,ELEVATION", value_parser = parse_view,
@@ -48,10 +39,6 @@ pub struct DrawArgs {
     #[arg(long, value_name = "EX,EY,EZ,TX,TY,TZ,UX,UY,UZ", value_parser = parse_camera,
           allow_hyphen_values = true)]
     pub camera: Option<[f64; 9]>,
-    /// Perspective projection with this field of view in degrees (across the
-    /// shorter side); orthographic without it.
-    #[arg(long, value_name = "FOV")]
-    pub perspective: Option<f64>,
     /// Canvas size in pixels.
     #[arg(long, value_name = "WxH", default_value_t = Size(DrawingOptions::default().size),
           value_parser = parse_size, conflicts_with = "page")]
@@ -76,23 +63,6 @@ pub struct DrawArgs {
     /// JSON file overriding colours and widths per kind of line.
     #[arg(long, value_name = "FILE")]
     pub style: Option<PathBuf>,
-    /// Narrow the ends of every open line over this many pixels, millimetres
-    /// with --page (as the style key `taper` of every kind).
-    #[arg(long, value_name = "PX")]
-    pub taper: Option<f64>,
-    /// Thin every line with depth, down to half its width at the farthest point
-    /// (as the style key `width_by_depth` of every kind).
-    #[arg(long)]
-    pub width_by_depth: bool,
-    /// Fade the ridges, valleys and Morse-Smale lines where the surface turns away
-    /// from the viewer (as the style key `fade_by_view` of those kinds).
-    #[arg(long)]
-    pub fade_by_view: bool,
-    /// For a pen plotter: every stroke drawn once, strokes joined where their ends
-    /// meet and ordered to keep the pen's travel in the air short; every stroke of
-    /// constant width (no --taper, --width-by-depth or --fade-by-view)
-    #[arg(long, conflicts_with_all = ["taper", "width_by_depth", "fade_by_view"])]
-    pub plot: bool,
     /// Also render a PNG preview next to the SVG (same name, .png).
     #[arg(long)]
     pub png: bool,
@@ -100,15 +70,10 @@ pub struct DrawArgs {
     pub report: ReportArg,
 }
 
-/// The feature lines of `draw` and `view` and the options they are traced with.
+/// How the feature lines of `draw` and `view` are traced: the options of the
+/// ridges and of the Morse-Smale lines.
 #[derive(clap::Args, Debug)]
 pub struct FeatureLineArgs {
-    /// Which feature lines: ridges (the options of `crestline ridges`), morse (those
-    /// of `crestline morse`), crest (for a 3D image: its crest lines by Marching
-    /// Lines, traced in the image) or none (e.g. silhouettes only).
-    #[arg(long, default_value_t = LinesChoice::default(),
-          value_parser = super::named::<LinesChoice>(LinesChoice::NAMES))]
-    pub lines: LinesChoice,
     /// Options of the Morse-Smale lines (with `--lines morse`).
     #[command(flatten)]
     pub morse: MorseArgs,
@@ -116,30 +81,23 @@ pub struct FeatureLineArgs {
     pub tracer: TracerArgs,
 }
 
-/// The line families `draw` can add besides the silhouettes.
-#[derive(clap::Args, Debug)]
-pub struct FamilyArgs {
-    /// Also draw the borders (boundary loops) of an open mesh.
-    #[arg(long)]
-    pub borders: bool,
-    /// Also draw the creases: edges whose two faces meet at a dihedral angle above
-    /// DEG degrees (strictly between 0 and 180).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub creases: Option<f64>,
-    /// Also draw the suggestive contours (DeCarlo et al. 2003), from the curvature
-    /// of --estimator.
-    #[arg(long)]
-    pub suggestive: bool,
+impl FeatureLineArgs {
+    /// The ridges' and the Morse-Smale lines' options, the smoothing weights not
+    /// yet read.
+    pub fn options(&self) -> (RidgesOptions, MorseOptions) {
+        let ridges = self.tracer.options();
+        let morse = self.morse.options(ridges.estimator);
+        (ridges, morse)
+    }
 }
 
 impl DrawArgs {
     /// The job's options.
     fn options(&self) -> DrawingOptions {
+        let (ridges, morse) = self.features.options();
         DrawingOptions {
-            lines: self.features.lines,
             view: self.view.unwrap_or(DrawingOptions::default().view),
             camera: self.camera,
-            perspective: self.perspective,
             size: self.size.0,
             page: self.page.map(|paper| Page {
                 paper: if self.landscape {
@@ -150,20 +108,9 @@ impl DrawArgs {
                 margin: self.margin,
                 pen: self.pen,
             }),
-            silhouettes: self.silhouettes,
-            silhouette_clearance: self.silhouette_clearance,
-            borders: self.families.borders,
-            creases: self.families.creases,
-            suggestive: self.families.suggestive,
-            taper: self.taper,
-            width_by_depth: self.width_by_depth,
-            fade_by_view: self.fade_by_view,
-            plot: self.plot,
-            ridges: self.features.tracer.options(),
-            morse: self
-                .features
-                .morse
-                .options(self.features.tracer.ridges.estimator),
+            ridges,
+            morse,
+            ..self.drawing.clone()
         }
     }
 }

@@ -35,12 +35,6 @@ pub struct IsoArgs {
     #[arg(long, default_value_t = IsoOptions::default().estimator,
           value_parser = super::named::<Estimator>(Estimator::NAMES))]
     pub estimator: Estimator,
-    /// Close the surface where it reaches the border of the image (padding the
-    /// image by one voxel outside the surface), so that it is watertight; false
-    /// leaves it open there.
-    #[arg(long, value_name = "BOOL", default_value_t = IsoOptions::default().close,
-          action = clap::ArgAction::Set)]
-    pub close: bool,
     #[command(flatten)]
     pub structure: StructureArg,
     #[command(flatten)]
@@ -54,7 +48,6 @@ impl IsoArgs {
     fn options(&self) -> IsoOptions {
         IsoOptions {
             estimator: self.estimator,
-            close: self.close,
             ..self.surface.iso_options()
         }
     }

@@ -31,19 +31,12 @@ pub struct LandmarksArgs {
     /// its descriptors) or .csv (the point landmarks).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// A curvature maximum is the largest within this arc length on both sides
-    /// (world units); default 2.5 feature scales (see --scale).
-    #[arg(long, value_name = "R")]
-    pub radius: Option<f64>,
-    /// An extremal point needs the other extremality's sign to hold this long on
-    /// both sides (world units); default one feature scale (see --scale; of a mesh:
-    /// 1% of the square root of its area, at least a mean edge length).
-    #[arg(long, value_name = "P")]
-    pub persistence: Option<f64>,
-    /// For a 3D image: keep crest lines at least this long (world units); default
-    /// 1.5 feature scales.
-    #[arg(long, value_name = "L")]
-    pub min_length: Option<f64>,
+    #[command(flatten)]
+    pub options: LandmarksOptions,
+    /// For a 3D image: keep crest lines at least this long, in world units or in
+    /// feature scales.
+    #[arg(long, value_name = "L", default_value_t = CrestLinesOptions::default().min_length)]
+    pub min_length: Length,
     /// The frame of the input's coordinates, for a mesh that does not state it
     /// (3D Slicer's `SPACE=` mark): RAS or LPS; default LPS, as 3D Slicer reads
     /// models. Images state their own (NIfTI: RAS; NRRD: its space; MetaImage:
@@ -59,26 +52,13 @@ pub struct LandmarksArgs {
 }
 
 impl LandmarksArgs {
-    /// The job's options.
-    fn options(&self) -> LandmarksOptions {
-        let defaults = LandmarksOptions::default();
-        LandmarksOptions {
-            radius: self.radius.map_or(defaults.radius, Length::World),
-            persistence: self.persistence.map_or(defaults.persistence, Length::World),
-        }
-    }
-
     /// How the crest lines of an image are traced: `--sigma` and `--min-length`.
     fn crest_options(&self) -> CrestLinesOptions {
         let defaults = CrestLinesOptions::default();
         CrestLinesOptions {
-            scale: self.tracer.volume.scale,
-            sigma: self
-                .tracer
-                .volume
-                .sigma
-                .map_or(defaults.sigma, Length::World),
-            min_length: self.min_length.map_or(defaults.min_length, Length::World),
+            scale: self.tracer.volume.iso.scale,
+            sigma: self.tracer.volume.iso.sigma,
+            min_length: self.min_length,
             ..defaults
         }
     }
@@ -102,7 +82,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
             level,
             options: &crest,
         };
-        landmarks(input, &args.options(), &mut report).map_err(|e| naming(e, path))?
+        landmarks(input, &args.options, &mut report).map_err(|e| naming(e, path))?
     } else {
         let loaded = load_for_tracing(path, &args.tracer, &mut report)?;
         let ridges = options_for(&loaded.surface.mesh, path, &args.tracer)?;
@@ -110,7 +90,7 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
             surface: &loaded.surface,
             options: &ridges,
         };
-        landmarks(input, &args.options(), &mut report).map_err(|e| explain(e, path))?
+        landmarks(input, &args.options, &mut report).map_err(|e| explain(e, path))?
     };
     found.source = path.display().to_string();
     let space = space::resolve(found.space, args.space)

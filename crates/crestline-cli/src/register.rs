@@ -28,12 +28,8 @@ pub struct RegisterArgs {
     /// moving, LPS).
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// The smallest share of moving points that may be matched (0.1 to 1).
-    #[arg(long, value_name = "S", default_value_t = RegistrationOptions::default().min_overlap)]
-    pub min_overlap: f64,
-    /// At most this many ICP iterations after the coarse stage.
-    #[arg(long, value_name = "N", default_value_t = RegistrationOptions::default().max_iterations)]
-    pub max_iterations: usize,
+    #[command(flatten)]
+    pub options: RegistrationOptions,
     /// The frame of the points of files that do not state theirs (lines of a
     /// mesh, or from an older version): RAS (NIfTI images) or LPS (DICOM, NRRD
     /// and MetaImage images, 3D Slicer's models). Files of images and landmark
@@ -81,11 +77,7 @@ fn summary(registration: &Registration, moving_points: usize) -> String {
 /// Register the moving lines onto the fixed ones and write the transform.
 pub fn run(args: &RegisterArgs) -> Result<()> {
     TransformFormat::from_path(&args.output)?;
-    let options = RegistrationOptions {
-        min_overlap: args.min_overlap,
-        max_iterations: args.max_iterations,
-        ..RegistrationOptions::default()
-    };
+    let options = args.options;
     options.validate()?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())

@@ -47,7 +47,7 @@ impl TracerArgs {
     /// weights not yet read.
     pub fn options(&self) -> RidgesOptions {
         RidgesOptions {
-            scale: self.volume.scale,
+            scale: self.volume.iso.scale,
             ..self.ridges.clone()
         }
     }

@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::report::Report;
 use crestline::curvature::DerivativeOrder;
 use crestline::io::{is_volume_path, read_volume_with, VolumeReadOptions};
-use crestline::jobs::{self, CurvatureSource, IsoOptions, Length, Surface};
+use crestline::jobs::{self, IsoOptions, Surface};
 use crestline::volume::Volume;
 use crestline::{Error, Result};
 
@@ -21,24 +21,8 @@ pub struct VolumeArgs {
     /// IMAGE` suggests one.
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: Option<f64>,
-    /// The feature scale in world units, so that a rescan or another sampling finds
-    /// the same features. For a 3D image σ and the landmarks' lengths are derived
-    /// from it; default: 2% of the cube root of the volume the isosurface encloses,
-    /// at least a voxel. For a mesh the surface is smoothed for a time of scale²
-    /// and the extremalities for (scale/2)², in world units; default: none (the
-    /// smoothing counts mean edge lengths).
-    #[arg(long, value_name = "L")]
-    pub scale: Option<f64>,
-    /// For a 3D image: standard deviation of the Gaussian smoothing, in world units
-    /// (mm), for the isosurface and its curvature. Default: one feature scale. 0:
-    /// no smoothing (the cubic B-spline through the samples).
-    #[arg(long, value_name = "S", allow_hyphen_values = true)]
-    pub sigma: Option<f64>,
-    /// For a 3D image: the curvature of the isosurface from the image or from the
-    /// mesh.
-    #[arg(long, default_value_t = IsoOptions::default().curvature,
-          value_parser = super::named::<CurvatureSource>(CurvatureSource::NAMES))]
-    pub curvature: CurvatureSource,
+    #[command(flatten)]
+    pub iso: IsoOptions,
     #[command(flatten)]
     pub series: SeriesArg,
 }
@@ -62,16 +46,19 @@ impl SeriesArg {
 }
 
 impl VolumeArgs {
-    /// The isosurface options these arguments give, with the library's defaults
-    /// for what they leave out.
+    /// The isosurface options these arguments give.
     pub fn iso_options(&self) -> IsoOptions {
+        self.iso
+    }
+
+    /// Whether an option that applies to 3D images alone was given: `--level`,
+    /// `--sigma`, `--close` or `--series`.
+    fn any_image_option(&self) -> bool {
         let defaults = IsoOptions::default();
-        IsoOptions {
-            scale: self.scale,
-            sigma: self.sigma.map_or(defaults.sigma, Length::World),
-            curvature: self.curvature,
-            ..defaults
-        }
+        self.level.is_some()
+            || self.iso.sigma != defaults.sigma
+            || self.iso.close != defaults.close
+            || self.series.series.is_some()
     }
 }
 
@@ -113,10 +100,10 @@ pub fn load_surface(
             volume: Some(image),
         });
     }
-    if volume.level.is_some() || volume.sigma.is_some() || volume.series.series.is_some() {
+    if volume.any_image_option() {
         return Err(argument(
             path,
-            &format!("--level, --sigma and --series apply to 3D images ({IMAGES}), not to meshes"),
+            &format!("--level, --sigma, --close and --series apply to 3D images ({IMAGES}), not to meshes"),
         ));
     }
     let (mesh, _) = load_mesh_with_scalars(path, strict, report, scalars)?;

@@ -26,7 +26,9 @@ pub struct ViewArgs {
     /// Output view (.html): one file that opens in a browser with no network.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
-    /// Which feature lines, and how they are traced.
+    #[command(flatten)]
+    pub view: ViewOptions,
+    /// How the feature lines are traced.
     #[command(flatten)]
     pub features: FeatureLineArgs,
     #[command(flatten)]
@@ -40,18 +42,15 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         .into_iter()
         .flatten()
         .collect();
-    let FeatureLineArgs {
-        lines,
-        morse,
-        tracer,
-    } = &args.features;
+    let tracer = &args.features.tracer;
     check_paths(&tracer.inputs(&args.mesh), &outputs)?;
     let mut report = report_with_progress("view", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, tracer, &mut report)?;
+    let (_, morse) = args.features.options();
     let options = ViewOptions {
-        lines: *lines,
         ridges: options_for(&loaded.surface.mesh, &args.mesh, tracer)?,
-        morse: morse.options(tracer.ridges.estimator),
+        morse,
+        ..args.view.clone()
     };
     let input = (loaded.volume.as_ref(), None);
     let (lines, curvature) =

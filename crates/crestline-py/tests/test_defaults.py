@@ -56,11 +56,9 @@ def test_every_option_defaults_to_none_and_is_documented_with_the_librarys_value
         assert parameters[name].default is None, f"{function.__name__}({name}=...) restates a default"
         if name in DEFAULTS[job] and DEFAULTS[job][name] is not None:
             assert f"{describe(DEFAULTS[job][name], unit)}" in function.__doc__, (function.__name__, name)
-    # Every option the library has for the job is an argument, but those the
-    # package spells otherwise (the family is `kind` and `gauss`).
-    spelled = {"family": "kind"}
+    # Every option the library has for the job is an argument of the same name.
     for option in set(DEFAULTS[job]) - NOT_ARGUMENTS.get(job, set()):
-        assert spelled.get(option, option) in parameters, f"{function.__name__} lacks {option}"
+        assert option in parameters, f"{function.__name__} lacks {option}"
 
 
 def test_draw_takes_every_option_of_the_tool_with_the_librarys_defaults(bunny_small):

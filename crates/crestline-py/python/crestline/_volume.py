@@ -235,7 +235,7 @@ def crest_lines(
     Lines (Thirion & Gourdon 1993), as the command-line tool's ``crest-lines``
     does.
 
-    ``kind="crest"`` (the default, {family}) gives crest lines, of kind
+    ``kind="crest"`` (the default, {kind}) gives crest lines, of kind
     ``"ridge"`` (convex) and ``"valley"`` (concave); ``"parabolic"`` the lines
     where the Gaussian curvature is 0; ``"gauss"`` those where it is ``gauss``.
     With ``seeds``, only the lines through that many random cells, longest first,
@@ -252,7 +252,7 @@ def crest_lines(
     given = options(
         scale=_scale(scale),
         sigma=None if sigma is None else number(sigma, "sigma", strict=True),
-        family=_family(kind, gauss),
+        kind=_family(kind, gauss),
         min_length=None if min_length is None else number(min_length, "min_length"),
         min_strength=None if min_strength is None else number(min_strength, "min_strength"),
         seeds=None if seeds is None else count(seeds, "seeds", 1),

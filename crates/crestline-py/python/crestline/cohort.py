@@ -145,8 +145,8 @@ def _image_lines(path: str, options: Dict[str, Any]) -> Tuple[Lines, float]:
     if "level" not in options:
         raise ValueError("the option 'level' (the isosurface's value) is needed for images")
     image = read_volume(path)
-    # The library's options of the job, the family spelled kind and gauss.
-    keys = {"level", "kind", "gauss", *DEFAULTS["crest_lines"]} - {"family"}
+    # The library's options of the job, and the value of a Gaussian curvature kind.
+    keys = {"level", "gauss", *DEFAULTS["crest_lines"]}
     found = crest_lines(image, **{k: v for k, v in options.items() if k in keys})
     return found, image.voxel
 

@@ -14,19 +14,28 @@ use crate::volume::crease::{
 use crate::volume::{Smoothing, Volume};
 use crate::{Error, Result};
 
-/// Options of [`crease`].
+/// Options of [`crease`]. Each field is an option of the tool and a keyword
+/// argument of the Python package, documented here once: with the feature `clap`
+/// this struct is the tool's arguments.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct CreaseOptions {
-    /// Valley surfaces (ridges of −f) instead of ridge surfaces. Default: ridges.
+    /// Valley surfaces (ridges of −f) instead of ridge surfaces.
+    #[cfg_attr(feature = "clap", arg(long))]
     pub valley: bool,
-    /// Gaussian smoothing σ in world units; 0 differentiates the approximating
-    /// cubic B-spline of the samples, which smooths least. Default: 0.
+    /// Gaussian smoothing σ in world units (mm); 0 differentiates the approximating
+    /// cubic B-spline of the samples, which smooths least.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S", allow_hyphen_values = true,
+        default_value_t = CreaseOptions::default().sigma))]
     pub sigma: f64,
     /// Least ridge strength −λ3, as a fraction of the strongest in the image.
-    /// Default: [`DEFAULT_STRENGTH_FRACTION`].
+    #[cfg_attr(feature = "clap", arg(long, value_name = "T",
+        default_value_t = CreaseOptions::default().strength))]
     pub strength: f64,
-    /// Drop connected pieces of fewer triangles than this. Default: 20.
+    /// Drop connected pieces of fewer triangles than this.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = CreaseOptions::default().min_component))]
     pub min_component: usize,
 }
 

@@ -13,30 +13,47 @@ use crate::progress::Observer;
 use crate::volume::{Sweep, Volume};
 use crate::{Error, Result};
 
-/// Options of [`crest_lines`].
+/// Options of [`crest_lines`]. Each field is an option of the tool and a keyword
+/// argument of the Python package (which spells `gauss=J` as `kind="gauss",
+/// gauss=J`), documented here once: with the feature `clap` this struct is the
+/// tool's arguments.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct CrestLinesOptions {
-    /// The feature scale, in world units ([`super::scale`]). Default (`None`):
-    /// the image's ([`super::scale::image_scale`]).
+    /// The feature scale in world units (mm), from which σ, the shortest line's length
+    /// and the landmarks' lengths are derived; default from the size of the object the
+    /// isosurface encloses (2% of the cube root of its volume, at least a voxel),
+    /// not from the grid, so that a rescan finds the same lines.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "L"))]
     pub scale: Option<f64>,
-    /// Standard deviation of the Gaussian smoothing of the image. Default: one
-    /// feature scale.
+    /// Gaussian smoothing σ of the image, in world units (mm) or in feature scales
+    /// ("1.5 scales").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S",
+        default_value_t = CrestLinesOptions::default().sigma))]
     pub sigma: Length,
-    /// Which lines: crest lines (ridges and valleys), parabolic lines or
-    /// iso-Gaussian curves. Default: crest lines.
-    pub family: LineFamily,
-    /// The randomized Marching Lines: follow only the lines through this many
-    /// cells drawn at random on the isosurface, longest first. Default: `None`,
-    /// every cell.
+    /// Which lines: crest (ridges and valleys), parabolic (K = 0) or gauss=J (the
+    /// iso-Gaussian curves K = J, J in world units⁻²).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "crest|parabolic|gauss=J",
+        default_value_t = CrestLinesOptions::default().kind))]
+    pub kind: LineFamily,
+    /// The randomized Marching Lines: follow only the lines through N cells drawn
+    /// at random on the isosurface; the longest lines come first, at a fraction of
+    /// the cost. Default: every cell, every line.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..)))]
     pub seeds: Option<usize>,
-    /// The seed of the random draw of `seeds` (the same seed, the same lines).
-    /// Default: 1.
+    /// The seed of the random draw of the seeds (the same seed, the same lines).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S", requires = "seeds",
+        default_value_t = CrestLinesOptions::default().rng_seed))]
     pub rng_seed: u64,
-    /// Keep lines at least this long. Default: 1.5 feature scales.
+    /// Keep lines at least this long, in world units (mm) or in feature scales.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "L",
+        default_value_t = CrestLinesOptions::default().min_length))]
     pub min_length: Length,
     /// Keep lines whose strength ∫|k| ds (dimensionless) is at least this.
-    /// Default: 0.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "T",
+        default_value_t = CrestLinesOptions::default().min_strength))]
     pub min_strength: f64,
 }
 
@@ -45,7 +62,7 @@ impl Default for CrestLinesOptions {
         CrestLinesOptions {
             scale: None,
             sigma: Length::scales(1.0),
-            family: LineFamily::Crest,
+            kind: LineFamily::Crest,
             seeds: None,
             rng_seed: 1,
             min_length: Length::scales(1.5),
@@ -72,7 +89,7 @@ pub fn crest_lines(
     check_filters(min_length, min_strength)?;
     check_level(&volume, level)?;
     let tracing = LineTracing {
-        family: options.family,
+        family: options.kind,
         sweep: options.seeds.map_or(Sweep::Every, |count| Sweep::Seeds {
             count,
             rng_seed: options.rng_seed,

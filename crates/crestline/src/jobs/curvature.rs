@@ -7,16 +7,25 @@ use crate::curvature::{estimate_curvature, CurvatureField, Estimator, Quality};
 use crate::progress::{try_stage, Observer};
 use crate::Result;
 
-/// Options of [`curvature`].
+/// Options of [`curvature`]. Each field is an option of the tool and a keyword
+/// argument of the Python package, documented here once: with the feature `clap`
+/// this struct is the tool's arguments.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct CurvatureOptions {
-    /// The estimator of a mesh (an isosurface may carry its image's curvature
-    /// instead). Default: the shape operator.
+    /// Curvature estimator: shape-operator is fast and best on regular meshes;
+    /// jet-fit (a quartic least-squares fit over a ring neighbourhood) is slower and
+    /// accurate on irregular ones. An image's isosurface may carry its image's
+    /// curvature instead.
+    #[cfg_attr(feature = "clap", arg(long, value_enum,
+        default_value_t = CurvatureOptions::default().estimator))]
     pub estimator: Estimator,
-    /// The quantity the curvature PLY file also carries as its `quality` vertex
-    /// property, which MeshLab and pymeshlab colour and filter by. Default: the
-    /// mean curvature.
+    /// The curvature quantity also written as the vertex property `quality`, the
+    /// one MeshLab and pymeshlab colour and filter by; the quantity of a .shape.gii
+    /// or .curv output.
+    #[cfg_attr(feature = "clap", arg(long, value_enum,
+        default_value_t = CurvatureOptions::default().quality))]
     pub quality: Quality,
 }
 

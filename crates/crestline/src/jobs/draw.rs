@@ -39,61 +39,89 @@ crate::named::named!(LinesChoice, "kind of lines", {
     None => "none",
 });
 
-/// Options of [`draw`].
+/// Options of [`draw`]. Each field is an option of the tool and a keyword
+/// argument of the Python package, documented here once: with the feature `clap`
+/// this struct is the tool's arguments, but for the view, camera, size and page,
+/// which the tool reads from text of its own (`AZIMUTH,ELEVATION`, `WxH`, a paper
+/// name), and the ridges' and Morse-Smale lines' options, which are their jobs'.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct DrawingOptions {
-    /// Which feature lines. Default: ridges.
+    /// Which feature lines: ridges (the options of the ridges job), morse (those
+    /// of the Morse-Smale job), crest (for a 3D image: its crest lines by Marching
+    /// Lines, traced in the image) or none (e.g. silhouettes only).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = LinesChoice::default()))]
     pub lines: LinesChoice,
     /// The viewing direction, azimuth and elevation in degrees (0, 0 looks along
     /// −z with +y up). Default: 0, 0.
+    #[cfg_attr(feature = "clap", arg(skip = DrawingOptions::default().view))]
     pub view: [f64; 2],
     /// An explicit camera instead of `view`: eye, target and up vector.
     /// Default: none.
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub camera: Option<[f64; 9]>,
-    /// Perspective projection with this field of view in degrees; orthographic
-    /// without it. Default: orthographic.
+    /// Perspective projection with this field of view in degrees (across the
+    /// shorter side); orthographic without it.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "FOV"))]
     pub perspective: Option<f64>,
     /// Canvas width and height in pixels. Default: 800 × 800. With a `page` the
     /// canvas is its printable area, and `size` must be left at its default.
+    #[cfg_attr(feature = "clap", arg(skip = DrawingOptions::default().size))]
     pub size: [u32; 2],
     /// A physical page for pen plotters and print (paper, margin, pen): the SVG
     /// declares the paper's size in millimetres, every line is stroked with the
     /// pen, and `taper` and `silhouette_clearance` are in millimetres ([`Page`]).
     /// Default: none, a canvas of `size` pixels.
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub page: Option<Page>,
-    /// Also draw the silhouettes. Default: [`DrawOptions::default`]'s (no).
+    /// Also draw the silhouettes (smooth occluding contours).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub silhouettes: bool,
     /// Feature lines are left out where they run beside a visible silhouette
-    /// closer than this many pixels (millimetres on a `page`); 0 keeps them.
-    /// Default: [`DrawOptions`]'s pixels (their tenth in millimetres on a page,
-    /// the same at [`PIXELS_PER_MM`](crate::draw::PIXELS_PER_MM)).
+    /// (nearly parallel) closer than this many pixels (millimetres on a page); 0
+    /// keeps them. Default: 4 pixels (0.4 mm on a page).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "PX"))]
     pub silhouette_clearance: Option<f64>,
-    /// Also draw the borders of an open mesh. Default: no.
+    /// Also draw the borders (boundary loops) of an open mesh.
+    #[cfg_attr(feature = "clap", arg(long))]
     pub borders: bool,
-    /// Also draw the creases, edges whose faces meet at a dihedral angle above
-    /// this many degrees. Default: none.
+    /// Also draw the creases: edges whose two faces meet at a dihedral angle above
+    /// DEG degrees (strictly between 0 and 180).
+    #[cfg_attr(
+        feature = "clap",
+        arg(long, value_name = "DEG", allow_hyphen_values = true)
+    )]
     pub creases: Option<f64>,
     /// Also draw the suggestive contours (DeCarlo et al. 2003), from the curvature
-    /// of the ridges' estimator. Default: no.
+    /// of the ridges' estimator.
+    #[cfg_attr(feature = "clap", arg(long))]
     pub suggestive: bool,
-    /// Narrow the ends of every open line over this many pixels (millimetres on a
-    /// `page`). Default: the style's.
+    /// Narrow the ends of every open line over this many pixels, millimetres on a
+    /// page (as the style key `taper` of every kind). Default: the style's.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "PX"))]
     pub taper: Option<f64>,
-    /// Thin every line with depth. Default: the style's.
+    /// Thin every line with depth, down to half its width at the farthest point
+    /// (as the style key `width_by_depth` of every kind).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub width_by_depth: bool,
-    /// Fade the feature lines where the surface turns away from the viewer.
-    /// Default: the style's.
+    /// Fade the ridges, valleys and Morse-Smale lines where the surface turns away
+    /// from the viewer (as the style key `fade_by_view` of those kinds).
+    #[cfg_attr(feature = "clap", arg(long))]
     pub fade_by_view: bool,
     /// For a pen plotter: every stroke drawn once, strokes joined where their ends
-    /// meet and ordered to keep the pen's travel short ([`for_plotter`]); every
-    /// stroke of constant width (`taper`, `width_by_depth` and `fade_by_view` are
-    /// refused, and the style's ignored). Default: no.
+    /// meet and ordered to keep the pen's travel in the air short; every stroke of
+    /// constant width (no taper, width by depth or fading by view; the style's are
+    /// ignored).
+    #[cfg_attr(feature = "clap", arg(long,
+        conflicts_with_all = ["taper", "width_by_depth", "fade_by_view"]))]
     pub plot: bool,
     /// How ridges are traced (`lines` ridges; their estimator also serves the
     /// suggestive contours, and their threshold the crest lines).
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub ridges: RidgesOptions,
     /// How Morse-Smale lines are extracted (`lines` morse).
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub morse: MorseOptions,
 }
 

@@ -68,27 +68,43 @@ crate::named::named!(CurvatureSource, "curvature source", {
 });
 
 /// Options of [`isosurface`] (`crestline iso`, and every job that works on an
-/// image's isosurface).
+/// image's isosurface). Each field is an option of the tool and a keyword
+/// argument of the Python package, documented here once: with the feature
+/// `clap` this struct is the tool's arguments.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct IsoOptions {
-    /// The feature scale, in world units ([`super::scale`]). Default (`None`):
-    /// the image's ([`image_scale`]).
+    /// The feature scale in world units, so that a rescan or another sampling finds
+    /// the same features. For a 3D image σ and the landmarks' lengths are derived
+    /// from it; default: 2% of the cube root of the volume the isosurface encloses,
+    /// at least a voxel. For a mesh the surface is smoothed for a time of scale²
+    /// and the extremalities for (scale/2)², in world units; default: none (the
+    /// smoothing counts mean edge lengths).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "L"))]
     pub scale: Option<f64>,
-    /// Standard deviation of the Gaussian smoothing of the image, for the surface
-    /// and its curvature; 0: none (the cubic B-spline through the samples).
-    /// Default: one feature scale.
+    /// For a 3D image: standard deviation of the Gaussian smoothing, for the
+    /// isosurface and its curvature, in world units (mm), or in feature scales
+    /// ("1.5 scales"); 0: no smoothing (the cubic B-spline through the samples).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S", allow_hyphen_values = true,
+        default_value_t = IsoOptions::default().sigma))]
     pub sigma: Length,
-    /// Where the surface's curvature comes from. Default: the image.
+    /// For a 3D image: the curvature of the isosurface from the image or from the
+    /// mesh.
+    #[cfg_attr(feature = "clap", arg(long, value_enum,
+        default_value_t = IsoOptions::default().curvature))]
     pub curvature: CurvatureSource,
-    /// The mesh estimator of the surface's curvature for [`CurvatureSource::Mesh`]
-    /// (the line jobs use their own options' estimator). Default: the shape
-    /// operator.
+    /// The mesh estimator of the surface's curvature for `curvature` mesh (the
+    /// line jobs use their own options' estimator). Default: the shape operator.
+    /// (The tool's `--estimator` is its command's.)
+    #[cfg_attr(feature = "clap", arg(skip = IsoOptions::default().estimator))]
     pub estimator: Estimator,
-    /// Close the surface where it reaches the border of the grid (the image is
-    /// padded by one voxel outside the surface), so that it is watertight; the
-    /// caps' vertices lie outside the image, so their image curvature is marked
-    /// unreliable. Default: on (see `docs/design/images.md`, "Isosurfaces").
+    /// For a 3D image: close the surface where it reaches the border of the image
+    /// (padding the image by one voxel outside the surface), so that it is
+    /// watertight; false leaves it open there. The caps' vertices lie outside the
+    /// image, so their image curvature is marked unreliable.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "BOOL", action = clap::ArgAction::Set,
+        default_value_t = IsoOptions::default().close))]
     pub close: bool,
 }
 

@@ -12,15 +12,23 @@ use crate::progress::{try_stage, Observer};
 use crate::volume::Volume;
 use crate::Result;
 
-/// Options of [`landmarks`].
+/// Options of [`landmarks`]. Each field is an option of the tool and a keyword
+/// argument of the Python package, documented here once: with the feature `clap`
+/// this struct is the tool's arguments.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct LandmarksOptions {
-    /// A curvature maximum is the largest within this arc length on both sides.
-    /// Default: 2.5 feature scales.
+    /// A curvature maximum is the largest within this arc length on both sides, in
+    /// world units or in feature scales (of a mesh: 1% of the square root of its
+    /// area, at least a mean edge length).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "R",
+        default_value_t = LandmarksOptions::default().radius))]
     pub radius: Length,
     /// An extremal point needs the other extremality's sign to hold this long on
-    /// both sides. Default: one feature scale.
+    /// both sides, in world units or in feature scales.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "P",
+        default_value_t = LandmarksOptions::default().persistence))]
     pub persistence: Length,
 }
 

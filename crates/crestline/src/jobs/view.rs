@@ -13,16 +13,24 @@ use crate::progress::{try_stage, Observer};
 use crate::volume::Volume;
 use crate::Result;
 
-/// Options of [`view`].
+/// Options of [`view`]. With the feature `clap` this struct is the tool's
+/// arguments, but for the ridges' and Morse-Smale lines' options, which are their
+/// jobs'.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct ViewOptions {
-    /// Which feature lines. Default: ridges.
+    /// Which feature lines: ridges (the options of the ridges job), morse (those
+    /// of the Morse-Smale job), crest (for a 3D image: its crest lines by Marching
+    /// Lines, traced in the image) or none (e.g. silhouettes only).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = LinesChoice::default()))]
     pub lines: LinesChoice,
     /// How ridges are traced (`lines` ridges; their estimator also gives the
     /// curvature the surface is coloured by, and their threshold the crest lines).
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub ridges: RidgesOptions,
     /// How Morse-Smale lines are extracted (`lines` morse).
+    #[cfg_attr(feature = "clap", arg(skip))]
     pub morse: MorseOptions,
 }
 

@@ -52,20 +52,32 @@ pub struct PointSet {
 }
 
 /// Settings of [`register`] (and of `crestline register`, [`crate::jobs::register`]).
+/// The first two are options of the tool and keyword arguments of the Python
+/// package, documented here once (with the feature `clap` this struct is the
+/// tool's arguments); the schedule of the coarse stage and the tolerance are the
+/// library's to tune.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct RegistrationOptions {
-    /// The smallest share of moving points that may be matched, in `[0.1, 1]`:
-    /// the expected overlap of the two sets should be above it.
+    /// The smallest share of moving points that may be matched (0.1 to 1): the
+    /// expected overlap of the two sets should be above it.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S",
+        default_value_t = RegistrationOptions::default().min_overlap))]
     pub min_overlap: f64,
-    /// At most this many ICP iterations in the final stage (1 to 10 000).
+    /// At most this many ICP iterations after the coarse stage (1 to 10 000).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = RegistrationOptions::default().max_iterations))]
     pub max_iterations: usize,
     /// ICP iterations for each starting guess in the coarse stage (1 to 10 000).
+    #[cfg_attr(feature = "clap", arg(skip = RegistrationOptions::default().coarse_iterations))]
     pub coarse_iterations: usize,
     /// At most this many moving line points in the coarse stage (at least 3).
+    #[cfg_attr(feature = "clap", arg(skip = RegistrationOptions::default().coarse_points))]
     pub coarse_points: usize,
     /// ICP stops once an iteration moves the points by less than this share of
     /// their RMS radius (finite, in `[0, 0.1]`).
+    #[cfg_attr(feature = "clap", arg(skip = RegistrationOptions::default().tolerance))]
     pub tolerance: f64,
 }
 
