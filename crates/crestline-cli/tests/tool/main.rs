@@ -12,6 +12,7 @@ mod fuzz_volumes;
 mod hostile;
 mod hostile_readers;
 mod info_percentiles;
+mod options;
 mod parity;
 mod quality;
 mod transfer;

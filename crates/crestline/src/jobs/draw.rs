@@ -120,8 +120,9 @@ pub struct DrawingOptions {
     /// suggestive contours, and their threshold the crest lines).
     #[cfg_attr(feature = "clap", arg(skip))]
     pub ridges: RidgesOptions,
-    /// How Morse-Smale lines are extracted (`lines` morse).
-    #[cfg_attr(feature = "clap", arg(skip))]
+    /// How Morse-Smale lines are extracted (`lines` morse). Default: the Morse-Smale
+    /// job's, with the ridges' estimator.
+    #[cfg_attr(feature = "clap", arg(skip = morse_of_a_picture()))]
     pub morse: MorseOptions,
 }
 
@@ -145,8 +146,18 @@ impl Default for DrawingOptions {
             fade_by_view: false,
             plot: false,
             ridges: RidgesOptions::default(),
-            morse: MorseOptions::default(),
+            morse: morse_of_a_picture(),
         }
+    }
+}
+
+/// The Morse-Smale options of a drawing or a view: the job's, but for the
+/// estimator, which is the ridges' (a picture's curvature comes from one
+/// estimator, which the tool's `--estimator` sets).
+pub(crate) fn morse_of_a_picture() -> MorseOptions {
+    MorseOptions {
+        estimator: RidgesOptions::default().estimator,
+        ..MorseOptions::default()
     }
 }
 

@@ -100,6 +100,10 @@ impl std::str::FromStr for Length {
 
     fn from_str(text: &str) -> crate::Result<Length> {
         let text = text.trim();
+        // Any number, `nan` and `inf` included: the job says what it accepts.
+        if let Ok(value) = text.parse::<f64>() {
+            return Ok(Length::World(value));
+        }
         let split = text
             .find(|c: char| c.is_alphabetic() && c != 'e' && c != 'E')
             .unwrap_or(text.len());

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::draw::{given_or_traced, LinesChoice};
+use super::draw::{given_or_traced, morse_of_a_picture, LinesChoice};
 use super::image::Surface;
 use super::morse::MorseOptions;
 use super::ridges::RidgesOptions;
@@ -16,7 +16,7 @@ use crate::Result;
 /// Options of [`view`]. With the feature `clap` this struct is the tool's
 /// arguments, but for the ridges' and Morse-Smale lines' options, which are their
 /// jobs'.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct ViewOptions {
@@ -29,9 +29,20 @@ pub struct ViewOptions {
     /// curvature the surface is coloured by, and their threshold the crest lines).
     #[cfg_attr(feature = "clap", arg(skip))]
     pub ridges: RidgesOptions,
-    /// How Morse-Smale lines are extracted (`lines` morse).
-    #[cfg_attr(feature = "clap", arg(skip))]
+    /// How Morse-Smale lines are extracted (`lines` morse). Default: the Morse-Smale
+    /// job's, with the ridges' estimator.
+    #[cfg_attr(feature = "clap", arg(skip = morse_of_a_picture()))]
     pub morse: MorseOptions,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        ViewOptions {
+            lines: LinesChoice::default(),
+            ridges: RidgesOptions::default(),
+            morse: morse_of_a_picture(),
+        }
+    }
 }
 
 /// The lines (the stage `extraction`, with the stages of their job; or the `given`
