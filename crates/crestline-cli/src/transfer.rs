@@ -35,8 +35,10 @@ pub struct TransferArgs {
     /// same anatomy; an image if the template is one, a mesh if it is one.
     pub subject: PathBuf,
     /// Output: .mrk.json (3D Slicer markups), .json or .csv: each landmark's label,
-    /// position in the subject and confidence (the RMS distance of the nearby lines
-    /// to the subject's, mm; lower is better), in the order given.
+    /// position in the subject, confidence (the RMS distance of the nearby lines
+    /// to the subject's, mm; lower is better) and whether it is flagged (the
+    /// subject lacks the template's lines around it: a part cut off or missing),
+    /// in the order given.
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// The isosurface level of both images (not for meshes).
@@ -188,8 +190,10 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let carried = transfer(&template, &subject, &landmarks, &options, &mut report)
         .map_err(|e| naming(e, &args.subject))?;
     println!(
-        "{} landmarks; rigid stage: rotation {:.3}°, rms {:.4}; after the deformation: rms {:.4}",
+        "{} landmarks, {} flagged; rigid stage: rotation {:.3}°, rms {:.4}; after the \
+         deformation: rms {:.4}",
         landmarks.len(),
+        carried.flagged.iter().filter(|f| **f).count(),
         carried.rigid.transform.angle_degrees(),
         carried.rigid.rms,
         carried.rms
@@ -205,6 +209,6 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let space = args.output_space.unwrap_or(Space::Ras);
     args.report
         .write_with_output(&mut report, &args.output, |p| {
-            write_labelled(p, &moved, &carried.confidence, space)
+            write_labelled(p, &moved, &carried.confidence, &carried.flagged, space)
         })
 }

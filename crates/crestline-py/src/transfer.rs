@@ -36,8 +36,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// The landmarks `labels` at `positions` (RAS) of the template whose lines are
 /// `template` (in the frame `template_space`) carried onto the subject whose
 /// lines are `subject` ([`jobs::transfer`], the JSON `options` of
-/// [`TransferOptions`]): a dict of positions (n × 3, RAS), confidence, rms and
-/// the rigid stage's 4 × 4 matrix.
+/// [`TransferOptions`]): a dict of positions (n × 3, RAS), confidence, coverage,
+/// flagged, rms and the rigid stage's 4 × 4 matrix.
 #[pyfunction]
 #[pyo3(signature = (template, template_space, subject, subject_space, labels, positions, options, progress=None))]
 #[allow(clippy::too_many_arguments)] // the arguments of one call, as the package passes them
@@ -79,6 +79,8 @@ fn transfer_landmarks<'py>(
         "confidence",
         Array1::from(found.confidence).into_pyarray(py),
     )?;
+    dict.set_item("coverage", Array1::from(found.coverage).into_pyarray(py))?;
+    dict.set_item("flagged", found.flagged)?;
     dict.set_item("rms", found.rms)?;
     let matrix = Array2::from_shape_fn((4, 4), |(r, c)| matrix[(r, c)]);
     dict.set_item("rigid", matrix.into_pyarray(py))?;
@@ -158,8 +160,9 @@ fn read_labelled_points(
     Ok((found.into_iter().map(|l| l.label).collect(), positions))
 }
 
-/// Write labelled landmarks (positions n × 3 in RAS) with their confidence to
-/// `path` ([`write_labelled`]), positions in `space` where the format allows.
+/// Write labelled landmarks (positions n × 3 in RAS) with their confidence and
+/// flags to `path` ([`write_labelled`]), positions in `space` where the format
+/// allows.
 #[pyfunction]
 fn write_labelled_points(
     py: Python<'_>,
@@ -167,6 +170,7 @@ fn write_labelled_points(
     labels: Vec<String>,
     positions: PyReadonlyArray2<'_, f64>,
     confidence: PyReadonlyArray1<'_, f64>,
+    flagged: Vec<bool>,
     space: &str,
 ) -> PyResult<()> {
     let space = frame(Some(space))?.unwrap_or(crestline::Space::Ras);
@@ -176,6 +180,6 @@ fn write_labelled_points(
         .map(|(label, position)| LabelledPoint { label, position })
         .collect();
     let confidence = confidence.as_array().to_vec();
-    py.detach(|| write_labelled(&path, &points, &confidence, space))
+    py.detach(|| write_labelled(&path, &points, &confidence, &flagged, space))
         .map_err(raised)
 }

@@ -149,7 +149,8 @@ def test_transfer_writes_the_long_table_of_every_subject(client, tmp_path):
     assert (tmp_path / "out" / "template.lines.json").exists()
     with open(tmp_path / "out" / "transferred.csv", newline="") as f:
         table = list(csv.DictReader(f))
-    assert list(table[0]) == ["subject", "label", "x", "y", "z", "confidence"]
+    assert list(table[0]) == ["subject", "label", "x", "y", "z", "confidence", "flagged"]
+    assert {r["flagged"] for r in table} == {"false"}
     assert [r["subject"] for r in table] == [f"sub-{s}" for s in range(3) for _ in labels]
     assert [r["label"] for r in table] == labels * 3
     lps = np.array([-1.0, -1.0, 1.0])

@@ -27,7 +27,8 @@ FUNCTIONS = [
      {"indicator", "estimator", "keep_saddles", "criterion", "cancel", "cells", "keep_forced", "smooth"}),
     (crestline.register, "register", "unit", {"min_overlap", "max_iterations"}),
     (crestline.transfer, "transfer", "mm",
-     {"scales", "iterations", "max_distance", "max_angle", "max_points", "confidence_radius", "mesh_threshold"}),
+     {"scales", "iterations", "max_distance", "max_angle", "max_points", "confidence_radius", "mesh_threshold",
+      "min_coverage"}),
 ]
 # The library's options a function leaves at their defaults on purpose: the
 # isosurface returns the surface alone (its curvature is crestline.curvature's),

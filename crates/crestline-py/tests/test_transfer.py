@@ -53,10 +53,11 @@ def landmarks_csv(path, lines, space="RAS", every=None):
 
 
 def read_csv(path):
-    """Labels, positions (RAS) and confidence of the tool's CSV output."""
+    """Labels, positions (RAS) and confidence of the tool's CSV output; no
+    landmark flagged."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    assert all(row["space"] == "RAS" for row in rows)
+    assert all(row["space"] == "RAS" and row["flagged"] == "false" for row in rows)
     positions = np.array([[float(row[c]) for c in "xyz"] for row in rows])
     return [row["label"] for row in rows], positions, np.array([float(row["confidence"]) for row in rows])
 
@@ -128,6 +129,7 @@ def test_the_output_is_written_as_the_tool_writes_it(tmp_path):
     labels, positions = crestline.read_labelled(out)
     assert labels == found["labels"] == ["tip", "other"]
     assert np.abs(positions - found["positions"]).max() < 1e-9
+    assert found["flagged"] == [False, False] and np.all(found["coverage"] > 0.5)
 
 
 def test_bad_arguments_are_named():
@@ -135,5 +137,8 @@ def test_bad_arguments_are_named():
         crestline.transfer(BUNNY, {"a": (0, 0, 0)}, BUNNY, scales=[0])
     with pytest.raises(ValueError, match="landmarks"):
         crestline.transfer(BUNNY, (["a", "b"], [(0, 0, 0)]), BUNNY)
+    # Scales in millimetres on a model in metres: refused, not a grid of 10¹² nodes.
+    with pytest.raises(crestline.ArgumentError, match="too small"):
+        crestline.transfer(BUNNY, {"a": (0, 0, 0)}, BUNNY, scales=[0.0001])
     with pytest.raises(crestline.FileError, match="no-such"):
         crestline.transfer(BUNNY, "no-such.mrk.json", BUNNY)

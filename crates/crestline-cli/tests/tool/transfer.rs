@@ -259,6 +259,110 @@ fn landmarks_of_the_mni_isosurface_land_on_a_warped_copy() {
     assert!((given - deformed).abs() < 1e-9, "{given} mm, {deformed} mm");
 }
 
+/// The labels, positions (RAS), confidence and flags of the tool's CSV output.
+fn read_csv(path: &Path) -> Vec<(String, Point, f64, bool)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("label,x,y,z,confidence,flagged,space"));
+    lines
+        .map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            assert_eq!(f[6], "RAS");
+            let number = |i: usize| f[i].parse::<f64>().unwrap();
+            let point = Point::new(number(1), number(2), number(3));
+            (f[0].to_string(), point, number(4), f[5] == "true")
+        })
+        .collect()
+}
+
+#[test]
+fn a_cut_subject_keeps_the_landmarks_it_has_and_flags_the_others() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let template = dir.path().join("template.ply");
+    succeeds(&["iso", MNI, "--level", "60", "-o", &path(&template)]);
+    // The subject: the warped isosurface without its top, every triangle with a
+    // corner above z = 30 mm (RAS, in the subject) dropped.
+    let soup = crestline::io::read_mesh(&template).unwrap();
+    let positions: Vec<Point> = soup.positions.iter().map(to_subject).collect();
+    let cut = 30.0;
+    let triangles: Vec<[u32; 3]> = soup
+        .triangles
+        .iter()
+        .filter(|t| t.iter().all(|&v| positions[v as usize].z <= cut))
+        .copied()
+        .collect();
+    let subject = dir.path().join("subject.ply");
+    let cut_soup = crestline::mesh::TriangleSoup {
+        positions,
+        triangles,
+        vertex_scalars: Vec::new(),
+        ..soup
+    };
+    crestline::io::write_soup(&subject, &cut_soup).unwrap();
+
+    let lines = dir.path().join("template.json");
+    succeeds(&[
+        "ridges",
+        &path(&template),
+        "--threshold",
+        "0",
+        "-o",
+        &path(&lines),
+    ]);
+    let csv = dir.path().join("landmarks.csv");
+    let chosen = landmarks_on(&lines, &csv);
+    let output = dir.path().join("out.csv");
+    succeeds(&[
+        "transfer",
+        &path(&template),
+        &path(&csv),
+        &path(&subject),
+        "--template-lines",
+        &path(&lines),
+        "-o",
+        &path(&output),
+    ]);
+    let found = read_csv(&output);
+    // Every label, in order.
+    let labels: Vec<String> = (0..chosen.len()).map(|n| format!("P{n:02}")).collect();
+    assert_eq!(
+        found.iter().map(|f| f.0.clone()).collect::<Vec<_>>(),
+        labels
+    );
+    let (mut kept, mut kept_errors, mut lost) = (Vec::new(), Vec::new(), Vec::new());
+    for (row, p) in found.iter().zip(&chosen) {
+        let truth = to_subject(p);
+        eprintln!(
+            "{} z {:6.1} error {:5.2} confidence {:5.2} flagged {}",
+            row.0,
+            truth.z,
+            (row.1 - truth).norm(),
+            row.2,
+            row.3
+        );
+        if truth.z < cut - 10.0 {
+            kept.push(row.3);
+            kept_errors.push((row.1 - truth).norm());
+        } else if truth.z > cut + 10.0 {
+            lost.push(row.3);
+        }
+    }
+    let share = |flags: &[bool]| flags.iter().filter(|f| **f).count() as f64 / flags.len() as f64;
+    let error = median(kept_errors);
+    eprintln!(
+        "{} kept: {:.0}% flagged, median error {error:.2} mm; {} cut off: {:.0}% flagged",
+        kept.len(),
+        100.0 * share(&kept),
+        lost.len(),
+        100.0 * share(&lost)
+    );
+    assert!(kept.len() > 20 && lost.len() > 5, "{kept:?} {lost:?}");
+    assert!(share(&kept) <= 0.1, "{kept:?}");
+    assert!(share(&lost) >= 0.9, "{lost:?}");
+    assert!(error < 1.0, "{error} mm");
+}
+
 #[test]
 fn a_mesh_and_an_image_are_refused() {
     let dir = tempfile::tempdir().unwrap();

@@ -20,8 +20,12 @@ from ._volume import crest_lines, read_volume
 Transferred = Dict[str, Any]
 """What :func:`transfer` returns: ``labels`` (a list, in the order given),
 ``positions`` ((n, 3) float64, RAS), ``confidence`` ((n,) float64, mm; lower is
-better, infinite where no line is near), ``rms`` (float) and ``rigid`` (the
-rigid stage's 4 × 4 matrix, template → subject, RAS)."""
+better, infinite where no line is near), ``coverage`` ((n,) float64: the
+subject's lines around each landmark over the template's, near 1 where the
+subject shows that part), ``flagged`` (a list of bools: coverage below
+``min_coverage`` or no confidence, a part cut off or missing in the subject),
+``rms`` (float) and ``rigid`` (the rigid stage's 4 × 4 matrix, template →
+subject, RAS)."""
 
 Labelled = Tuple[List[str], npt.NDArray[np.float64]]
 
@@ -88,6 +92,7 @@ def transfer(
     max_points: Optional[int] = None,
     confidence_radius: Optional[float] = None,
     mesh_threshold: Optional[float] = None,
+    min_coverage: Optional[float] = None,
     output: Union[str, "PathLike[str]", None] = None,
     output_space: Optional[str] = None,
     progress: Progress = None,
@@ -102,7 +107,10 @@ def transfer(
     apart (default {max_distance}), of at most ``max_points`` points per scan
     (default {max_points}); each landmark moves by it. Its ``confidence`` is the
     RMS distance of the template's lines around it (Gaussian weights of
-    ``confidence_radius``, default {confidence_radius}) to the subject's.
+    ``confidence_radius``, default {confidence_radius}) to the subject's; a
+    landmark whose coverage (the subject's lines around it over the template's)
+    is below ``min_coverage`` (default {min_coverage}) is flagged, and still
+    placed.
 
     ``template`` and ``subject`` are two images (a :class:`Volume`, a nibabel
     image or a file) with ``level``: the crest lines of their isosurfaces; or,
@@ -124,7 +132,8 @@ def transfer(
     ``output_space`` (default RAS).
 
     Returns ``Transferred``: ``labels``, ``positions`` ((n, 3), RAS),
-    ``confidence``, ``rms`` and ``rigid`` (4 × 4, RAS).
+    ``confidence``, ``coverage``, ``flagged``, ``rms`` and ``rigid`` (4 × 4,
+    RAS).
     """
     progress = callback(progress, "progress")
     labels, positions = _landmarks(landmarks)
@@ -137,6 +146,7 @@ def transfer(
         confidence_radius=None if confidence_radius is None else number(confidence_radius, "confidence_radius",
                                                                         strict=True),
         mesh_threshold=None if mesh_threshold is None else number(mesh_threshold, "mesh_threshold"),
+        min_coverage=None if min_coverage is None else number(min_coverage, "min_coverage"),
     )
     frame = "LPS" if space is None else _frame(space)
     level = None if level is None else number(level, "level", low=-np.inf)
@@ -153,5 +163,5 @@ def transfer(
     if output is not None:
         frame_out = "RAS" if output_space is None else _frame(output_space)
         _crestline.write_labelled_points(file_path(output, "output"), labels, result["positions"],
-                                         result["confidence"], frame_out)
+                                         result["confidence"], result["flagged"], frame_out)
     return result

@@ -40,15 +40,16 @@ the package's functions):
   (:func:`crestline.transfer`), the options ``template`` (an image, with
   ``level``, or a mesh, as the scans are) and ``landmarks`` (its landmarks file)
   given once, and the transfer's own (``scales``, ``iterations``, ...; ``space``
-  for meshes): ``landmarks.csv`` (label, x, y, z, confidence, space: RAS, as the
-  command-line tool writes it) and ``landmarks.mrk.json`` (3D Slicer). The
+  for meshes): ``landmarks.csv`` (label, x, y, z, confidence, flagged, space:
+  RAS, as the command-line tool writes it) and ``landmarks.mrk.json`` (3D Slicer). The
   template's lines are computed once per run, into ``out_dir/template.lines.json``.
 
 The summary is ``out_dir/summary.csv`` (and ``summary.parquet`` when pyarrow is
 installed); for ``landmarks`` also ``out_dir/landmarks.csv`` (and ``.parquet``),
 every landmark of every subject with a ``subject`` column; for ``transfer``
 ``out_dir/transferred.csv`` (and ``.parquet``), the long table ``subject, label,
-x, y, z, confidence`` (RAS, mm) that R's geomorph and Python's morphops read.
+x, y, z, confidence`` (RAS, mm) that R's geomorph and Python's morphops read, with
+a last column ``flagged`` (``true`` for a landmark whose part the subject lacks).
 """
 
 import argparse
@@ -239,7 +240,7 @@ def _task_transfer(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Di
                      template_lines=options["template_lines"], space=options.get("space"),
                      output=folder / "landmarks.mrk.json", **_transfer_options(options))
     _crestline.write_labelled_points(str(folder / "landmarks.csv"), found["labels"], found["positions"],
-                                     found["confidence"], "RAS")
+                                     found["confidence"], found["flagged"], "RAS")
     return {"points": len(found["labels"]), "lines": 0}, ["landmarks.csv", "landmarks.mrk.json"]
 
 
@@ -348,7 +349,7 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
         write_csv(out / "landmarks.csv", columns, records)
         tables["landmarks"] = [dict(zip(columns, r)) for r in records]
     if task == "transfer":
-        columns = ("subject", "label", "x", "y", "z", "confidence")
+        columns = ("subject", "label", "x", "y", "z", "confidence", "flagged")
         records = []
         for row in rows:
             if row["status"] == "ok":
@@ -366,7 +367,8 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
             records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "curvature")},
                            **{c: int(r[c]) for c in ("id", "line")}} for r in records_of]
         if name == "transferred":
-            records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "confidence")}} for r in records_of]
+            records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "confidence")},
+                           "flagged": r["flagged"] == "true"} for r in records_of]
         _write_atomically(out / f"{name}.parquet",
                           lambda partial, t=records_of: pq.write_table(pa.Table.from_pylist(t), partial))
 
