@@ -1,7 +1,8 @@
 """``crestline.transfer`` computes what the command-line tool's ``transfer``
 writes, on images (the MNI template and a copy moved rigidly by its affine) and on
 meshes (the small bunny and a moved copy), from files and from objects; the
-landmarks land where the motion takes them. Skipped when the tool is not built
+landmarks land where the motion takes them, and the markups written follow 3D
+Slicer's schema. Skipped when the tool is not built
 (``cargo build --release``)."""
 
 import csv
@@ -13,6 +14,7 @@ import pytest
 
 import crestline
 
+from test_frames import markups_points
 from test_same_as_cli import rotation, write_obj
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -130,6 +132,10 @@ def test_the_output_is_written_as_the_tool_writes_it(tmp_path):
     assert labels == found["labels"] == ["tip", "other"]
     assert np.abs(positions - found["positions"]).max() < 1e-9
     assert found["flagged"] == [False, False] and np.all(found["coverage"] > 0.5)
+    # 3D Slicer's markups schema, the positions in LPS.
+    lps, document = markups_points(out)
+    assert [m["type"] for m in document["markups"]] == ["Fiducial"]
+    assert np.abs(lps - found["positions"] * np.array([-1.0, -1.0, 1.0])).max() < 1e-9
 
 
 def test_bad_arguments_are_named():
