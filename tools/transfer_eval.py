@@ -6,7 +6,7 @@ measure the distances.
 
     python3 tools/transfer_eval.py volumes/mni152_t1_1mm.nii.gz --level 60
         [--subjects 3] [--seed 1] [--method rigid|transfer] [--command "..."]
-        [--keep DIR]
+        [--meshes] [--keep DIR]
 
 The landmarks: the template's extremal points (`crestline landmarks`), the 400 of
 largest |curvature|, a farthest-point sample of 40 of them, labelled L01…L40 and
@@ -20,10 +20,16 @@ x ↦ D(E(x)) by SimpleITK's B-spline interpolation (the map from a subject poin
 the template point it shows). A landmark p of the template is at x = E⁻¹(D⁻¹(p)) in
 the subject, D inverted by fixed-point iteration (checked: the map takes x back to p).
 
+With --meshes the template and every subject are replaced by their isosurface
+meshes at the level (`crestline iso`, outside the timing), whose lines are their
+ridges and valleys of every strength (`crestline ridges --threshold 0`); the truth
+is the same.
+
 Methods: `rigid` (today's `crestline register` of the template's crest lines onto
 the subject's, the landmarks moved by that motion), `transfer` (`crestline
 transfer`), or any --command with the fields {crestline} {template} {landmarks}
-{subject} {template_lines} {level} {out}, whose output {out} is a markups file
+{subject} {template_lines} {level} {level_option} (`--level` and the level, empty
+with --meshes) {out}, whose output {out} is a markups file
 (.mrk.json) with the same labels. The template's crest lines are computed once,
 outside the timing; a subject's own are timed.
 
@@ -51,7 +57,7 @@ COUNT, POOL = 40, 400
 GRID, SMOOTH, SPREAD = 4.0, 12.0, 4.0
 DEGREES, SHIFT = 6.0, 4.0
 
-TRANSFER = ("{crestline} transfer {template} {landmarks} {subject} -o {out} --level {level} "
+TRANSFER = ("{crestline} transfer {template} {landmarks} {subject} -o {out} {level_option} "
             "--template-lines {template_lines}")
 
 
@@ -173,12 +179,21 @@ def best_affine_error(source, target):
     return np.linalg.norm(homogeneous @ matrix - target, axis=1)
 
 
-def rigid_transfer(tool, fields):
+def lines_command(tool, scan, level, out):
+    """The command writing the lines of `scan` to `out`: crest lines of an image's
+    isosurface at `level`, or ridges and valleys of a mesh (`level` None) of every
+    strength, as `crestline transfer` traces them on meshes."""
+    if level is None:
+        return [tool, "ridges", scan, "--threshold", "0", "-o", out]
+    return [tool, "crest-lines", scan, "--level", str(level), "-o", out]
+
+
+def rigid_transfer(tool, fields, level):
     """Today's answer: the template's crest lines registered rigidly onto the
     subject's, the landmarks moved by that motion."""
     lines = fields["out"] + ".lines.json"
     motion = fields["out"] + ".transform.json"
-    run(tool, "crest-lines", fields["subject"], "--level", str(fields["level"]), "-o", lines)
+    run(*lines_command(tool, fields["subject"], level, lines))
     run(tool, "register", lines, fields["template_lines"], "-o", motion)
     with open(motion) as f:
         matrix = np.array(json.load(f)["matrix"])
@@ -201,6 +216,8 @@ def main():
     parser.add_argument("--method", choices=["rigid", "transfer"], default="rigid")
     parser.add_argument("--command", help="a transfer command (see above) instead of --method")
     parser.add_argument("--crestline", default="target/release/crestline")
+    parser.add_argument("--meshes", action="store_true",
+                        help="transfer between the isosurface meshes of the images")
     parser.add_argument("--keep", help="a folder to keep the subjects and outputs in")
     args = parser.parse_args()
     image = sitk.ReadImage(args.template)
@@ -209,23 +226,32 @@ def main():
         os.makedirs(folder, exist_ok=True)
         labels, points, landmarks = template_landmarks(args.crestline, args.template,
                                                        args.level, folder)
+        template = args.template
+        if args.meshes:
+            template = os.path.join(folder, "template.ply")
+            run(args.crestline, "iso", args.template, "--level", str(args.level), "-o", template)
+        level = None if args.meshes else args.level
         template_lines = os.path.join(folder, "template.lines.json")
-        run(args.crestline, "crest-lines", args.template, "--level", str(args.level), "-o",
-            template_lines)
+        run(*lines_command(args.crestline, template, level, template_lines))
         every, times = [], []
         for seed in range(args.seed, args.seed + args.subjects):
             subject, to_subject = make_subject(image, seed)
             path = os.path.join(folder, f"subject{seed}.nii.gz")
             sitk.WriteImage(subject, path)
+            if args.meshes:
+                volume, path = path, os.path.join(folder, f"subject{seed}.ply")
+                run(args.crestline, "iso", volume, "--level", str(args.level), "-o", path)
             truth = np.array([to_subject(p) for p in points])
-            fields = {"crestline": args.crestline, "template": args.template,
+            fields = {"crestline": args.crestline, "template": template,
                       "landmarks": landmarks, "subject": path, "template_lines": template_lines,
-                      "level": args.level, "out": os.path.join(folder, f"subject{seed}.mrk.json")}
+                      "level": args.level,
+                      "level_option": "" if level is None else f"--level {level}",
+                      "out": os.path.join(folder, f"subject{seed}.mrk.json")}
             start = time.perf_counter()
             if args.command or args.method == "transfer":
                 run(*shlex.split((args.command or TRANSFER).format(**fields)))
             else:
-                rigid_transfer(args.crestline, fields)
+                rigid_transfer(args.crestline, fields, level)
             times.append(time.perf_counter() - start)
             found = read_markups(fields["out"])
             missing = [label for label in labels if label not in found]

@@ -13,6 +13,7 @@ mod jobs;
 mod lines;
 mod mesh;
 mod progress;
+mod transfer;
 mod view;
 mod volume;
 
@@ -27,6 +28,7 @@ fn _crestline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     volume::register(m)?;
     jobs::register(m)?;
     compare::register(m)?;
+    transfer::register(m)?;
     m.add_function(wrap_pyfunction!(lines::line_kinds, m)?)?;
     m.add_function(wrap_pyfunction!(lines::write_lines, m)?)?;
     m.add_function(wrap_pyfunction!(lines::write_line_labels, m)?)?;

@@ -120,3 +120,47 @@ def test_inputs_from_a_csv_with_per_subject_options(client, tmp_path):
         cohort.run(table, tmp_path / "out", task="everything", client=client)
     missing_level = cohort.run(paths[:1], tmp_path / "out2", task="crest_lines", client=client, progress=False)
     assert missing_level[0]["status"] == "error" and "level" in missing_level[0]["error"]
+
+
+def test_transfer_writes_the_long_table_of_every_subject(client, tmp_path):
+    # Three small subjects: the small bunny moved by three rigid motions; the
+    # template's landmarks are points of its lines.
+    from test_same_as_cli import rotation, write_obj
+
+    bunny = Path(__file__).resolve().parents[3] / "meshes" / "bunny_small.obj"
+    vertices, faces, _ = crestline.read_mesh(bunny)
+    lines = crestline.ridges(vertices, faces, threshold=crestline.defaults()["transfer"]["mesh_threshold"])
+    crests = np.vstack([line.points for line in lines])
+    chosen = crests[:: len(crests) // 12]
+    labels = [f"L{n:02d}" for n in range(len(chosen))]
+    marks = tmp_path / "template.csv"
+    marks.write_text("label,x,y,z,space\n" + "".join(f"{l},{x:.17g},{y:.17g},{z:.17g},LPS\n" for l, (x, y, z) in
+                                                    zip(labels, chosen)))
+    paths, motions = [], []
+    for s in range(3):
+        turn, shift = rotation((0.02 * s, -0.03, 0.01 * s)), np.array([0.2 * s, -0.1, 0.3])
+        path = tmp_path / f"sub-{s}.obj"
+        write_obj(path, vertices @ turn.T + shift, faces)
+        paths.append(path)
+        motions.append((turn, shift))
+    options = {"template": str(bunny), "landmarks": str(marks), "scales": "3,2,1"}
+    rows = cohort.run(paths, tmp_path / "out", task="transfer", options=options, client=client, progress=False)
+    assert [row["status"] for row in rows] == ["ok"] * 3, rows
+    assert (tmp_path / "out" / "template.lines.json").exists()
+    with open(tmp_path / "out" / "transferred.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    assert list(table[0]) == ["subject", "label", "x", "y", "z", "confidence", "flagged"]
+    assert {r["flagged"] for r in table} == {"false"}
+    assert [r["subject"] for r in table] == [f"sub-{s}" for s in range(3) for _ in labels]
+    assert [r["label"] for r in table] == labels * 3
+    lps = np.array([-1.0, -1.0, 1.0])
+    for s, (turn, shift) in enumerate(motions):
+        found = np.array([[float(r[c]) for c in "xyz"] for r in table if r["subject"] == f"sub-{s}"])
+        # The same as one call, and where the motion takes the landmarks.
+        one = crestline.transfer(bunny, marks, paths[s], scales=[3, 2, 1])
+        assert np.abs(found - one["positions"]).max() < 1e-9
+        assert np.median(np.linalg.norm(found * lps - (chosen @ turn.T + shift), axis=1)) < 1e-3
+        assert (tmp_path / "out" / f"sub-{s}" / "landmarks.mrk.json").exists()
+    # A rerun reuses every subject.
+    again = cohort.run(paths, tmp_path / "out", task="transfer", options=options, client=client, progress=False)
+    assert all(row["reused"] for row in again)

@@ -26,15 +26,20 @@ FUNCTIONS = [
     (crestline.morse, "morse", "mean edge length",
      {"indicator", "estimator", "keep_saddles", "criterion", "cancel", "cells", "keep_forced", "smooth"}),
     (crestline.register, "register", "unit", {"min_overlap", "max_iterations"}),
+    (crestline.transfer, "transfer", "mm",
+     {"scales", "iterations", "max_distance", "max_angle", "max_points", "confidence_radius", "mesh_threshold",
+      "min_coverage"}),
 ]
 # The library's options a function leaves at their defaults on purpose: the
 # isosurface returns the surface alone (its curvature is crestline.curvature's),
 # curvature's quality is a property of the tool's PLY file, which the package does
-# not write, and registration's inner schedule is the library's to tune.
+# not write, and registration's inner schedule (of transfer's rigid stage too) is
+# the library's to tune.
 NOT_ARGUMENTS = {
     "iso": {"curvature", "estimator"},
     "curvature": {"quality"},
     "register": {"coarse_iterations", "coarse_points", "tolerance"},
+    "transfer": {"registration"},
 }
 
 

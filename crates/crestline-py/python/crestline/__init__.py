@@ -13,6 +13,7 @@ and pyvista (a triangulated ``PolyData``) are accepted where the two arrays are.
     >>> svg = crestline.draw(vertices, faces, lines, view=(20, 15))
     >>> brain = crestline.read_volume("volumes/mni152_t1_1mm.nii.gz")
     >>> crests = crestline.crest_lines(brain, level=60)
+    >>> moved = crestline.transfer(brain, "template.mrk.json", "subject.nii.gz", level=60)
 
 Images are indexed ``[i, j, k]`` with a 4 × 4 voxel-to-world affine, as nibabel
 has them; nibabel images are accepted where a :class:`Volume` is.
@@ -52,6 +53,7 @@ from ._mesh import (
     write_vertex_values,
 )
 from ._jobs import DEFAULTS as _DEFAULTS
+from ._transfer import Transferred, read_labelled, transfer
 from ._volume import (
     Image,
     Landmarks,
@@ -93,6 +95,7 @@ __all__ = [
     "Progress",
     "Space",
     "StageError",
+    "Transferred",
     "View",
     "Volume",
     "colors",
@@ -106,12 +109,14 @@ __all__ = [
     "isosurface",
     "landmarks",
     "morse",
+    "read_labelled",
     "read_mesh",
     "read_vertex_values",
     "read_volume",
     "register",
     "repair_mesh",
     "ridges",
+    "transfer",
     "view",
     "write_landmarks",
     "write_mesh",

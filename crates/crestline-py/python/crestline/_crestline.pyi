@@ -86,6 +86,25 @@ def lines_landmarks(lines: list[LineParts], unit: float, options: str) -> str: .
 def register_lines(
     fixed: F64, moving: F64, fixed_keys: F64, moving_keys: F64, options: str, progress: Optional[Any] = None
 ) -> dict[str, Any]: ...
+def transfer_landmarks(
+    template: list[LineParts],
+    template_space: Optional[str],
+    subject: list[LineParts],
+    subject_space: Optional[str],
+    labels: list[str],
+    positions: F64,
+    options: str,
+    progress: Optional[Any] = None,
+) -> dict[str, Any]: ...
+def transfer_mesh_lines(mesh: Mesh, options: str, progress: Optional[Any] = None) -> list[dict[str, Any]]: ...
+def transfer_mesh_file_lines(
+    path: str, options: str, progress: Optional[Any] = None
+) -> tuple[list[dict[str, Any]], Optional[str]]: ...
+def read_lines_file(path: str) -> tuple[list[dict[str, Any]], Optional[str]]: ...
+def read_labelled_points(path: str) -> tuple[list[str], F64]: ...
+def write_labelled_points(
+    path: str, labels: list[str], positions: F64, confidence: F64, flagged: list[bool], space: str
+) -> None: ...
 def compare_files(
     a: str, b: str, transform_file: Optional[str] = None, transform_matrix: Optional[F64] = None,
     tolerance: Optional[str] = None,

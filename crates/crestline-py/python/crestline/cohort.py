@@ -35,11 +35,21 @@ the package's functions):
   space, as the command-line tool writes it) and ``lines.json``;
 - ``ridges`` (meshes), ``crest_lines`` (images; ``level`` required): ``lines.json``;
 - ``isosurface`` (images; ``level`` required): ``surface.ply``;
-- ``curvature`` (meshes; ``estimator``): ``curvature.ply`` with k_max, k_min.
+- ``curvature`` (meshes; ``estimator``): ``curvature.ply`` with k_max, k_min;
+- ``transfer``: a template's labelled landmarks carried onto every scan
+  (:func:`crestline.transfer`), the options ``template`` (an image, with
+  ``level``, or a mesh, as the scans are) and ``landmarks`` (its landmarks file)
+  given once, and the transfer's own (``scales``, ``iterations``, ...; ``space``
+  for meshes): ``landmarks.csv`` (label, x, y, z, confidence, flagged, space:
+  RAS, as the command-line tool writes it) and ``landmarks.mrk.json`` (3D Slicer). The
+  template's lines are computed once per run, into ``out_dir/template.lines.json``.
 
 The summary is ``out_dir/summary.csv`` (and ``summary.parquet`` when pyarrow is
 installed); for ``landmarks`` also ``out_dir/landmarks.csv`` (and ``.parquet``),
-every landmark of every subject with a ``subject`` column.
+every landmark of every subject with a ``subject`` column; for ``transfer``
+``out_dir/transferred.csv`` (and ``.parquet``), the long table ``subject, label,
+x, y, z, confidence`` (RAS, mm) that R's geomorph and Python's morphops read, with
+a last column ``flagged`` (``true`` for a landmark whose part the subject lacks).
 """
 
 import argparse
@@ -57,14 +67,17 @@ from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 
+from . import _crestline
 from ._built import Mesh
 from ._jobs import DEFAULTS
 from ._lines import Lines
+from ._jobs import options as job_options
 from ._mesh import curvature, read_mesh, ridges, write_mesh
+from ._transfer import scan_lines, transfer
 from ._volume import crest_lines, isosurface, landmarks, read_volume, write_landmarks
 
 PathLike = Union[str, "os.PathLike[str]"]
-TASKS = ("landmarks", "ridges", "crest_lines", "isosurface", "curvature")
+TASKS = ("landmarks", "ridges", "crest_lines", "isosurface", "curvature", "transfer")
 IMAGE_SUFFIXES = (".nii", ".nii.gz", ".nrrd", ".nhdr", ".mha", ".mhd")
 MESH_SUFFIXES = (".obj", ".ply", ".off", ".stl")
 TASK_PEAK_BYTES = 3 * 2**30
@@ -197,12 +210,47 @@ def _task_curvature(path: str, options: Dict[str, Any], folder: Path) -> Tuple[D
     return {"points": len(vertices), "lines": 0}, ["curvature.ply"]
 
 
+def _transfer_options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The options of the transfer job among ``options`` (``scales`` also as
+    comma-separated text, as ``--option scales=24,16`` gives it)."""
+    found = {k: v for k, v in options.items() if k in DEFAULTS["transfer"] and k != "registration"}
+    if isinstance(found.get("scales"), (str, int, float)):
+        found["scales"] = [float(s) for s in str(found["scales"]).split(",")]
+    return found
+
+
+def _prepare_transfer(options: Dict[str, Any], out: Path) -> Dict[str, Any]:
+    """The options of a cohort's transfer with the template's lines computed once
+    into ``out/template.lines.json``, and the checksums of the template and its
+    landmarks (a rerun with other ones recomputes every subject)."""
+    for key in ("template", "landmarks"):
+        if key not in options:
+            raise ValueError(f"the option {key!r} is needed for the task 'transfer'")
+    template, marks = str(options["template"]), str(options["landmarks"])
+    lines_path = out / "template.lines.json"
+    given = job_options(**_transfer_options(options))
+    lines = scan_lines(template, "template", options.get("level"), given)
+    lines.save(lines_path)  # under a temporary name, then renamed
+    return {**options, "template": template, "landmarks": marks, "template_lines": str(lines_path),
+            "template_sha256": sha256(template), "landmarks_sha256": sha256(marks)}
+
+
+def _task_transfer(path: str, options: Dict[str, Any], folder: Path) -> Tuple[Dict[str, int], List[str]]:
+    found = transfer(options["template"], options["landmarks"], path, level=options.get("level"),
+                     template_lines=options["template_lines"], space=options.get("space"),
+                     output=folder / "landmarks.mrk.json", **_transfer_options(options))
+    _crestline.write_labelled_points(str(folder / "landmarks.csv"), found["labels"], found["positions"],
+                                     found["confidence"], found["flagged"], "RAS")
+    return {"points": len(found["labels"]), "lines": 0}, ["landmarks.csv", "landmarks.mrk.json"]
+
+
 TASK_FUNCTIONS = {
     "landmarks": _task_landmarks,
     "ridges": _task_ridges,
     "crest_lines": _task_crest_lines,
     "isosurface": _task_isosurface,
     "curvature": _task_curvature,
+    "transfer": _task_transfer,
 }
 
 
@@ -300,6 +348,15 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
         columns = ("subject", *header)
         write_csv(out / "landmarks.csv", columns, records)
         tables["landmarks"] = [dict(zip(columns, r)) for r in records]
+    if task == "transfer":
+        columns = ("subject", "label", "x", "y", "z", "confidence", "flagged")
+        records = []
+        for row in rows:
+            if row["status"] == "ok":
+                with open(out / row["subject"] / "landmarks.csv", newline="") as f:
+                    records += [[row["subject"], *(r[c] for c in columns[1:])] for r in csv.DictReader(f)]
+        write_csv(out / "transferred.csv", columns, records)
+        tables["transferred"] = [dict(zip(columns, r)) for r in records]
     try:
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -309,6 +366,9 @@ def _write_tables(rows: List[Dict[str, Any]], out: Path, task: str) -> None:
         if name == "landmarks":
             records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "curvature")},
                            **{c: int(r[c]) for c in ("id", "line")}} for r in records_of]
+        if name == "transferred":
+            records_of = [{**r, **{c: float(r[c]) for c in ("x", "y", "z", "confidence")},
+                           "flagged": r["flagged"] == "true"} for r in records_of]
         _write_atomically(out / f"{name}.parquet",
                           lambda partial, t=records_of: pq.write_table(pa.Table.from_pylist(t), partial))
 
@@ -355,6 +415,8 @@ def run(
     subjects = read_inputs(inputs)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    if task == "transfer":
+        options = _prepare_transfer(options or {}, out)
     from dask.distributed import Client, LocalCluster, as_completed
 
     own = client is None
@@ -406,6 +468,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser.add_argument("--task", choices=TASKS, default="landmarks")
     parser.add_argument("--level", type=float, help="the isosurface's value (images)")
     parser.add_argument("--sigma", type=float, help="Gaussian smoothing of images, world units")
+    parser.add_argument("--template", help="the template scan (task transfer)")
+    parser.add_argument("--landmarks", help="the template's landmarks file (task transfer)")
     parser.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
                         help="any other option of the task, e.g. --option radius=4 (repeatable)")
     parser.add_argument("--scheduler", help="address of a running Dask scheduler (default: a local cluster)")
@@ -417,7 +481,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if not sep or not key:
             parser.error(f"--option {item!r}: expected KEY=VALUE")
         options[key] = _option_value(value)
-    for key in ("level", "sigma"):
+    for key in ("level", "sigma", "template", "landmarks"):
         if getattr(args, key) is not None:
             options[key] = getattr(args, key)
     inputs = args.inputs[0] if len(args.inputs) == 1 and args.inputs[0].lower().endswith(".csv") else args.inputs

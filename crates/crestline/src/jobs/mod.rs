@@ -27,7 +27,7 @@
 //! | `draw` | [`draw`] | [`DrawingOptions`] |
 //! | `register` | [`register()`] | [`RegistrationOptions`](crate::register::RegistrationOptions) |
 //! | `landmarks` | [`landmarks`] | [`LandmarksOptions`] |
-//! | `transfer` | [`transfer()`] | [`TransferOptions`](crate::transfer::TransferOptions) |
+//! | `transfer` | [`transfer()`], [`transfer_mesh_lines`] | [`TransferOptions`](crate::transfer::TransferOptions) |
 //! | `view` | [`view`] | [`ViewOptions`] |
 //!
 //! [`defaults`] gives every options struct's defaults as JSON, as the Python
@@ -64,7 +64,7 @@ pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
 pub use register::{read_point_set, register};
 pub use ridges::{ridges, RidgesOptions};
-pub use transfer::transfer;
+pub use transfer::{transfer, transfer_mesh_lines};
 pub use view::{view, ViewOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":

@@ -1,6 +1,8 @@
 //! A template's labelled landmarks carried onto another scan through their crest
 //! lines (`crestline transfer`; [`crate::transfer`]).
 
+use super::image::Surface;
+use super::ridges::{ridges, RidgesOptions};
 use crate::lines::FeatureLines;
 use crate::progress::Observer;
 use crate::space::Space;
@@ -31,4 +33,19 @@ pub fn transfer(
     let carried = carry(&template, &subject, &points, options, observer)?;
     observer.count("landmarks", landmarks.len());
     Ok(carried)
+}
+
+/// The lines of a mesh that [`transfer`] registers: its ridges and valleys
+/// ([`ridges`], the default tracing) at least [`TransferOptions::mesh_threshold`]
+/// strong, with the stages and counts of [`ridges`].
+pub fn transfer_mesh_lines(
+    surface: &Surface,
+    options: &TransferOptions,
+    observer: &mut dyn Observer,
+) -> Result<FeatureLines> {
+    let tracing = RidgesOptions {
+        threshold: options.mesh_threshold,
+        ..RidgesOptions::default()
+    };
+    ridges(surface, &tracing, observer)
 }

@@ -3,8 +3,9 @@
 //! labelled by kind and number as their markups are: `extremal-12`) and CSV with a
 //! header naming the columns `label`, `x`, `y`, `z` and `space` (RAS or LPS).
 //! Transferred landmarks are written in the same three formats with a
-//! `confidence` each (`.json`: a `crestline-transferred/1` document, which
-//! [`read_labelled`] reads too).
+//! `confidence` and a `flagged` mark each (`.json`: a `crestline-transferred/1`
+//! document, which [`read_labelled`] reads too; `.mrk.json`: in the control
+//! point's description).
 
 use std::io::Write;
 use std::path::Path;
@@ -168,22 +169,30 @@ fn from_csv(text: &str) -> std::result::Result<Vec<LabelledPoint>, String> {
         .collect()
 }
 
-/// Write `points` with their `confidence` to `path` in the format its name gives
-/// ([`LandmarkFormat::from_path`]), positions in `space`, labels and order kept,
-/// atomically: on an error `path` is untouched.
+/// Write `points` with their `confidence` and whether each is `flagged` to
+/// `path` in the format its name gives ([`LandmarkFormat::from_path`]),
+/// positions in `space`, labels and order kept, atomically: on an error `path` is
+/// untouched.
 pub fn write_labelled(
     path: &Path,
     points: &[LabelledPoint],
     confidence: &[f64],
+    flagged: &[bool],
     space: Space,
 ) -> Result<()> {
-    let rows = points.iter().zip(confidence);
+    let rows = points.iter().zip(confidence.iter().zip(flagged));
     match LandmarkFormat::from_path(path)? {
         LandmarkFormat::Slicer => {
             let control_points = rows
                 .enumerate()
-                .map(|(n, (p, c))| {
-                    let description = format!("confidence {c}");
+                .map(|(n, (p, (c, f)))| {
+                    let description = if *f {
+                        format!(
+                            "confidence {c}; flagged: doubtful, the subject lacks the lines here"
+                        )
+                    } else {
+                        format!("confidence {c}")
+                    };
                     markups::control_point(
                         n + 1,
                         p.label.clone(),
@@ -204,9 +213,10 @@ pub fn write_labelled(
         }
         LandmarkFormat::Json => {
             let landmarks: Vec<Value> = rows
-                .map(|(p, c)| {
+                .map(|(p, (c, f))| {
                     let q = Space::Ras.convert(&p.position, space);
-                    json!({"label": p.label, "position": [q.x, q.y, q.z], "confidence": json_number(*c)})
+                    json!({"label": p.label, "position": [q.x, q.y, q.z],
+                        "confidence": json_number(*c), "flagged": f})
                 })
                 .collect();
             let document = json!({"format": FORMAT, "space": space.name(),
@@ -217,10 +227,10 @@ pub fn write_labelled(
             })
         }
         LandmarkFormat::Csv => write_atomically(path, |w| {
-            writeln!(w, "label,x,y,z,confidence,space")?;
-            for (p, c) in rows {
+            writeln!(w, "label,x,y,z,confidence,flagged,space")?;
+            for (p, (c, f)) in rows {
                 let q = Space::Ras.convert(&p.position, space);
-                writeln!(w, "{},{},{},{},{c},{space}", p.label, q.x, q.y, q.z)?;
+                writeln!(w, "{},{},{},{},{c},{f},{space}", p.label, q.x, q.y, q.z)?;
             }
             Ok(())
         }),

@@ -5,10 +5,30 @@
 
 use rayon::prelude::*;
 
-use crate::{Point, Vector};
+use crate::{Error, Point, Result, Vector};
 
 /// Gaussian kernel radius, in standard deviations.
 const REACH: f64 = 3.0;
+
+/// The most nodes a grid may have (its data take 32 bytes a node, twice).
+const MAX_NODES: usize = 20_000_000;
+
+/// An [`Error::Argument`] if the grid of [`smoothed`] over `points` at the
+/// smoothing scale `sigma` would have more than [`MAX_NODES`] nodes (a scale
+/// far too small for the points' extent, as when the scales are in millimetres
+/// and the scans in metres).
+pub(crate) fn check_grid<'a>(points: impl Iterator<Item = &'a Point>, sigma: f64) -> Result<()> {
+    let grid = Grid::around(points, 0.5 * sigma, REACH * sigma);
+    let nodes = grid.dims.iter().map(|&n| n as f64).product::<f64>();
+    if nodes <= MAX_NODES as f64 {
+        return Ok(());
+    }
+    let extent = grid.dims.iter().map(|&n| n as f64).fold(0.0, f64::max) * grid.spacing;
+    Err(Error::Argument(format!(
+        "the smoothing scale {sigma} is too small for lines {extent:.4} across (a grid of \
+         {nodes:.2e} nodes); give scales in the scans' units, at least a hundredth of their size"
+    )))
+}
 
 /// A box of grid cells: corner, spacing and the number of nodes along each axis.
 struct Grid {

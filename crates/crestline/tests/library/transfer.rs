@@ -134,6 +134,8 @@ fn a_landmark_far_from_every_line_has_no_confidence() {
     )
     .unwrap();
     assert_eq!(carried.confidence[0], f64::INFINITY);
+    // The far one is flagged (no line near), the one on the knot is not.
+    assert_eq!(carried.flagged, [true, false], "{:?}", carried.coverage);
     assert!(carried.confidence[1] < 0.1, "{:?}", carried.confidence);
     assert!(
         (carried.positions[1] - far[1]).norm() < 0.1,
@@ -158,7 +160,7 @@ fn labelled_landmarks_round_trip_through_every_format() {
     for name in ["a.mrk.json", "a.json", "a.csv"] {
         for space in [Space::Ras, Space::Lps] {
             let path = dir.path().join(name);
-            write_labelled(&path, &points, &[0.5, f64::INFINITY], space).unwrap();
+            write_labelled(&path, &points, &[0.5, f64::INFINITY], &[false, true], space).unwrap();
             if name == "a.json" {
                 // JSON has no infinity.
                 let text = std::fs::read_to_string(&path).unwrap();
