@@ -53,17 +53,8 @@ pub struct TransferArgs {
     /// Slicer's `SPACE=` mark): RAS or LPS; default LPS, as 3D Slicer reads models.
     #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
     pub space: Option<Space>,
-    /// The smoothing scales of the deformation, coarse to fine (mm, comma-separated).
-    #[arg(long, value_name = "S,S,…", value_delimiter = ',',
-          default_values_t = TransferOptions::default().scales)]
-    pub scales: Vec<f64>,
-    /// Iterations at each scale.
-    #[arg(long, value_name = "N", default_value_t = TransferOptions::default().iterations)]
-    pub iterations: usize,
-    /// Pair points of the two scans' lines only if their tangents make at most
-    /// this angle (degrees; 90: any).
-    #[arg(long, value_name = "DEG", default_value_t = TransferOptions::default().max_angle)]
-    pub max_angle: f64,
+    #[command(flatten)]
+    pub options: TransferOptions,
     /// Write the positions of a .json or .csv output in this frame (default RAS;
     /// .mrk.json is in LPS, as 3D Slicer reads it).
     #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
@@ -152,12 +143,7 @@ impl TransferArgs {
 pub fn run(args: &TransferArgs) -> Result<()> {
     LandmarkFormat::from_path(&args.output)?;
     let images = args.images()?;
-    let options = TransferOptions {
-        scales: args.scales.clone(),
-        iterations: args.iterations,
-        max_angle: args.max_angle,
-        ..TransferOptions::default()
-    };
+    let options = args.options.clone();
     options.validate()?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())

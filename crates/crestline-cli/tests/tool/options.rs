@@ -11,7 +11,7 @@ use serde_json::Value;
 use super::common::crestline;
 
 /// Each job of [`defaults`] and the command that runs it.
-const COMMANDS: [(&str, &str); 10] = [
+const COMMANDS: [(&str, &str); 11] = [
     ("curvature", "curvature"),
     ("iso", "iso"),
     ("crest_lines", "crest-lines"),
@@ -22,6 +22,7 @@ const COMMANDS: [(&str, &str); 10] = [
     ("register", "register"),
     ("landmarks", "landmarks"),
     ("view", "view"),
+    ("transfer", "transfer"),
 ];
 
 /// The library's options a command leaves at their defaults on purpose:
@@ -75,10 +76,12 @@ fn same_default(shown: &str, value: &Value) -> bool {
         Value::Bool(b) => shown == b.to_string(),
         Value::Number(n) => shown.parse::<f64>().ok() == n.as_f64(),
         Value::String(s) => shown == s,
-        // Numbers written `WxH` or `A,B`.
+        // Numbers written `WxH`, `A,B` or `A B C`.
         Value::Array(items) => {
-            let numbers: Vec<Option<f64>> =
-                shown.split(['x', ',']).map(|n| n.parse().ok()).collect();
+            let numbers: Vec<Option<f64>> = shown
+                .split(['x', ',', ' '])
+                .map(|n| n.parse().ok())
+                .collect();
             numbers == items.iter().map(Value::as_f64).collect::<Vec<_>>()
         }
         // A length in scales or units.
@@ -144,6 +147,10 @@ fn the_check_tells_a_default_that_differs() {
     assert!(!same_default("true", &serde_json::json!(false)));
     assert!(same_default("800x600", &serde_json::json!([800, 600])));
     assert!(!same_default("600x800", &serde_json::json!([800, 600])));
+    assert!(same_default(
+        "24 16 10",
+        &serde_json::json!([24.0, 16.0, 10.0])
+    ));
     let help = "      --sigma <S>  smoothing [default: \"1 scale\"]";
     assert_eq!(shown_default(help).as_deref(), Some("1 scale"));
 }

@@ -46,42 +46,56 @@ use crate::{Error, Point, Result, Vector};
 
 pub use files::{read_labelled, write_labelled, LabelledPoint};
 
-/// Settings of [`transfer`] (and of `crestline transfer`).
+/// Settings of [`transfer`] (and of `crestline transfer`). Each field is an
+/// option of the tool and a keyword argument of the Python package, documented
+/// here once: with the feature `clap` this struct is the tool's arguments.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
 #[serde(default, deny_unknown_fields)]
 pub struct TransferOptions {
     /// The rigid stage.
+    #[cfg_attr(feature = "clap", command(flatten))]
     pub registration: RegistrationOptions,
-    /// The Gaussian smoothing scales σ of the displacement field, in world units,
-    /// coarse to fine (each positive, at least one).
+    /// The Gaussian smoothing scales σ of the displacement field, in world units
+    /// (mm), coarse to fine, comma-separated (each positive, at least one).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S,S,…", value_delimiter = ',',
+        default_values_t = TransferOptions::default().scales))]
     pub scales: Vec<f64>,
     /// Iterations at each scale (1 to 1000).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = TransferOptions::default().iterations))]
     pub iterations: usize,
     /// Pairs of points farther apart than this many smoothing scales σ are not
     /// used (positive).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "K",
+        default_value_t = TransferOptions::default().max_distance))]
     pub max_distance: f64,
     /// Points are paired only if their lines' tangents make at most this angle, in
     /// degrees (0 to 90; 90 pairs any two).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "DEG",
+        default_value_t = TransferOptions::default().max_angle))]
     pub max_angle: f64,
     /// At most this many line points of each scan are paired (evenly strided; at
     /// least 100).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "N",
+        default_value_t = TransferOptions::default().max_points))]
     pub max_points: usize,
     /// The standard deviation of the Gaussian weights of the line points around a
     /// landmark in its confidence, in world units (positive).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "R",
+        default_value_t = TransferOptions::default().confidence_radius))]
     pub confidence_radius: f64,
     /// Of meshes: the least strength of the ridges and valleys registered (the
-    /// `threshold` of [`crate::jobs::ridges`]; at least 0). Measured on the
-    /// isosurfaces of warped MNI templates (`tools/transfer_eval.py --meshes`,
-    /// seeds 1–3): 0, every line, puts the landmarks at a median of 1.11 mm
-    /// (90th percentile 3.35 mm); 0.25, 1.31 mm (4.18 mm); the tracing's default
-    /// 2, 4.0 mm (18 mm), too few lines.
+    /// ridges' threshold; at least 0). 0, every line, places the landmarks best
+    /// (measured in docs/design/landmarks.md, "Transfer").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "T",
+        default_value_t = TransferOptions::default().mesh_threshold))]
     pub mesh_threshold: f64,
-    /// A landmark whose coverage (see the [module](self) documentation) is below
-    /// this is flagged (0 to 1). Measured on the MNI isosurface warped and cut at
-    /// a plane (the tool's test `a_cut_subject_keeps_the_landmarks_it_has_and_flags_the_others`):
-    /// none of the 35 landmarks 10 mm or more below the cut flagged (median
-    /// error 0.43 mm), all 17 of those 10 mm or more above it; the confidence
-    /// does not tell them apart (the lost ones are drawn onto the lines left).
+    /// A landmark is flagged when the subject's lines around it cover less than
+    /// this share of the template's (0 to 1): that part of the anatomy is missing
+    /// from the subject (measured in docs/design/landmarks.md, "Transfer").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "C",
+        default_value_t = TransferOptions::default().min_coverage))]
     pub min_coverage: f64,
 }
 
