@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use crestline::jobs::{crest_lines, transfer, CrestLinesOptions};
 use crestline::landmarks::LandmarkFormat;
-use crestline::lines::{read_json, FeatureLines};
+use crestline::lines::FeatureLines;
 use crestline::transfer::{read_labelled, write_labelled, LabelledPoint, TransferOptions};
 use crestline::{Result, Space};
 
@@ -102,7 +102,7 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let mut report = report_with_progress("transfer", &args.subject);
     let landmarks = report.stage("read landmarks", || read_labelled(&args.template_landmarks))?;
     let template = match &args.template_lines {
-        Some(path) => report.stage("read template lines", || read_json(path))?,
+        Some(path) => report.stage("read template lines", || FeatureLines::read_json(path))?,
         None => lines_of(&args.template, args.level, &args.series, &mut report)?,
     };
     let subject = lines_of(&args.subject, args.level, &args.series, &mut report)?;

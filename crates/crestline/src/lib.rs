@@ -71,7 +71,7 @@ pub mod crest_lines;
 pub mod curvature;
 pub(crate) mod differential;
 pub mod draw;
-pub mod error;
+mod error;
 pub mod io;
 pub mod jobs;
 pub mod landmarks;
@@ -90,6 +90,14 @@ pub mod transfer;
 pub mod view;
 pub mod volume;
 mod xml;
+
+// The unit tests' helpers, shared with the integration tests, which name the
+// crate `crestline`.
+#[cfg(test)]
+extern crate self as crestline;
+#[cfg(test)]
+#[path = "../tests/library/common/mod.rs"]
+mod common;
 
 pub use error::{Error, Result};
 pub use space::Space;

@@ -24,7 +24,7 @@ pub struct CreaseOptions {
     /// cubic B-spline of the samples, which smooths least. Default: 0.
     pub sigma: f64,
     /// Least ridge strength −λ3, as a fraction of the strongest in the image.
-    /// Default: [`DEFAULT_STRENGTH_FRACTION`].
+    /// Default: `DEFAULT_STRENGTH_FRACTION`.
     pub strength: f64,
     /// Drop connected pieces of fewer triangles than this. Default: 20.
     pub min_component: usize,
@@ -57,11 +57,31 @@ impl CreaseOptions {
 
 /// The ridge (or valley) surface of `volume` as `options` say: triangles that need
 /// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
-/// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction` (the
-/// survey of the eigenvalues, [`Survey`]), `eigenframes` (the field kept where
-/// creases are as strong as asked) and those of [`crease_surface_of`]; the counts
+/// (`crate::volume::crease::crease_surface`). Stages `reconstruction` (the
+/// survey of the eigenvalues, `Survey`), `eigenframes` (the field kept where
+/// creases are as strong as asked) and those of `crease_surface_of`; the counts
 /// `kept samples`, `vertices` and `triangles`, and a warning naming the option that
-/// emptied the surface. Non-finite samples are replaced first ([`prepared_image`]).
+/// emptied the surface. Non-finite samples are replaced first ([`Volume::prepared`]).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let surface = jobs::crease(&volume, &jobs::CreaseOptions::default(), &mut Silent)?;
+/// println!("{} triangles", surface.triangles.len());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn crease(
     volume: &Volume,
     options: &CreaseOptions,

@@ -17,8 +17,8 @@ use crate::{Error, Result};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CrestLinesOptions {
-    /// The feature scale, in world units ([`super::scale`]). Default (`None`):
-    /// the image's ([`super::scale::image_scale`]).
+    /// The feature scale, in world units (`super::scale`). Default (`None`):
+    /// the image's ([`Volume::feature_scale`]).
     pub scale: Option<f64>,
     /// Standard deviation of the Gaussian smoothing of the image. Default: one
     /// feature scale.
@@ -56,10 +56,31 @@ impl Default for CrestLinesOptions {
 
 /// The lines `options` ask for on the isosurface `f = level` of `volume` (inside
 /// is `f ≥ level`), by Marching Lines (Thirion & Gourdon 1993;
-/// [`crate::crest_lines::trace`]), at least `min_length` long and `min_strength`
-/// strong: the stages of [`crate::crest_lines::trace_observed`], the counts `traced` and `lines`, and
+/// `crate::crest_lines::trace`), at least `min_length` long and `min_strength`
+/// strong: the stages of `crate::crest_lines::trace_observed`, the counts `traced` and `lines`, and
 /// a warning when no line is left. Non-finite samples are replaced first
-/// ([`prepared_image`]).
+/// ([`Volume::prepared`]).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let options = jobs::CrestLinesOptions::default();
+/// let lines = jobs::crest_lines(&volume, 40.0, &options, &mut Silent)?;
+/// println!("{} crest lines", lines.len());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn crest_lines(
     volume: &Volume,
     level: f64,

@@ -62,12 +62,12 @@ pub struct DrawingOptions {
     /// pen, and `taper` and `silhouette_clearance` are in millimetres ([`Page`]).
     /// Default: none, a canvas of `size` pixels.
     pub page: Option<Page>,
-    /// Also draw the silhouettes. Default: [`DrawOptions::default`]'s (no).
+    /// Also draw the silhouettes. Default: `DrawOptions::default`'s (no).
     pub silhouettes: bool,
     /// Feature lines are left out where they run beside a visible silhouette
     /// closer than this many pixels (millimetres on a `page`); 0 keeps them.
-    /// Default: [`DrawOptions`]'s pixels (their tenth in millimetres on a page,
-    /// the same at [`PIXELS_PER_MM`](crate::draw::PIXELS_PER_MM)).
+    /// Default: `DrawOptions`'s pixels (their tenth in millimetres on a page,
+    /// the same at `PIXELS_PER_MM`).
     pub silhouette_clearance: Option<f64>,
     /// Also draw the borders of an open mesh. Default: no.
     pub borders: bool,
@@ -86,7 +86,7 @@ pub struct DrawingOptions {
     /// Default: the style's.
     pub fade_by_view: bool,
     /// For a pen plotter: every stroke drawn once, strokes joined where their ends
-    /// meet and ordered to keep the pen's travel short ([`for_plotter`]); every
+    /// meet and ordered to keep the pen's travel short (`for_plotter`); every
     /// stroke of constant width (`taper`, `width_by_depth` and `fade_by_view` are
     /// refused, and the style's ignored). Default: no.
     pub plot: bool,
@@ -123,8 +123,15 @@ impl Default for DrawingOptions {
 }
 
 impl DrawingOptions {
+    /// Checks the settings of the drawing step: errors ([`Error::Argument`]) for
+    /// a negative or non-finite silhouette clearance, or a crease angle not strictly
+    /// between 0 and 180 degrees.
+    pub fn check(&self) -> Result<()> {
+        self.draw_options().check()
+    }
+
     /// The settings of the drawing step ([`crate::draw::draw`]).
-    pub fn draw_options(&self) -> DrawOptions {
+    pub(crate) fn draw_options(&self) -> DrawOptions {
         let clearance = self.silhouette_clearance.map(|c| self.pixels(c));
         DrawOptions {
             silhouettes: self.silhouettes,
@@ -165,7 +172,7 @@ impl DrawingOptions {
     }
 
     /// The camera that frames `surface` as these options say.
-    pub fn camera(&self, surface: &Surface) -> Result<Camera> {
+    pub(crate) fn camera(&self, surface: &Surface) -> Result<Camera> {
         let view = match self.camera {
             Some([ex, ey, ez, tx, ty, tz, ux, uy, uz]) => View::LookAt {
                 eye: Point::new(ex, ey, ez),
@@ -223,9 +230,24 @@ impl DrawingOptions {
 
 /// The drawing of `surface` as `options` say: the feature lines (the stage
 /// `extraction`, with the stages of their job; or the `given` lines instead), the
-/// other families and the visibility ([`draw_observed`]), a warning saying why
+/// other families and the visibility (`draw_observed`), a warning saying why
 /// when nothing is seen. `volume` is the image of an isosurface, which `lines`
 /// crest needs.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let options = jobs::DrawingOptions::default();
+/// let drawing = jobs::draw(&surface, (None, None), &options, &mut Silent)?;
+/// let svg = drawing.svg(&options.style(Default::default())?);
+/// assert!(svg.starts_with("<?xml"));
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn draw(
     surface: &Surface,
     (volume, given): (Option<&Volume>, Option<FeatureLines>),

@@ -3,7 +3,7 @@
 //! non-rigidly, and mapping the landmarks by the same deformation.
 //!
 //! [`transfer`] works in three steps:
-//! 1. the rigid motion of [`crate::register::register`] (trimmed ICP from
+//! 1. the rigid motion of [`jobs::register`](crate::jobs::register()) (trimmed ICP from
 //!    moment-based guesses; Chetverikov et al. 2002) takes the template's line
 //!    points onto the subject's;
 //! 2. a smooth displacement field is then grown coarse to fine, as Thirion's
@@ -26,7 +26,7 @@
 //!    world units; lower is better, and a landmark without line points near it
 //!    gets infinity.
 
-pub mod files;
+mod files;
 mod smooth;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};

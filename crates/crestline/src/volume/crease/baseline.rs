@@ -38,6 +38,7 @@ use crate::Vector;
 /// −f ([`CreaseField::new`]), so the same rule keeps valleys of f. The soup carries
 /// the vertex scalars [`super::STRENGTH`] and [`super::DEGENERATE`] (0 everywhere:
 /// marching cubes find no degenerate points). Only `options.strength` is read.
+#[cfg(test)]
 pub fn oriented_marching_cubes(field: &CreaseField, options: &CrossingOptions) -> TriangleSoup {
     let grid = field.grid();
     let table = CaseTable::get();

@@ -55,6 +55,7 @@ pub struct CrossingOptions {
 /// down to a quarter of its length, and it is never crossed between two degenerate
 /// ends (λ2 − λ3 < ε): around a rotationally symmetric ridge h is tiny there with a
 /// random sign.
+#[cfg(test)]
 pub fn edge_crossings(field: &CreaseField, options: &CrossingOptions) -> Vec<EdgeCrossing> {
     let strong = StrongCells::new(field, options.strength);
     let mut crossings = crossings_in_strong_cells(field, options, &strong);

@@ -18,7 +18,9 @@ use crate::volume::grid::Grid;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
 use crate::volume::{Derivatives, Partial, Smoothing, Volume};
-use crate::{Error, Point, Result, Space, Vector};
+#[cfg(test)]
+use crate::Error;
+use crate::{Point, Result, Space, Vector};
 
 /// Gradient and Hessian at one point, and the Hessian's eigenframe.
 #[derive(Clone, Copy, Debug)]
@@ -75,7 +77,9 @@ pub struct CreaseField {
     grid_to_world: Matrix3<f64>,
     /// Its inverse.
     world_to_grid: Matrix3<f64>,
-    /// The smallest and largest Hessian eigenvalue over the grid.
+    /// The smallest and largest Hessian eigenvalue over the grid, which the
+    /// tests' default options are a fraction of.
+    #[cfg_attr(not(test), allow(dead_code))]
     eigenvalue_range: (f64, f64),
     /// The anatomical frame of the world coordinates ([`Volume::space`]).
     space: Option<Space>,
@@ -86,6 +90,7 @@ impl CreaseField {
     /// valleys (`ridges = false`: valleys of f are ridges of −f).
     ///
     /// Errors ([`Error::Argument`]) if a first or second partial is missing.
+    #[cfg(test)]
     pub fn new(volume: &Volume, derivatives: &Derivatives, ridges: bool) -> Result<CreaseField> {
         let sign = if ridges { 1.0 } else { -1.0 };
         let grids: Vec<&[f32]> = Partial::ALL[1..10]
@@ -140,15 +145,11 @@ impl CreaseField {
         self.space
     }
 
-    /// The number of grid points along x, y and z.
-    pub fn dims(&self) -> [usize; 3] {
-        self.dims
-    }
-
     /// The default options: ε a fraction [`DEFAULT_EPSILON_FRACTION`] of the range
     /// of the Hessian's eigenvalues over the grid (docs/design/crease.md), θ =
     /// [`DEFAULT_THETA`], and the strength a fraction [`DEFAULT_STRENGTH_FRACTION`]
     /// of the strongest −λ3 over the grid.
+    #[cfg(test)]
     pub fn default_options(&self) -> CrossingOptions {
         default_options(self.eigenvalue_range)
     }
@@ -310,7 +311,9 @@ fn packed(partials: [f32; 9], sign: f64, r: &Matrix3<f64>) -> [f32; 9] {
 /// `f32` (so that `−λ3 ≥ s` holds at least where it holds exactly). The derivatives
 /// are computed a few z slices at a time and not kept.
 pub struct Survey {
-    /// The smallest and largest Hessian eigenvalue over the grid.
+    /// The smallest and largest Hessian eigenvalue over the grid, which the
+    /// tests' default options are a fraction of.
+    #[cfg_attr(not(test), allow(dead_code))]
     eigenvalue_range: (f64, f64),
     /// λ3 per grid point, rounded towards −∞.
     lowest: Vec<f32>,

@@ -12,6 +12,7 @@
 //! For comparison, the paper's baseline (§5): marching cubes of g·e3 after orienting
 //! e3 per cell ([`oriented_marching_cubes`]).
 
+#[cfg(test)]
 mod baseline;
 mod cells;
 mod degenerate;
@@ -25,13 +26,18 @@ mod surface;
 mod tensor;
 mod trim;
 
-pub use baseline::oriented_marching_cubes;
-pub use edges::{edge_crossings, CrossingOptions, EdgeCrossing, MAX_CROSSINGS_PER_EDGE};
-pub use field::{default_options, CreaseField, Sample, Survey};
-pub use surface::{
-    crease_surface, crease_surface_observed, crease_surface_of, DEGENERATE, STAGES, STRENGTH,
-};
-pub use tensor::{similarity, Eigenframe};
+#[cfg(test)]
+pub(crate) use baseline::oriented_marching_cubes;
+#[cfg(test)]
+pub(crate) use edges::{edge_crossings, CrossingOptions};
+#[cfg(test)]
+pub(crate) use field::CreaseField;
+pub use field::{default_options, Survey};
+pub use surface::crease_surface_of;
+#[cfg(test)]
+pub(crate) use surface::{crease_surface, crease_surface_observed, DEGENERATE, STRENGTH};
+#[cfg(test)]
+pub(crate) use tensor::Eigenframe;
 
 /// The default ε of the tensor T, as a fraction of the range of the Hessian's
 /// eigenvalues over the volume.

@@ -19,7 +19,9 @@ use super::points::Points;
 use super::strong::StrongCells;
 use super::trim::trimmed;
 use crate::mesh::{ScalarProperty, TriangleSoup};
-use crate::progress::{try_stage, Observer, Silent};
+#[cfg(test)]
+use crate::progress::Silent;
+use crate::progress::{try_stage, Observer};
 use crate::volume::grid::Grid;
 use crate::{Point, Result, Space, Vector};
 
@@ -52,6 +54,7 @@ pub const STAGES: [&str; 4] = [
 /// where −λ3 is at least `options.strength` (trimmed along that level). Connected
 /// pieces of fewer than `min_component` triangles are dropped; a `min_component`
 /// above every triangle found is an error.
+#[cfg(test)]
 pub fn crease_surface(
     field: &CreaseField,
     options: &CrossingOptions,
@@ -62,6 +65,7 @@ pub fn crease_surface(
 
 /// [`crease_surface`], telling `observer` of each of the [`STAGES`] and asking it
 /// between them whether to go on ([`crate::Error::Cancelled`] if not).
+#[cfg(test)]
 pub fn crease_surface_observed(
     field: &CreaseField,
     options: &CrossingOptions,

@@ -47,6 +47,7 @@ mod seeded;
 
 use rayon::prelude::*;
 
+#[cfg(test)]
 use crate::volume::grid::Grid;
 use crate::volume::isosurface::check_input;
 use crate::volume::Volume;
@@ -81,11 +82,13 @@ pub trait SecondField: Sync {
 /// A field sampled on the grid of a volume: `g` at each sample, undefined where a
 /// value is not finite.
 #[derive(Clone, Copy, Debug)]
+#[cfg(test)]
 pub struct SampledField<'a> {
     values: &'a [f32],
     grid: Grid,
 }
 
+#[cfg(test)]
 impl<'a> SampledField<'a> {
     /// The field with one value per sample of `volume`, in the same order (x
     /// fastest). Errors ([`Error::Argument`]) if the number of values differs.
@@ -104,6 +107,7 @@ impl<'a> SampledField<'a> {
     }
 }
 
+#[cfg(test)]
 impl SecondField for SampledField<'_> {
     fn corners(&self, cell: [usize; 3]) -> Option<[f64; 8]> {
         let corners = self.grid.corners(cell).map(|at| f64::from(self.values[at]));
@@ -168,6 +172,7 @@ const SLAB_LAYERS: usize = 8;
 ///
 /// Errors ([`Error::Argument`]) as [`marching_lines`], or if `g` does not have one
 /// value per sample.
+#[cfg(test)]
 pub fn bi_iso_lines(
     volume: &Volume,
     level: f64,

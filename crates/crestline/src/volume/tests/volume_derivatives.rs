@@ -3,8 +3,8 @@
 //! reproduced by the spline) and a Gaussian blob (whose smoothed derivatives are
 //! Gaussians again).
 
-use crestline::volume::{BSpline, Derivatives, Jet, Partial, ThirdOrder, Volume};
-use crestline::{Error, Point, Vector};
+use crate::volume::{BSpline, Derivatives, Jet, Partial, ThirdOrder, Volume};
+use crate::{Error, Point, Vector};
 use nalgebra::Matrix3;
 
 /// A small deterministic generator of numbers in `[-1, 1)`.

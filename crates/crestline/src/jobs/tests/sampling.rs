@@ -6,17 +6,17 @@
 use std::path::Path;
 
 use crate::common;
-use crestline::compare::{compare, Features};
-use crestline::jobs::{
+use crate::compare::{compare, Features};
+use crate::jobs::{
     crest_lines, image_units, landmarks, ridges, CrestLinesOptions, LandmarksOptions, LinesFrom,
     RidgesOptions, Surface,
 };
-use crestline::mesh::generate::{self, Sampling};
-use crestline::mesh::Mesh;
-use crestline::progress::Silent;
-use crestline::register::RigidTransform;
-use crestline::volume::Volume;
-use crestline::{Point, Vector};
+use crate::mesh::generate::{self, Sampling};
+use crate::mesh::Mesh;
+use crate::progress::Silent;
+use crate::register::RigidTransform;
+use crate::volume::Volume;
+use crate::{Point, Vector};
 use nalgebra::{Matrix3, Rotation3};
 
 /// The implicit bumpy ellipsoid: inside where the value is at least -1.
@@ -125,7 +125,7 @@ fn count(features: &Features, kind: &str) -> usize {
 #[test]
 fn a_moved_rescan_of_the_mni_template_keeps_its_extremal_points() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../volumes/mni152_t1_1mm.nii.gz");
-    let volume = crestline::io::read_volume(&path).unwrap();
+    let volume = crate::io::read_volume(&path).unwrap();
     // A second scan: the head moved by 6° and (2.5, -1.5, 3) mm, sampled on the
     // same grid by trilinear interpolation of the first one's samples (SimpleITK's
     // B-spline, in tools/image_rescans.py, gives the same shares within a percent
@@ -139,7 +139,7 @@ fn a_moved_rescan_of_the_mni_template_keeps_its_extremal_points() {
     // The copy's anatomy at x lies at motion(x) in the original.
     let rescan = mni_landmarks(&copy).moved(&motion);
     let found = compare(&original, &rescan, 1.0);
-    let row = |rows: &[crestline::compare::Agreement], kind: &str| {
+    let row = |rows: &[crate::compare::Agreement], kind: &str| {
         rows.iter().find(|r| r.kind == kind).unwrap().clone()
     };
     let extremal = row(&found.landmarks, "extremal");

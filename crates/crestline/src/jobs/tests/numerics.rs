@@ -5,19 +5,18 @@
 
 use std::time::Instant;
 
-use crestline::curvature::{
-    estimate_curvature, repair_outliers, write_curvature_ply, CurvatureEstimator, JetFit,
-    ShapeOperator,
+use crate::curvature::{
+    estimate_curvature, repair_outliers, CurvatureEstimator, JetFit, ShapeOperator,
 };
-use crestline::draw::{draw, Camera, DrawOptions, Projection, View};
-use crestline::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
-use crestline::mesh::generate::{height_field, sphere, Paraboloid, Sampling};
-use crestline::mesh::{Mesh, TriangleSoup, VertexId};
-use crestline::progress::Observer;
-use crestline::progress::Silent;
-use crestline::ridges::presmooth_surface;
-use crestline::ridges::ExtremalityTracer;
-use crestline::Point;
+use crate::draw::{draw, Camera, DrawOptions, Projection, View};
+use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
+use crate::mesh::generate::{height_field, sphere, Paraboloid, Sampling};
+use crate::mesh::{Mesh, TriangleSoup, VertexId};
+use crate::progress::Observer;
+use crate::progress::Silent;
+use crate::ridges::presmooth_surface;
+use crate::ridges::ExtremalityTracer;
+use crate::Point;
 
 fn mesh_from(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
     let soup = TriangleSoup {
@@ -79,7 +78,7 @@ fn presmoothing_a_very_obtuse_triangle_is_finite() {
 #[test]
 fn presmoothing_fifty_steps_of_the_bunny_is_finite() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
-    let soup = crestline::io::read_mesh(std::path::Path::new(path)).unwrap();
+    let soup = crate::io::read_mesh(std::path::Path::new(path)).unwrap();
     let (mesh, _) = Mesh::from_soup(soup).unwrap();
     let smoothed = presmooth_surface(&mesh, 50).unwrap();
     assert!(all_finite(&smoothed));
@@ -268,8 +267,8 @@ fn a_curvature_ply_holds_values_beyond_f32_exactly_and_refuses_non_finite_ones()
     let field = estimate_curvature(&mesh, &ShapeOperator).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("tiny.ply");
-    write_curvature_ply(&path, &mesh, &field).unwrap();
-    let soup = crestline::io::read_mesh(&path).unwrap();
+    field.write_ply(&path, &mesh).unwrap();
+    let soup = crate::io::read_mesh(&path).unwrap();
     let gauss = soup
         .vertex_scalars
         .iter()
@@ -288,9 +287,7 @@ fn a_curvature_ply_holds_values_beyond_f32_exactly_and_refuses_non_finite_ones()
     let mut broken = field.clone();
     broken.k_min[3] = f64::INFINITY;
     let path = dir.path().join("broken.ply");
-    let message = write_curvature_ply(&path, &mesh, &broken)
-        .unwrap_err()
-        .to_string();
+    let message = broken.write_ply(&path, &mesh).unwrap_err().to_string();
     assert!(
         message.contains("broken.ply") && message.contains("k_min"),
         "{message}"

@@ -3,14 +3,14 @@
 
 use std::f64::consts::TAU;
 
-use crestline::draw::{
-    clear_of_silhouettes, draw, svg_document, with_facing, write_png, Camera, DrawOptions, Drawing,
-    Group, Projection, ScreenPath, SilhouetteIndex, Style, View, FACING,
+use crate::draw::{
+    clear_of_silhouettes, draw, with_facing, write_png, Camera, DrawOptions, Drawing, Group,
+    Projection, ScreenPath, SilhouetteIndex, Style, View, FACING,
 };
-use crestline::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
-use crestline::mesh::generate::{sphere, Sampling};
-use crestline::mesh::Mesh;
-use crestline::Point;
+use crate::lines::{FeatureLines, LineKind, Polyline, SurfaceLocation};
+use crate::mesh::generate::{sphere, Sampling};
+use crate::mesh::Mesh;
+use crate::Point;
 
 fn unit_sphere() -> Mesh {
     sphere(1.0, 4000, Sampling::jittered(7)).unwrap().mesh
@@ -122,7 +122,7 @@ fn svg_has_the_groups_and_every_path_inside_the_viewbox() {
         latitude(LineKind::Valley, -0.3),
     ]);
     let drawing = draw(&mesh, &input, &camera, &with_silhouettes()).unwrap();
-    let svg = svg_document(&drawing, &Style::default());
+    let svg = drawing.svg(&Style::default());
     let doc = roxmltree::Document::parse(&svg).expect("the SVG is well-formed XML");
     let root = doc.root_element();
     assert_eq!(root.tag_name().name(), "svg");
@@ -251,7 +251,7 @@ fn absurd_camera_settings_are_errors() {
     let along_up = View::LookAt {
         eye: Point::new(0.0, 5.0, 0.0),
         target: Point::origin(),
-        up: crestline::Vector::y(),
+        up: crate::Vector::y(),
     };
     assert!(Camera::framing(points, along_up, ortho, 100, 100).is_err());
 }
@@ -278,7 +278,7 @@ fn a_style_file_overrides_colours_and_keeps_the_other_defaults() {
     let camera = camera(&mesh, 0.0, 0.0, 200, 200);
     let input = lines(vec![latitude(LineKind::Ridge, 0.5)]);
     let drawing = draw(&mesh, &input, &camera, &no_silhouettes()).unwrap();
-    let svg = svg_document(&drawing, &style);
+    let svg = drawing.svg(&style);
     let doc = roxmltree::Document::parse(&svg).unwrap();
     let ridges = doc
         .descendants()
@@ -323,7 +323,7 @@ fn the_png_preview_shows_the_lines() {
     let path = dir.path().join("sphere.png");
     let style = Style::default();
     let background = style.background.as_deref();
-    write_png(&path, &svg_document(&drawing, &style), background).unwrap();
+    write_png(&path, &drawing.svg(&style), background).unwrap();
     let pixmap = resvg::tiny_skia::Pixmap::load_png(&path).unwrap();
     assert_eq!((pixmap.width(), pixmap.height()), (200, 200));
     let pixels = pixmap.pixels();
@@ -430,13 +430,10 @@ fn line_weights_follow_the_taper_the_depth_and_the_view() {
     };
     let mut style = Style::default();
     let full = style.kind(LineKind::Ridge).width;
-    assert_eq!(
-        path_widths(&svg_document(&drawing, &style), "ridges"),
-        vec![full]
-    );
+    assert_eq!(path_widths(&drawing.svg(&style), "ridges"), vec![full]);
 
     style.kind_mut(LineKind::Ridge).taper = 20.0;
-    let tapered = path_widths(&svg_document(&drawing, &style), "ridges");
+    let tapered = path_widths(&drawing.svg(&style), "ridges");
     let middle = tapered.len() / 2;
     assert!(tapered.len() >= 5, "{tapered:?}");
     assert!((tapered[middle] - full).abs() < 1e-9, "{tapered:?}");
@@ -455,7 +452,7 @@ fn line_weights_follow_the_taper_the_depth_and_the_view() {
 
     style.kind_mut(LineKind::Ridge).taper = 0.0;
     style.kind_mut(LineKind::Ridge).width_by_depth = true;
-    let by_depth = path_widths(&svg_document(&drawing, &style), "ridges");
+    let by_depth = path_widths(&drawing.svg(&style), "ridges");
     assert!((by_depth[0] - full).abs() < 1e-9, "{by_depth:?}");
     assert!(
         (by_depth[by_depth.len() - 1] - 0.5 * full).abs() < 0.06 * full,
@@ -465,7 +462,7 @@ fn line_weights_follow_the_taper_the_depth_and_the_view() {
 
     style.kind_mut(LineKind::Ridge).width_by_depth = false;
     style.kind_mut(LineKind::Ridge).fade_by_view = true;
-    let svg = svg_document(&drawing, &style);
+    let svg = drawing.svg(&style);
     let faded = path_opacities(&svg, "ridges");
     // Opaque while n · v ≥ ½ (the left half), then fading; the last stretch,
     // seen edge-on, is not drawn at all.

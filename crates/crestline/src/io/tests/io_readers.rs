@@ -4,12 +4,12 @@
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
-use crestline::io::{
+use crate::io::{
     read_mesh, read_mesh_with_progress, read_obj, read_off, read_ply, read_stl, write_obj,
     write_ply, VertexAttribute, SUPPORTED_MESH_EXTENSIONS,
 };
-use crestline::mesh::{Mesh, TriangleSoup};
-use crestline::{Error, Result, Vector};
+use crate::mesh::{Mesh, TriangleSoup};
+use crate::{Error, Result, Vector};
 
 fn mesh_path(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

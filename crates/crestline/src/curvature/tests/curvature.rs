@@ -3,18 +3,17 @@
 
 use crate::common;
 
-use common::transformed;
-use crestline::curvature::{
-    estimate_curvature, relative_rms_error, CurvatureEstimator, CurvatureField, JetFit,
-    ShapeOperator,
+use crate::curvature::Quality;
+use crate::curvature::{
+    estimate_curvature, CurvatureEstimator, CurvatureField, JetFit, ShapeOperator,
 };
-use crestline::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
-use crestline::curvature::{write_curvature_ply, write_curvature_ply_with_quality, Quality};
-use crestline::jobs;
-use crestline::mesh::generate::{self, AnalyticMesh, Paraboloid, Sampling};
-use crestline::mesh::Mesh;
-use crestline::ridges::{extremality, Principal};
-use crestline::Vector;
+use crate::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
+use crate::jobs;
+use crate::mesh::generate::{self, AnalyticMesh, Paraboloid, Sampling};
+use crate::mesh::Mesh;
+use crate::ridges::{extremality, Principal};
+use crate::Vector;
+use common::transformed;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
 const VERTICES: usize = 20_000;
@@ -36,7 +35,7 @@ fn torus(sampling: Sampling) -> AnalyticMesh {
 
 fn error_of(surface: &AnalyticMesh, estimator: &dyn CurvatureEstimator) -> f64 {
     let field = estimate_curvature(&surface.mesh, estimator).unwrap();
-    relative_rms_error(&field, &surface.exact).unwrap()
+    field.relative_rms_error(&surface.exact).unwrap()
 }
 
 #[test]
@@ -192,7 +191,7 @@ fn boundary_vertices_are_flagged_and_interior_is_accurate_on_a_height_field() {
     }
     // A saddle with the upward normal: curvatures +1.5 and −0.5 at the apex.
     let field = estimate_curvature(mesh, &JetFit::default()).unwrap();
-    let error = relative_rms_error(&field, &surface.exact).unwrap();
+    let error = field.relative_rms_error(&surface.exact).unwrap();
     assert!(error < 0.001, "{error}");
     assert!(surface.exact.iter().all(|k| k.k_max > 0.0 && k.k_min < 0.0));
 }
@@ -203,7 +202,7 @@ struct Broken {
 }
 
 impl CurvatureEstimator for Broken {
-    fn estimate(&self, mesh: &Mesh) -> crestline::Result<CurvatureField> {
+    fn estimate(&self, mesh: &Mesh) -> crate::Result<CurvatureField> {
         let mut field = ShapeOperator.estimate(mesh)?;
         if self.nan {
             field.k_max[3] = f64::NAN;
@@ -230,7 +229,7 @@ fn a_custom_estimator_is_held_to_the_same_contract() {
 /// at a point on it, along the exact principal directions: the closed form of the
 /// curvature of a level set (`isosurface_curvature`) for the quadric, whose third
 /// derivatives vanish.
-fn exact_ellipsoid_extremality(axes: [f64; 3], p: &crestline::Point) -> IsoCurvature {
+fn exact_ellipsoid_extremality(axes: [f64; 3], p: &crate::Point) -> IsoCurvature {
     // The object is inside, where −Σ x_i²/a_i² is large.
     let gradient = Vector::from_fn(|i, _| -2.0 * p[i] / (axes[i] * axes[i]));
     let hessian = nalgebra::Matrix3::from_fn(|i, j| {
@@ -330,8 +329,8 @@ fn jet_fit_extremalities_scale_with_the_mesh_and_flip_with_the_direction() {
         }
     }
     let mut flipped = small.clone();
-    flipped.flip_direction(crestline::mesh::VertexId(7), true);
-    flipped.flip_direction(crestline::mesh::VertexId(9), false);
+    flipped.flip_direction(crate::mesh::VertexId(7), true);
+    flipped.flip_direction(crate::mesh::VertexId(9), false);
     let e = flipped.extremality.as_ref().unwrap();
     assert_eq!(flipped.d_max[7], -small.d_max[7]);
     assert_eq!(e[0][7], -e_small[0][7]);
@@ -355,7 +354,7 @@ fn extremalities_are_checked_with_the_field() {
 
 /// The vertex property `name` of the PLY file at `path`.
 fn ply_property(path: &std::path::Path, name: &str) -> Vec<f64> {
-    let soup = crestline::io::read_mesh(path).unwrap();
+    let soup = crate::io::read_mesh(path).unwrap();
     soup.vertex_scalars
         .into_iter()
         .find(|p| p.name == name)
@@ -377,7 +376,9 @@ fn the_curvature_ply_carries_the_chosen_quantity_as_quality() {
             _ => 1.0 / radius,
         };
         let path = dir.path().join(format!("{name}.ply"));
-        write_curvature_ply_with_quality(&path, &sphere.mesh, &field, quality).unwrap();
+        field
+            .write_ply_with_quality(&path, &sphere.mesh, quality)
+            .unwrap();
         let written = ply_property(&path, "quality");
         assert_eq!(written, quality.values(&field), "{name}");
         for (v, q) in written.iter().enumerate() {
@@ -417,6 +418,6 @@ fn the_quality_is_the_mean_curvature_by_default() {
     let field = estimate_curvature(&sphere.mesh, &ShapeOperator).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("default.ply");
-    write_curvature_ply(&path, &sphere.mesh, &field).unwrap();
+    field.write_ply(&path, &sphere.mesh).unwrap();
     assert_eq!(ply_property(&path, "quality"), field.mean());
 }

@@ -1,14 +1,14 @@
 //! Morse-Smale lines as drawn: smooth, and still on the crests of the indicator.
 
-use crestline::draw::{draw, Camera, DrawOptions, Projection, View};
-use crestline::lines::{FeatureLines, LineExtractor, LineKind};
-use crestline::mesh::Mesh;
-use crestline::morse::{Indicator, MorseSmale};
-use crestline::progress::Silent;
+use crate::draw::{draw, Camera, DrawOptions, Projection, View};
+use crate::lines::{FeatureLines, LineExtractor, LineKind};
+use crate::mesh::Mesh;
+use crate::morse::{Indicator, MorseSmale};
+use crate::progress::Silent;
 
 fn bunny() -> Mesh {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny.obj");
-    let soup = crestline::io::read_mesh(std::path::Path::new(path)).unwrap();
+    let soup = crate::io::read_mesh(std::path::Path::new(path)).unwrap();
     Mesh::from_soup(soup).unwrap().0
 }
 

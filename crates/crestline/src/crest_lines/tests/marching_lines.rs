@@ -6,14 +6,12 @@
 
 use std::f64::consts::PI;
 
-use crestline::crest_lines::{
+use crate::crest_lines::{
     crest_lines, iso_gaussian_lines, parabolic_lines, trace, LineFamily, LineTracing,
 };
-use crestline::lines::LineKind;
-use crestline::volume::{
-    bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField, Sweep, Volume,
-};
-use crestline::Point;
+use crate::lines::LineKind;
+use crate::volume::{bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField, Sweep, Volume};
+use crate::Point;
 use nalgebra::Matrix3;
 
 use crate::common;
@@ -248,7 +246,7 @@ fn samples_of(grid: &Volume, f: impl Fn(Point) -> f64) -> Vec<f32> {
 
 /// The fraction of the angles around the z axis (in bins of half a degree) that
 /// segments of `lines` span.
-fn angular_coverage(lines: &[&crestline::lines::Polyline]) -> f64 {
+fn angular_coverage(lines: &[&crate::lines::Polyline]) -> f64 {
     const BINS: usize = 720;
     let bin = |p: &Point| {
         let turn = p.y.atan2(p.x) / (2.0 * PI) + 1.0;
@@ -603,7 +601,7 @@ fn the_tip_of_the_nose_is_on_a_ridge_of_the_skin() {
         ));
         return;
     }
-    let volume = crestline::io::read_volume(path).unwrap();
+    let volume = crate::io::read_volume(path).unwrap();
     let lines = crest_lines(&volume, 120.0, 1.0).unwrap();
     let points: Vec<(Point, LineKind)> = lines
         .iter()
@@ -666,9 +664,8 @@ fn crest_lines_do_not_depend_on_the_world_frame() {
     let in_index = |volume: &Volume| -> Vec<(LineKind, bool, Vec<[f64; 3]>)> {
         let lines = crest_lines(volume, -1.0, 1.5).unwrap();
         let index = |p: &Point| volume.world_to_index(p);
-        let line = |l: &crestline::lines::Polyline| {
-            (l.kind, l.closed, l.points.iter().map(index).collect())
-        };
+        let line =
+            |l: &crate::lines::Polyline| (l.kind, l.closed, l.points.iter().map(index).collect());
         lines.iter().map(line).collect()
     };
     let expected = in_index(&sampled);

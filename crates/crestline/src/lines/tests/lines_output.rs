@@ -5,11 +5,11 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crestline::lines::{
+use crate::lines::{
     read_json, write_json, write_lines, write_obj, write_ply, write_vtk, FeatureLines, LineFormat,
     LineKind, Polyline, SurfaceLocation, FORMAT,
 };
-use crestline::{Error, Point, Space};
+use crate::{Error, Point, Space};
 use serde::de::{Deserializer, IgnoredAny, MapAccess, Visitor};
 use serde::Deserialize;
 
@@ -42,7 +42,7 @@ fn sample() -> FeatureLines {
 }
 
 /// A public writer function.
-type Writer = fn(&Path, &FeatureLines) -> crestline::Result<()>;
+type Writer = fn(&Path, &FeatureLines) -> crate::Result<()>;
 
 /// The writers under test, with their extension.
 fn writers() -> [(&'static str, Writer); 4] {

@@ -1,9 +1,9 @@
 //! Crease surfaces (Schultz, Theisel and Seidel 2010): the crossings of the ridge
 //! condition with the grid edges on fields whose ridges are known.
 
-use crestline::volume::crease::{edge_crossings, CreaseField, CrossingOptions};
-use crestline::volume::{Derivatives, Volume};
-use crestline::Point;
+use crate::volume::crease::{edge_crossings, CreaseField, CrossingOptions};
+use crate::volume::{Derivatives, Volume};
+use crate::Point;
 use nalgebra::Matrix3;
 
 /// f = exp(−(|x − c| − R)² / s²) on an n³ grid of unit voxels centred on c: its
@@ -121,7 +121,7 @@ fn without_the_degenerate_rule_the_shell_would_grow_spurious_sheets() {
 
 #[test]
 fn spherical_shell_ridge_surface_is_the_sphere() {
-    use crestline::volume::crease::crease_surface;
+    use crate::volume::crease::crease_surface;
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
@@ -229,9 +229,7 @@ struct Topology {
     crowded_vertices: usize,
 }
 
-fn edge_counts(
-    soup: &crestline::mesh::TriangleSoup,
-) -> std::collections::HashMap<(u32, u32), usize> {
+fn edge_counts(soup: &crate::mesh::TriangleSoup) -> std::collections::HashMap<(u32, u32), usize> {
     let mut edges = std::collections::HashMap::new();
     for t in &soup.triangles {
         for k in 0..3 {
@@ -242,7 +240,7 @@ fn edge_counts(
     edges
 }
 
-fn topology(soup: &crestline::mesh::TriangleSoup) -> Topology {
+fn topology(soup: &crate::mesh::TriangleSoup) -> Topology {
     let edges = edge_counts(soup);
     let boundary: Vec<(u32, u32)> = edges
         .iter()
@@ -269,7 +267,7 @@ fn topology(soup: &crestline::mesh::TriangleSoup) -> Topology {
 
 #[test]
 fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
-    use crestline::volume::crease::{crease_surface, DEGENERATE};
+    use crate::volume::crease::{crease_surface, DEGENERATE};
     let (n, centre) = (32, [15.3, 15.5, 15.7]);
     let volume = ending_ridge(n, centre);
     let field = ridge_field(&volume);
@@ -287,8 +285,8 @@ fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
         .find(|s| s.name == DEGENERATE)
         .expect("the degenerate mark")
         .values;
-    let inside = |p: &crestline::Point| p.iter().all(|&x| x > 2.0 && x < (n - 1) as f64 - 2.0);
-    let marked: Vec<&crestline::Point> = soup
+    let inside = |p: &crate::Point| p.iter().all(|&x| x > 2.0 && x < (n - 1) as f64 - 2.0);
+    let marked: Vec<&crate::Point> = soup
         .positions
         .iter()
         .zip(degenerate)
@@ -344,7 +342,7 @@ fn sheets_field() -> CreaseField {
 
 #[test]
 fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
-    use crestline::volume::crease::crease_surface;
+    use crate::volume::crease::crease_surface;
     let (n, field) = (SHEETS, sheets_field());
     let soup = crease_surface(&field, &field.default_options(), 0).unwrap();
     let figures = topology(&soup);
@@ -371,7 +369,7 @@ fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
 
 #[test]
 fn the_surface_is_trimmed_along_the_strength_level() {
-    use crestline::volume::crease::{crease_surface, STRENGTH};
+    use crate::volume::crease::{crease_surface, STRENGTH};
     let (n, field) = (SHEETS, sheets_field());
     // Strong enough that the sheets' fading ends (along y) are cut off.
     let mut options = field.default_options();
@@ -426,7 +424,7 @@ fn the_surface_is_trimmed_along_the_strength_level() {
 
 #[test]
 fn the_marching_cubes_baseline_finds_the_sphere_of_the_shell() {
-    use crestline::volume::crease::oriented_marching_cubes;
+    use crate::volume::crease::oriented_marching_cubes;
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
@@ -491,7 +489,7 @@ fn tilted_sheet(n: usize, c: Point, normal: nalgebra::Vector3<f64>, width: f64) 
 
 #[test]
 fn the_marching_cubes_baseline_of_a_planar_ridge_has_no_cracks() {
-    use crestline::volume::crease::oriented_marching_cubes;
+    use crate::volume::crease::oriented_marching_cubes;
     let n = 24;
     let c = Point::new(11.3, 11.6, 11.45);
     let normal = nalgebra::Vector3::new(0.25, -0.2, 1.0).normalize();
@@ -551,7 +549,7 @@ fn the_marching_cubes_baseline_of_a_planar_ridge_has_no_cracks() {
 #[derive(Default)]
 struct Warnings(Vec<String>);
 
-impl crestline::progress::Observer for Warnings {
+impl crate::progress::Observer for Warnings {
     fn warning(&mut self, message: &str) {
         self.0.push(message.to_string());
     }
@@ -559,7 +557,7 @@ impl crestline::progress::Observer for Warnings {
 
 #[test]
 fn a_minimum_piece_size_that_empties_the_surface_is_named() {
-    use crestline::volume::crease::{crease_surface, crease_surface_observed};
+    use crate::volume::crease::{crease_surface, crease_surface_observed};
     let field = sheets_field();
     let options = field.default_options();
     let all = crease_surface(&field, &options, 0).unwrap().triangles.len();
@@ -586,8 +584,8 @@ fn a_minimum_piece_size_that_empties_the_surface_is_named() {
 
 #[test]
 fn a_field_kept_where_creases_are_strong_gives_the_same_surface_in_less_memory() {
-    use crestline::volume::crease::{crease_surface, default_options, Survey};
-    use crestline::volume::Smoothing;
+    use crate::volume::crease::{crease_surface, default_options, Survey};
+    use crate::volume::Smoothing;
     let volume = crossing_sheets(SHEETS, 60f64.to_radians(), 2.5, 15.0);
     let whole = ridge_field(&volume);
     let survey = Survey::new(&volume, Smoothing::CubicSpline, true).unwrap();

@@ -9,16 +9,16 @@ use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crestline::lines::{LineExtractor, Polyline};
-use crestline::mesh::Mesh;
-use crestline::progress::Silent;
-use crestline::register::{
-    best_rigid_fit, register, rotation_angle, write_transform, PointSet, Registration,
-    RegistrationOptions, RigidTransform,
+use crate::lines::{LineExtractor, Polyline};
+use crate::mesh::Mesh;
+use crate::progress::Silent;
+use crate::register::{
+    best_rigid_fit, register, rotation_angle, PointSet, Registration, RegistrationOptions,
+    RigidTransform,
 };
-use crestline::ridges::ExtremalityTracer;
-use crestline::volume::Volume;
-use crestline::{Point, Vector};
+use crate::ridges::ExtremalityTracer;
+use crate::volume::Volume;
+use crate::{Point, Vector};
 use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use nalgebra::{Rotation3, Unit};
 use rand::rngs::StdRng;
@@ -296,7 +296,7 @@ fn median(mut values: Vec<f64>) -> f64 {
 #[test]
 fn ridge_lines_of_a_moved_mesh_register_onto_the_original() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../meshes/bunny.obj");
-    let mesh = Mesh::from_soup(crestline::io::read_mesh(&path).unwrap())
+    let mesh = Mesh::from_soup(crate::io::read_mesh(&path).unwrap())
         .unwrap()
         .0;
     let size = mesh.bounding_box().diagonal();
@@ -334,13 +334,13 @@ fn ridge_lines_of_a_moved_mesh_register_onto_the_original() {
 // ---------------------------------------------------------------- the MNI template
 
 fn crest_points(volume: &Volume) -> Vec<Point> {
-    all_points(&crestline::crest_lines::crest_lines(volume, 60.0, 1.0).unwrap())
+    all_points(&crate::crest_lines::crest_lines(volume, 60.0, 1.0).unwrap())
 }
 
 #[test]
 fn crest_lines_of_a_moved_mni_template_register_onto_the_original() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../volumes/mni152_t1_1mm.nii.gz");
-    let volume = crestline::io::read_volume(&path).unwrap();
+    let volume = crate::io::read_volume(&path).unwrap();
     let truth = motion(
         [0.3, -0.5, 0.8],
         10.0,
@@ -426,7 +426,7 @@ fn the_json_transform_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("t.json");
     let registration = example_registration();
-    write_transform(&path, &registration).unwrap();
+    registration.write(&path).unwrap();
     let value: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     assert_eq!(value["coordinate_system"], "RAS");
@@ -452,7 +452,7 @@ fn the_itk_transform_maps_fixed_lps_points_to_moving_lps_points() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("t.tfm");
     let registration = example_registration();
-    write_transform(&path, &registration).unwrap();
+    registration.write(&path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
@@ -494,7 +494,7 @@ fn the_itk_transform_maps_fixed_lps_points_to_moving_lps_points() {
 fn an_unknown_transform_extension_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("t.mat");
-    let err = write_transform(&path, &example_registration()).unwrap_err();
+    let err = example_registration().write(&path).unwrap_err();
     assert!(err.to_string().contains(".json, .tfm"), "{err}");
     assert!(!path.exists());
 }
@@ -506,7 +506,7 @@ fn bad_input_is_an_error_naming_the_problem() {
     let expect =
         |fixed: &PointSet, moving: &PointSet, options: &RegistrationOptions, words: &str| {
             let err = register(fixed, moving, options).unwrap_err();
-            assert!(matches!(err, crestline::Error::Argument(_)), "{err:?}");
+            assert!(matches!(err, crate::Error::Argument(_)), "{err:?}");
             assert!(
                 err.to_string().contains(words),
                 "'{err}' should mention '{words}'"

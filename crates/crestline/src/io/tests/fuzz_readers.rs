@@ -22,8 +22,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crestline::io::{read_mesh, read_vertex_values};
-use crestline::mesh::Mesh;
+use crate::io::{read_mesh, read_vertex_values};
+use crate::mesh::Mesh;
 
 use crate::common::mutation;
 
@@ -237,8 +237,7 @@ const VALUES: [f64; 8] = [0.5, -1.25, 3.0, 0.0, 0.125, 7.5, -2.0, 4.25];
 /// A `.shape.gii` as crestline writes it (gzipped base64).
 fn gifti_values() -> Vec<u8> {
     written("v.shape.gii", |path| {
-        crestline::io::gifti::write_gifti_values(path, &VALUES, "NIFTI_INTENT_SHAPE", &[], &[])
-            .unwrap()
+        crate::io::gifti::write_gifti_values(path, &VALUES, "NIFTI_INTENT_SHAPE", &[], &[]).unwrap()
     })
 }
 
@@ -258,7 +257,7 @@ fn gifti_ascii_values() -> Vec<u8> {
 /// A FreeSurfer curv file of the cube's vertices.
 fn curv() -> Vec<u8> {
     written("lh.curv", |path| {
-        crestline::io::freesurfer::write_curv(path, &VALUES, 12).unwrap()
+        crate::io::freesurfer::write_curv(path, &VALUES, 12).unwrap()
     })
 }
 
@@ -310,20 +309,19 @@ fn written(name: &str, write: impl FnOnce(&Path)) -> Vec<u8> {
     std::fs::read(path).unwrap()
 }
 
-fn cube_points() -> Vec<crestline::Point> {
+fn cube_points() -> Vec<crate::Point> {
     CUBE_VERTICES
         .iter()
-        .map(|v| crestline::Point::from(v.map(f64::from)))
+        .map(|v| crate::Point::from(v.map(f64::from)))
         .collect()
 }
 
 /// A FreeSurfer triangle surface with a volume geometry footer.
 fn freesurfer_surface() -> Vec<u8> {
-    let geometry =
-        crestline::io::freesurfer::VolumeGeometry::conformed("orig.mgz", [2.0, -3.0, 4.5]);
+    let geometry = crate::io::freesurfer::VolumeGeometry::conformed("orig.mgz", [2.0, -3.0, 4.5]);
     let triangles: Vec<[u32; 3]> = cube_triangles().collect();
     written("lh.pial", |path| {
-        crestline::io::freesurfer::write_surface(path, &cube_points(), &triangles, Some(&geometry))
+        crate::io::freesurfer::write_surface(path, &cube_points(), &triangles, Some(&geometry))
             .unwrap()
     })
 }
@@ -332,7 +330,7 @@ fn freesurfer_surface() -> Vec<u8> {
 fn gifti_gzip() -> Vec<u8> {
     let triangles: Vec<[u32; 3]> = cube_triangles().collect();
     written("cube.surf.gii", |path| {
-        crestline::io::gifti::write_gifti_surface(path, (&cube_points(), None), &triangles, &[])
+        crate::io::gifti::write_gifti_surface(path, (&cube_points(), None), &triangles, &[])
             .unwrap()
     })
 }
@@ -469,7 +467,7 @@ impl Tally {
 
 /// Keep a failing mutant where it can be read again.
 fn save_failure(bytes: &[u8], seed: &Seed, index: usize) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz_readers_failures");
+    let dir = std::env::temp_dir().join("crestline_fuzz_readers_failures");
     std::fs::create_dir_all(&dir).unwrap();
     let name = format!("{}-{index}.{}", seed.name, seed.extension);
     let path = dir.join(name.replace([' ', '(', ')', ','], "_"));

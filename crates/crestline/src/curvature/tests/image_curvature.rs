@@ -2,8 +2,8 @@
 //! (`differential::isosurface_curvature`), against closed forms and finite
 //! differences on cubic polynomial fields, whose derivatives are exact.
 
-use crestline::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
-use crestline::{Point, Vector};
+use crate::curvature::{isosurface_curvature, IsoCurvature, ThirdOrder};
+use crate::{Point, Vector};
 use nalgebra::Matrix3;
 
 /// f(x) = c + bᵀx + ½ xᵀAx + ⅙ T(x, x, x), with its exact derivatives.
@@ -168,10 +168,10 @@ fn vanishing_or_non_finite_gradient_gives_none() {
 // Isosurface meshes with image-based curvature (`curvature::image_isosurface`).
 
 mod sampled {
-    use crestline::curvature::{estimate_curvature, image_isosurface, CurvatureField};
-    use crestline::mesh::Mesh;
-    use crestline::volume::Volume;
-    use crestline::{Point, Vector};
+    use crate::curvature::{estimate_curvature, image_isosurface, CurvatureField};
+    use crate::mesh::Mesh;
+    use crate::volume::Volume;
+    use crate::{Point, Vector};
     use nalgebra::Matrix3;
 
     /// `f` sampled on an `n³` grid with `spacing`, centred on the world origin, axes
@@ -260,13 +260,13 @@ fn sphere_field_curvature_is_one_over_the_radius_at_every_vertex() {
 
 #[test]
 fn curvature_kept_at_some_points_equals_the_whole_grids_there_and_is_none_elsewhere() {
-    use crestline::curvature::DerivativeOrder::Third;
-    use crestline::curvature::ImageCurvature;
+    use crate::curvature::DerivativeOrder::Third;
+    use crate::curvature::ImageCurvature;
     let flips = Matrix3::new(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0);
     let volume = sampled::field(41, [0.8, 1.0, 1.3], flips, |p| {
         12.0 - (p.coords.component_mul(&Vector::new(1.0, 1.3, 0.8))).norm()
     });
-    let (iso, _) = crestline::curvature::image_isosurface(&volume, 0.0, 1.5).unwrap();
+    let (iso, _) = crate::curvature::image_isosurface(&volume, 0.0, 1.5).unwrap();
     let mesh = iso.to_mesh().unwrap();
     let whole = ImageCurvature::new(&volume, 1.5).unwrap();
     let some = ImageCurvature::at_points(&volume, 1.5, mesh.positions(), Third).unwrap();
@@ -379,7 +379,7 @@ fn ellipsoid_field_principal_directions_follow_its_curvature_lines() {
 
 #[test]
 fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
-    use crestline::volume::{BSpline, Volume};
+    use crate::volume::{BSpline, Volume};
     // f = −(x²/a² + y²/b² + z²/c²) sampled on a grid: the cubic B-spline
     // reproduces the quadratic, so curvature and extremalities between samples
     // are those of the field.
@@ -427,13 +427,13 @@ fn spline_jets_give_the_ellipsoid_extremalities_between_samples() {
 mod image_ridges {
     use std::sync::Arc;
 
-    use crestline::curvature::{DerivativeOrder, WithoutExtremality};
-    use crestline::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
-    use crestline::lines::LineKind;
-    use crestline::progress::Silent;
-    use crestline::ridges::Kinds;
-    use crestline::volume::Volume;
-    use crestline::{Point, Vector};
+    use crate::curvature::{DerivativeOrder, WithoutExtremality};
+    use crate::jobs::{isosurface, IsoOptions, RidgesOptions, Surface};
+    use crate::lines::LineKind;
+    use crate::progress::Silent;
+    use crate::ridges::Kinds;
+    use crate::volume::Volume;
+    use crate::{Point, Vector};
     use nalgebra::{Matrix3, Rotation3, Unit};
 
     const AXES: [f64; 3] = [24.0, 17.0, 11.0];
@@ -563,12 +563,12 @@ mod image_ridges {
 /// cubic B-spline's (σ = 0), which jump across every grid plane.
 #[test]
 fn only_a_gaussian_gives_the_images_extremalities() {
-    use crestline::curvature::{CurvatureEstimator, ImageCurvature};
+    use crate::curvature::{CurvatureEstimator, ImageCurvature};
 
     let volume = sampled::field(24, [1.0; 3], Matrix3::identity(), |p| {
         -p.coords.norm_squared()
     });
-    let (iso, _) = crestline::curvature::image_isosurface(&volume, -64.0, 1.0).unwrap();
+    let (iso, _) = crate::curvature::image_isosurface(&volume, -64.0, 1.0).unwrap();
     let mesh = iso.to_mesh().unwrap();
     let gaussian = ImageCurvature::new(&volume, 1.0)
         .unwrap()

@@ -5,17 +5,17 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::curvature::{estimate_curvature, write_curvature_values, Quality, ShapeOperator};
-use crestline::io::freesurfer::{write_surface, VolumeGeometry};
-use crestline::io::gifti::write_gifti_surface;
-use crestline::io::{read_mesh, read_vertex_values, Structure};
-use crestline::jobs::{ridges, RidgesOptions, Surface};
-use crestline::lines::{
+use crate::curvature::{estimate_curvature, Quality, ShapeOperator};
+use crate::io::freesurfer::{write_surface, VolumeGeometry};
+use crate::io::gifti::write_gifti_surface;
+use crate::io::{read_mesh, read_vertex_values, Structure};
+use crate::jobs::{ridges, RidgesOptions, Surface};
+use crate::lines::{
     write_labels, write_vertex_labels, FeatureLines, LineKind, Polyline, SurfaceLocation,
 };
-use crestline::mesh::{Mesh, TriangleSoup, VertexId};
-use crestline::progress::Silent;
-use crestline::{Point, Space};
+use crate::mesh::{Mesh, TriangleSoup, VertexId};
+use crate::progress::Silent;
+use crate::{Point, Space};
 
 use crate::common;
 
@@ -73,8 +73,12 @@ fn per_vertex_outputs_follow_the_input_vertices_after_repairs() {
     let dir = tempfile::tempdir().unwrap();
     let shape = dir.path().join("lh.mean.shape.gii");
     let curv = dir.path().join("lh.mean.curv");
-    write_curvature_values(&shape, &mesh, &field, Quality::Mean, Structure::OTHER).unwrap();
-    write_curvature_values(&curv, &mesh, &field, Quality::Mean, Structure::OTHER).unwrap();
+    field
+        .write_values(&shape, &mesh, Quality::Mean, Structure::OTHER)
+        .unwrap();
+    field
+        .write_values(&curv, &mesh, Quality::Mean, Structure::OTHER)
+        .unwrap();
     let shape = read_vertex_values(&shape).unwrap();
     let curv = read_vertex_values(&curv).unwrap();
     assert_eq!((shape.len(), curv.len()), (8, 8));

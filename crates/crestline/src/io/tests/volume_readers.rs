@@ -5,8 +5,8 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crestline::io::{read_raw_volume, read_volume, SampleType};
-use crestline::volume::Volume;
+use crate::io::{read_raw_volume, read_volume, SampleType};
+use crate::volume::Volume;
 use nalgebra::Matrix3;
 
 /// The test grid: 4 × 3 × 2 voxels.

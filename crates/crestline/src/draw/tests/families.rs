@@ -3,17 +3,17 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crestline::curvature::{estimate_curvature, ShapeOperator};
-use crestline::draw::{
+use crate::curvature::{estimate_curvature, ShapeOperator};
+use crate::draw::{
     borders, creases, draw, suggestive_contours, Camera, DrawOptions, Projection,
     SuggestiveOptions, View,
 };
-use crestline::lines::{FeatureLines, LineKind};
-use crestline::mesh::generate::{
+use crate::lines::{FeatureLines, LineKind};
+use crate::mesh::generate::{
     height_field, sphere, torus, HeightFunction, ImplicitSurface, Sampling, Torus,
 };
-use crestline::mesh::{Mesh, TriangleSoup};
-use crestline::{Point, Vector};
+use crate::mesh::{Mesh, TriangleSoup};
+use crate::{Point, Vector};
 use nalgebra::Matrix3;
 
 fn mesh(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {

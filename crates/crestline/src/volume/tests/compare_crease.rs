@@ -12,17 +12,25 @@
 //! (the side constraint, as for the crease surface). Vertices are shared by grid
 //! edge, so where neighbouring cells orient e3 differently the surface cracks.
 //!
-//! Run with `cargo run --release --example compare_crease`.
+//! Run with `cargo test --release -p crestline --lib compare_crease -- --ignored
+//! --nocapture`.
 
 use std::collections::HashMap;
 
-use crestline::mesh::TriangleSoup;
-use crestline::volume::crease::{crease_surface, oriented_marching_cubes, CreaseField};
-use crestline::volume::{Derivatives, Volume};
-use crestline::{Point, Result};
+use crate::mesh::TriangleSoup;
+use crate::volume::crease::{crease_surface, oriented_marching_cubes, CreaseField};
+use crate::volume::{Derivatives, Volume};
+use crate::{Point, Result};
 use nalgebra::Matrix3;
 
-fn main() -> Result<()> {
+#[test]
+#[ignore = "a measurement: prints the tables of the comparison"]
+fn compare_crease() {
+    tables().unwrap();
+}
+
+/// Prints the comparison of each field.
+fn tables() -> Result<()> {
     println!(
         "{:<14} {:<20} {:>9} {:>10} {:>12} {:>15} {:>8} {:>8} {:>12}",
         "field",

@@ -6,18 +6,18 @@
 
 use crate::common;
 
-use common::transformed;
-use crestline::crest_lines::crest_lines;
-use crestline::landmarks::{
-    landmarks, read_landmarks, write_landmarks, LandmarkFormat, LandmarkKind, LandmarkOptions,
-    Landmarks, PointLandmark, Space,
+use crate::crest_lines::crest_lines;
+use crate::landmarks::{
+    landmarks, read_landmarks, LandmarkFormat, LandmarkKind, LandmarkOptions, Landmarks,
+    PointLandmark, Space,
 };
-use crestline::lines::{FeatureLines, LineExtractor, LineKind};
-use crestline::mesh::generate::{self, Sampling};
-use crestline::progress::Silent;
-use crestline::ridges::ExtremalityTracer;
-use crestline::volume::Volume;
-use crestline::Point;
+use crate::lines::{FeatureLines, LineExtractor, LineKind};
+use crate::mesh::generate::{self, Sampling};
+use crate::progress::Silent;
+use crate::ridges::ExtremalityTracer;
+use crate::volume::Volume;
+use crate::Point;
+use common::transformed;
 use nalgebra::{Isometry3, Matrix3, Translation3, UnitQuaternion};
 
 const AXES: [f64; 3] = [1.0, 0.7, 0.45];
@@ -197,7 +197,7 @@ fn slicer_markups_hold_the_schema_fields_and_read_back_as_points_and_curves() {
         LandmarkFormat::from_path(&path).unwrap(),
         LandmarkFormat::Slicer
     );
-    write_landmarks(&path, &found, Space::Ras).unwrap();
+    found.write(&path, Space::Ras).unwrap();
     let document: serde_json::Value =
         serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
     // The schema's required fields and the types and values it allows.
@@ -251,7 +251,7 @@ fn json_round_trips_and_csv_has_one_row_per_point() {
     let found = sample_landmarks();
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("landmarks.json");
-    write_landmarks(&json, &found, Space::Lps).unwrap();
+    found.write(&json, Space::Lps).unwrap();
     let (read, space) = read_landmarks(&json).unwrap();
     assert_eq!(space, Space::Lps);
     assert_eq!(read.space, Some(Space::Lps), "the frame the file declares");
@@ -263,7 +263,7 @@ fn json_round_trips_and_csv_has_one_row_per_point() {
         }
     );
     let csv = dir.path().join("landmarks.csv");
-    write_landmarks(&csv, &found, Space::Lps).unwrap();
+    found.write(&csv, Space::Lps).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<&str> = text.lines().collect();
     assert_eq!(rows[0], "id,kind,x,y,z,curvature,line,space");
