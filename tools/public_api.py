@@ -44,7 +44,11 @@ def main() -> int:
         help="the documentation folder (default: doc/ in $CARGO_TARGET_DIR or target/)",
     )
     args = parser.parse_args()
-    items = public_items(args.doc / "crestline" / "all.html")
+    all_html = args.doc / "crestline" / "all.html"
+    if not all_html.is_file():
+        print(f"no {all_html}: run `cargo doc -p crestline --no-deps` first")
+        return 1
+    items = public_items(all_html)
     if args.update:
         PINNED.write_text("".join(f"{item}\n" for item in items))
     pinned = PINNED.read_text().splitlines()

@@ -23,7 +23,7 @@
 //!   (`∇e_max · t_max < 0` for a maximum, `> 0` for a minimum) and the curvature
 //!   condition holds there.
 //! - The lines are chained by point key without regard to direction
-//!   (`crate::volume::marching_lines()`) and are unoriented: each runs in the
+//!   (`marching_lines::marching_lines`) and are unoriented: each runs in the
 //!   direction of its grid keys (`BiIsoLine::in_key_order`). The curvature is
 //!   computed in the frame of the grid's axes and ties of an extremality at exactly
 //!   0 are broken there, so that the lines do not depend on the world frame the
@@ -38,17 +38,20 @@
 //!   slices (module `frames`): memory grows with the isosurface, not with the image.
 
 mod frames;
+mod marching_lines;
+
+pub use marching_lines::Sweep;
 
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
 #[cfg(test)]
 use crate::progress::Silent;
 use crate::progress::{try_stage, Observer};
-use crate::volume::marching_lines::{BiIsoLine, SecondField, Sweep};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Volume};
 use crate::{Error, Point, Result, Vector};
 use frames::{Curvatures, Frame};
+use marching_lines::{BiIsoLine, SecondField};
 
 /// The extremality of one kind of crest line as the second field of the Marching
 /// Lines, oriented per cell: `e_max` for ridges (maxima of `k_max` along `t_max`),
@@ -259,7 +262,7 @@ impl LineTracing {
 /// first (ridges and valleys each from the same number of seeds).
 ///
 /// Errors as [`Derivatives::new`] (σ, direction matrix) and
-/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions),
+/// [`marching_lines`](marching_lines::marching_lines()) (level, samples, dimensions),
 /// and for a non-finite `J`.
 #[cfg(test)]
 pub(crate) fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {

@@ -7,10 +7,11 @@ use serde::{Deserialize, Serialize};
 
 use super::image::{image_units, prepared_image};
 use super::Length;
+use crate::crest_lines::Sweep;
 use crate::crest_lines::{LineFamily, LineTracing};
 use crate::lines::{FeatureLines, LineExtractor, MinLength, MinStrength};
 use crate::progress::Observer;
-use crate::volume::{Sweep, Volume};
+use crate::volume::Volume;
 use crate::{Error, Result};
 
 /// Options of [`crest_lines`].

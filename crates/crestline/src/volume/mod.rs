@@ -15,9 +15,9 @@
 //! (separable, moment-corrected kernels, σ in world units) and `BSpline` the C²
 //! cubic B-spline that interpolates the samples, both with world-space gradients,
 //! Hessians and third derivatives. [`isosurface()`] extracts the surface `f = I` as
-//! a closed, oriented [`crate::mesh::Mesh`], and `marching_lines()` the curves
-//! where it meets the level set of a second field (Thirion & Gourdon's Marching
-//! Lines).
+//! a closed, oriented [`crate::mesh::Mesh`]; the curves where it meets the level
+//! set of a second field (Thirion & Gourdon's Marching Lines) are traced by
+//! [`crate::crest_lines`].
 
 pub(crate) mod bspline;
 pub(crate) mod crease;
@@ -26,7 +26,6 @@ pub(crate) mod grid;
 pub(crate) mod isosurface;
 pub(crate) mod jet;
 pub(crate) mod kernels;
-pub(crate) mod marching_lines;
 mod separable;
 mod statistics;
 pub(crate) mod trilinear;
@@ -39,9 +38,6 @@ pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub(crate) use jet::Jet;
 #[cfg(test)]
 pub(crate) use jet::ThirdOrder;
-pub(crate) use marching_lines::Sweep;
-#[cfg(test)]
-pub(crate) use marching_lines::{bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField};
 pub use statistics::ValueSummary;
 
 use crate::{Error, Point, Result, Space, Vector};

@@ -6,11 +6,15 @@
 
 use std::f64::consts::PI;
 
+use crate::crest_lines::marching_lines::{
+    bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField,
+};
+use crate::crest_lines::Sweep;
 use crate::crest_lines::{
     crest_lines, iso_gaussian_lines, parabolic_lines, trace, LineFamily, LineTracing,
 };
 use crate::lines::LineKind;
-use crate::volume::{bi_iso_lines, seeded_marching_lines, BiIsoLine, SampledField, Sweep, Volume};
+use crate::volume::Volume;
 use crate::Point;
 use nalgebra::Matrix3;
 

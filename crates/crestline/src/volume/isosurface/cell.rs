@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use crate::volume::grid::in_face_axes;
 
 /// The 12 cell edges as (start corner, axis): the 4 edges along x, then y, then z.
-pub(in crate::volume) const EDGES: [(usize, usize); 12] = [
+pub(crate) const EDGES: [(usize, usize); 12] = [
     (0, 0),
     (2, 0),
     (4, 0),
@@ -87,7 +87,7 @@ fn is_ambiguous(mask: usize, face: usize) -> bool {
 /// The decider's choice on each ambiguous face (bits of `ambiguous`) of a cell
 /// whose corners have the sample values `values`: bit `f` set where face `f` joins
 /// its inside corners.
-pub(in crate::volume) fn decide_faces(ambiguous: u8, values: &[f64; 8], level: f64) -> u8 {
+pub(crate) fn decide_faces(ambiguous: u8, values: &[f64; 8], level: f64) -> u8 {
     (0..6)
         .filter(|&face| (ambiguous >> face) & 1 == 1)
         .filter(|&face| inside_corners_connected(decider_corners(face).map(|c| values[c]), level))
@@ -100,7 +100,7 @@ const END_GAP: f64 = 1e-4;
 
 /// Where the linear interpolation from `a` (fraction 0) to `b` (fraction 1) crosses
 /// `level`, kept [`END_GAP`] away from the ends (the paper's ε shift).
-pub(in crate::volume) fn crossing_fraction(a: f64, b: f64, level: f64) -> f64 {
+pub(crate) fn crossing_fraction(a: f64, b: f64, level: f64) -> f64 {
     ((level - a) / (b - a)).clamp(END_GAP, 1.0 - END_GAP)
 }
 
@@ -140,7 +140,7 @@ fn face_segments(mask: usize, face: usize, connected: bool, next: &mut [u8; 12])
 /// The oriented polygons of one cell case, as cell edges in order, one polygon
 /// after the other.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(in crate::volume) struct Polygons {
+pub(crate) struct Polygons {
     edges: [u8; 12],
     lengths: [u8; 4],
     count: u8,
@@ -151,7 +151,7 @@ pub(in crate::volume) struct Polygons {
 
 impl Polygons {
     /// The cell edges of each polygon, in order (at least 3 each).
-    pub(in crate::volume) fn iter(&self) -> impl Iterator<Item = &[u8]> + '_ {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = &[u8]> + '_ {
         let mut start = 0;
         self.lengths[..self.count as usize].iter().map(move |&n| {
             let polygon = &self.edges[start..start + n as usize];
@@ -187,17 +187,14 @@ impl Polygons {
 
 /// Whether a polygon of `n` corners is fanned around its barycentre (`n > 3`)
 /// rather than kept as one triangle.
-pub(in crate::volume) fn is_fanned(n: usize) -> bool {
+pub(crate) fn is_fanned(n: usize) -> bool {
     n > 3
 }
 
 /// The triangles of a polygon with corners `ids`, wound as the polygon: the
 /// polygon itself if it is a triangle, otherwise the fan around `centre`, the
 /// vertex at its barycentre (ignored for a triangle).
-pub(in crate::volume) fn triangulate(
-    ids: &[u32],
-    centre: u32,
-) -> impl Iterator<Item = [u32; 3]> + '_ {
+pub(crate) fn triangulate(ids: &[u32], centre: u32) -> impl Iterator<Item = [u32; 3]> + '_ {
     let (n, fanned) = (ids.len(), is_fanned(ids.len()));
     (0..if fanned { n } else { 1 }).map(move |k| {
         if fanned {
@@ -237,14 +234,14 @@ fn build_cycles(mask: usize, connected: u8) -> Polygons {
 }
 
 /// The polygons of every cell case, and the ambiguous faces of every corner mask.
-pub(in crate::volume) struct CaseTable {
+pub(crate) struct CaseTable {
     ambiguous: [u8; 256],
     polygons: Vec<Polygons>,
 }
 
 impl CaseTable {
     /// The table, built on first use.
-    pub(in crate::volume) fn get() -> &'static CaseTable {
+    pub(crate) fn get() -> &'static CaseTable {
         static TABLE: OnceLock<CaseTable> = OnceLock::new();
         TABLE.get_or_init(CaseTable::build)
     }
@@ -266,13 +263,13 @@ impl CaseTable {
 
     /// The ambiguous faces of a cell whose inside corners are the bits of `mask`,
     /// as bits `1 << face`.
-    pub(in crate::volume) fn ambiguous_faces(&self, mask: u8) -> u8 {
+    pub(crate) fn ambiguous_faces(&self, mask: u8) -> u8 {
         self.ambiguous[mask as usize]
     }
 
     /// The polygons of a cell with inside bits `mask` whose ambiguous faces join
     /// their inside corners where `connected` has their bit set.
-    pub(in crate::volume) fn polygons(&self, mask: u8, connected: u8) -> &Polygons {
+    pub(crate) fn polygons(&self, mask: u8, connected: u8) -> &Polygons {
         &self.polygons[mask as usize * 64 + connected as usize]
     }
 }

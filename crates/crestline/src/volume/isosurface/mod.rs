@@ -39,7 +39,7 @@
 //! surface), a non-finite level, a volume less than 2 samples thick, or a level
 //! that no grid edge crosses (no surface; the message gives the samples' range).
 
-pub(in crate::volume) mod cell;
+pub(crate) mod cell;
 mod slab;
 
 use rayon::prelude::*;
@@ -185,7 +185,7 @@ pub fn isosurface(volume: &Volume, level: f64) -> Result<Isosurface> {
 }
 
 /// Refuse a non-finite level, a volume without cells and non-finite samples.
-pub(in crate::volume) fn check_input(volume: &Volume, level: f64) -> Result<()> {
+pub(crate) fn check_input(volume: &Volume, level: f64) -> Result<()> {
     if !level.is_finite() {
         return Err(Error::Argument(format!(
             "the isosurface level {level} is not finite"

@@ -167,7 +167,7 @@ struct Segment {
 const SLAB_LAYERS: usize = 8;
 
 /// The bi-iso-lines of `volume`'s samples `f` at `level` and the samples `g` at
-/// `g_level` (Marching Lines; see `volume/marching_lines/mod.rs`), with `g` one
+/// `g_level` (Marching Lines; see `crest_lines/marching_lines/mod.rs`), with `g` one
 /// value per sample (NaN where undefined).
 ///
 /// Errors ([`Error::Argument`]) as [`marching_lines`], or if `g` does not have one
@@ -184,8 +184,8 @@ pub fn bi_iso_lines(
 
 /// The lines where the isosurface `f = level` of `volume` meets `g = g_level` for
 /// the second field `field` (Marching Lines, Thirion & Gourdon 1993 §4; see the
-/// source file `volume/marching_lines/mod.rs`): closed except at the border of the volume and
-/// where `g` is undefined, in a deterministic order.
+/// source file `crest_lines/marching_lines/mod.rs`): closed except at the border
+/// of the volume and where `g` is undefined, in a deterministic order.
 ///
 /// Errors ([`Error::Argument`]): a level is not finite, a dimension of the volume
 /// is below 2, or a sample of `f` is not finite. No crossing is not an error: the
@@ -212,12 +212,13 @@ pub fn marching_lines(
 /// Which cells the Marching Lines visit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Sweep {
-    /// Every cell ([`marching_lines`]): every line, in a deterministic order.
+    /// Every cell: every line, in a deterministic order.
     #[default]
     Every,
     /// `count` cells drawn at random among those the isosurface crosses, with a
     /// generator seeded by `rng_seed`, and the lines through them followed from
-    /// cell to cell ([`seeded_marching_lines`]): the longer lines, longest first.
+    /// cell to cell (the randomized variant, Thirion & Gourdon 1993 §5): the longer
+    /// lines, longest first.
     Seeds {
         /// How many cells to draw.
         count: usize,
@@ -229,7 +230,7 @@ pub enum Sweep {
 impl Sweep {
     /// The lines of `f = level` and `g = g_level` ([`marching_lines`] arguments)
     /// found by this sweep.
-    pub fn lines(
+    pub(crate) fn lines(
         self,
         volume: &Volume,
         level: f64,
