@@ -24,11 +24,11 @@ use rayon::prelude::*;
 
 use super::PrincipalCurvatures;
 use super::{isosurface_curvature, CurvatureEstimator, CurvatureField, IsoCurvature};
+#[cfg(test)]
+use crate::isosurface::{isosurface, Isosurface};
 use crate::mesh::Mesh;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
-#[cfg(test)]
-use crate::volume::{isosurface, Isosurface};
 use crate::volume::{BSpline, Derivatives, Jet, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 

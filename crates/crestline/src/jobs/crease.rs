@@ -6,11 +6,9 @@ use std::borrow::Cow;
 use serde::{Deserialize, Serialize};
 
 use super::image::prepared_image;
+use crate::crease::{crease_surface_of, default_options, Survey, DEFAULT_STRENGTH_FRACTION};
 use crate::mesh::TriangleSoup;
 use crate::progress::{try_stage, Observer};
-use crate::volume::crease::{
-    crease_surface_of, default_options, Survey, DEFAULT_STRENGTH_FRACTION,
-};
 use crate::volume::{Smoothing, Volume};
 use crate::{Error, Result};
 
@@ -57,7 +55,7 @@ impl CreaseOptions {
 
 /// The ridge (or valley) surface of `volume` as `options` say: triangles that need
 /// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
-/// (`crate::volume::crease::crease_surface`). Stages `reconstruction` (the
+/// (`crate::crease::crease_surface`). Stages `reconstruction` (the
 /// survey of the eigenvalues, `Survey`), `eigenframes` (the field kept where
 /// creases are as strong as asked) and those of `crease_surface_of`; the counts
 /// `kept samples`, `vertices` and `triangles`, and a warning naming the option that

@@ -9,9 +9,10 @@ use super::scale::{chosen_scale, image_scale, mesh_scale};
 use super::{Length, Units};
 use crate::curvature::{CurvatureEstimator, DerivativeOrder, Estimator, ImageCurvature};
 use crate::error::readable;
+use crate::isosurface::isosurface as marching_cubes;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
-use crate::volume::{isosurface as marching_cubes, Derivatives, Volume};
+use crate::volume::{Derivatives, Volume};
 use crate::{Error, Result};
 
 /// [`Volume::voxel_size`].

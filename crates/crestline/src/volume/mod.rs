@@ -14,16 +14,13 @@
 //! [`Derivatives`] computes Gaussian derivatives of orders 0 to 3 on the grid
 //! (separable, moment-corrected kernels, σ in world units) and `BSpline` the C²
 //! cubic B-spline that interpolates the samples, both with world-space gradients,
-//! Hessians and third derivatives. [`isosurface()`] extracts the surface `f = I` as
-//! a closed, oriented [`crate::mesh::Mesh`]; the curves where it meets the level
-//! set of a second field (Thirion & Gourdon's Marching Lines) are traced by
-//! [`crate::crest_lines`].
+//! Hessians and third derivatives. The image extractors build on it: isosurfaces
+//! ([`crate::isosurface`]), crest lines by Marching Lines ([`crate::crest_lines`])
+//! and crease surfaces.
 
 pub(crate) mod bspline;
-pub(crate) mod crease;
 pub(crate) mod derivatives;
 pub(crate) mod grid;
-pub(crate) mod isosurface;
 pub(crate) mod jet;
 pub(crate) mod kernels;
 mod separable;
@@ -34,7 +31,6 @@ pub(crate) mod voxel_set;
 pub(crate) use bspline::BSpline;
 pub(crate) use derivatives::Smoothing;
 pub use derivatives::{Derivatives, Partial};
-pub use isosurface::{isosurface, Isosurface, VertexSource};
 pub(crate) use jet::Jet;
 #[cfg(test)]
 pub(crate) use jet::ThirdOrder;
@@ -426,8 +422,6 @@ fn invalid(message: String) -> Error {
 
 #[cfg(test)]
 mod tests {
-    mod compare_crease;
-    mod crease;
     mod volume_derivatives;
 
     use super::*;

@@ -5,8 +5,8 @@
 use std::ops::Range;
 
 use super::{PointKey, SecondField, Segment};
+use crate::isosurface::cell::{crossing_fraction, decide_faces, CaseTable, EDGES};
 use crate::volume::grid::{cell_corner, edge_key};
-use crate::volume::isosurface::cell::{crossing_fraction, decide_faces, CaseTable, EDGES};
 use crate::volume::Volume;
 
 /// A vertex of an isosurface polygon: the key of its grid edge, its position in

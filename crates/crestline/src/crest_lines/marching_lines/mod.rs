@@ -4,7 +4,7 @@
 //! with the conventions of docs/design/images.md ("Isosurfaces and implicit curvature").
 //!
 //! In every cell the isosurface is cut into its oriented polygons, exactly as
-//! [`isosurface()`](crate::volume::isosurface()) does (BUILDCYCLES, asymptotic
+//! [`isosurface()`](crate::isosurface::isosurface()) does (BUILDCYCLES, asymptotic
 //! decider, inside `f ≥ I`, counter-clockwise seen from `f < I`). Then:
 //!
 //! - `g` is interpolated linearly along the grid edge of each polygon vertex, and
@@ -47,9 +47,9 @@ mod seeded;
 
 use rayon::prelude::*;
 
+use crate::isosurface::check_input;
 #[cfg(test)]
 use crate::volume::grid::Grid;
-use crate::volume::isosurface::check_input;
 use crate::volume::Volume;
 use crate::{Error, Point, Result};
 

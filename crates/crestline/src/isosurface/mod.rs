@@ -156,7 +156,7 @@ impl Isosurface {
 }
 
 /// The isosurface `f = level` of `volume` (Thirion & Gourdon 1993, §2–3; see the
-/// source file `volume/isosurface/mod.rs` for the conventions): inside is `f ≥ level`, faces
+/// source file `isosurface/mod.rs` for the conventions): inside is `f ≥ level`, faces
 /// are split by the asymptotic decider, and each cell's polygons (BUILDCYCLES) are
 /// triangulated, so the surface is closed, manifold and consistently oriented
 /// except at the volume border, with normals toward decreasing `f`.

@@ -345,7 +345,7 @@ fn gap_and_lambda3(h: &Matrix3<f64>) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::volume::crease::Eigenframe;
+    use crate::crease::Eigenframe;
 
     #[test]
     fn closed_form_gap_and_lambda3_match_the_eigen_decomposition() {

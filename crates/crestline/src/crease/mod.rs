@@ -50,3 +50,6 @@ pub const DEFAULT_THETA: f64 = 0.7;
 /// volume: it keeps the faint shoulders of a ridge, where −λ3 is a few percent of
 /// the crest's, from making sheets of their own.
 pub const DEFAULT_STRENGTH_FRACTION: f64 = 0.1;
+
+#[cfg(test)]
+mod tests;

@@ -8,11 +8,11 @@ use std::collections::HashMap;
 use super::edges::CrossingOptions;
 use super::field::CreaseField;
 use super::surface::{compact, Mesh};
-use crate::mesh::TriangleSoup;
-use crate::volume::grid::cell_corner;
-use crate::volume::isosurface::cell::{
+use crate::isosurface::cell::{
     crossing_fraction, decide_faces, is_fanned, triangulate, CaseTable, EDGES,
 };
+use crate::mesh::TriangleSoup;
+use crate::volume::grid::cell_corner;
 use crate::Vector;
 
 /// The ridge surface of `field` as plain marching cubes extract it: the baseline of
@@ -21,7 +21,7 @@ use crate::Vector;
 ///
 /// In each cell, the eigenvectors e3 at its eight corners are oriented to corner
 /// 0's (e → −e where e·e3₀ < 0), and the values g·e3 at the corners are contoured
-/// at 0 with the isosurface's case table ([`crate::volume::isosurface()`]: inside
+/// at 0 with the isosurface's case table ([`crate::isosurface::isosurface()`]: inside
 /// is g·e3 ≥ 0, the asymptotic decider on ambiguous faces, polygons of more than
 /// three corners fanned around their barycentre). A crossed cell edge carries one
 /// vertex, at the linear interpolation of g·e3, keyed by its grid edge: two cells

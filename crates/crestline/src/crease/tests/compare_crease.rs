@@ -17,8 +17,8 @@
 
 use std::collections::HashMap;
 
+use crate::crease::{crease_surface, oriented_marching_cubes, CreaseField};
 use crate::mesh::TriangleSoup;
-use crate::volume::crease::{crease_surface, oriented_marching_cubes, CreaseField};
 use crate::volume::{Derivatives, Volume};
 use crate::{Point, Result};
 use nalgebra::Matrix3;

@@ -1,7 +1,7 @@
 //! Crease surfaces (Schultz, Theisel and Seidel 2010): the crossings of the ridge
 //! condition with the grid edges on fields whose ridges are known.
 
-use crate::volume::crease::{edge_crossings, CreaseField, CrossingOptions};
+use crate::crease::{edge_crossings, CreaseField, CrossingOptions};
 use crate::volume::{Derivatives, Volume};
 use crate::Point;
 use nalgebra::Matrix3;
@@ -121,7 +121,7 @@ fn without_the_degenerate_rule_the_shell_would_grow_spurious_sheets() {
 
 #[test]
 fn spherical_shell_ridge_surface_is_the_sphere() {
-    use crate::volume::crease::crease_surface;
+    use crate::crease::crease_surface;
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
@@ -267,7 +267,7 @@ fn topology(soup: &crate::mesh::TriangleSoup) -> Topology {
 
 #[test]
 fn a_ridge_surface_that_ends_is_bounded_by_its_degenerate_line() {
-    use crate::volume::crease::{crease_surface, DEGENERATE};
+    use crate::crease::{crease_surface, DEGENERATE};
     let (n, centre) = (32, [15.3, 15.5, 15.7]);
     let volume = ending_ridge(n, centre);
     let field = ridge_field(&volume);
@@ -342,7 +342,7 @@ fn sheets_field() -> CreaseField {
 
 #[test]
 fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
-    use crate::volume::crease::crease_surface;
+    use crate::crease::crease_surface;
     let (n, field) = (SHEETS, sheets_field());
     let soup = crease_surface(&field, &field.default_options(), 0).unwrap();
     let figures = topology(&soup);
@@ -369,7 +369,7 @@ fn crossing_sheets_give_a_manifold_surface_with_simple_boundaries() {
 
 #[test]
 fn the_surface_is_trimmed_along_the_strength_level() {
-    use crate::volume::crease::{crease_surface, STRENGTH};
+    use crate::crease::{crease_surface, STRENGTH};
     let (n, field) = (SHEETS, sheets_field());
     // Strong enough that the sheets' fading ends (along y) are cut off.
     let mut options = field.default_options();
@@ -424,7 +424,7 @@ fn the_surface_is_trimmed_along_the_strength_level() {
 
 #[test]
 fn the_marching_cubes_baseline_finds_the_sphere_of_the_shell() {
-    use crate::volume::crease::oriented_marching_cubes;
+    use crate::crease::oriented_marching_cubes;
     let (radius, width) = (11.0, 3.0);
     let (volume, centre) = shell(34, radius, width);
     let field = ridge_field(&volume);
@@ -489,7 +489,7 @@ fn tilted_sheet(n: usize, c: Point, normal: nalgebra::Vector3<f64>, width: f64) 
 
 #[test]
 fn the_marching_cubes_baseline_of_a_planar_ridge_has_no_cracks() {
-    use crate::volume::crease::oriented_marching_cubes;
+    use crate::crease::oriented_marching_cubes;
     let n = 24;
     let c = Point::new(11.3, 11.6, 11.45);
     let normal = nalgebra::Vector3::new(0.25, -0.2, 1.0).normalize();
@@ -557,7 +557,7 @@ impl crate::progress::Observer for Warnings {
 
 #[test]
 fn a_minimum_piece_size_that_empties_the_surface_is_named() {
-    use crate::volume::crease::{crease_surface, crease_surface_observed};
+    use crate::crease::{crease_surface, crease_surface_observed};
     let field = sheets_field();
     let options = field.default_options();
     let all = crease_surface(&field, &options, 0).unwrap().triangles.len();
@@ -584,7 +584,7 @@ fn a_minimum_piece_size_that_empties_the_surface_is_named() {
 
 #[test]
 fn a_field_kept_where_creases_are_strong_gives_the_same_surface_in_less_memory() {
-    use crate::volume::crease::{crease_surface, default_options, Survey};
+    use crate::crease::{crease_surface, default_options, Survey};
     use crate::volume::Smoothing;
     let volume = crossing_sheets(SHEETS, 60f64.to_radians(), 2.5, 15.0);
     let whole = ridge_field(&volume);
