@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
-use crestline::compare::{compare, in_one_frame, read_features, Agreement, Comparison, Tolerance};
-use crestline::register::read_transform;
+use crestline::compare::{Agreement, Comparison, Features, Tolerance};
+use crestline::register::RigidTransform;
 use crestline::Result;
 
 use super::load::report_with_progress;
@@ -84,14 +84,14 @@ pub fn run(args: &CompareArgs) -> Result<()> {
     let outputs: Vec<_> = args.report.output().into_iter().collect();
     check_paths(&inputs, &outputs)?;
     let mut report = report_with_progress("compare", &args.a);
-    let a = report.stage("read A", || read_features(&args.a))?;
-    let mut b = report.stage("read B", || read_features(&args.b))?;
+    let a = report.stage("read A", || Features::read(&args.a))?;
+    let mut b = report.stage("read B", || Features::read(&args.b))?;
     if let Some(path) = &args.transform {
-        b = b.moved(&read_transform(path)?);
+        b = b.moved(&RigidTransform::read(path)?);
     }
-    let (a, b) = in_one_frame(a, b);
+    let (a, b) = Features::in_one_frame(a, b);
     let tolerance = args.tolerance.resolve(&a)?;
-    let comparison = report.stage("compare", || compare(&a, &b, tolerance));
+    let comparison = report.stage("compare", || a.compare(&b, tolerance));
     super::print_stdout(&table(&comparison));
     report.section("comparison", &comparison);
     if let Some(path) = &args.report.report {

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use crestline::jobs::{crest_lines, CrestLinesOptions};
-use crestline::lines::{write_lines, LineFormat};
+use crestline::lines::LineFormat;
 use crestline::Result;
 
 use super::frame::OutputSpaceArg;
@@ -52,5 +52,5 @@ pub fn run(args: &CrestArgs) -> Result<()> {
     lines.source = args.volume.display().to_string();
     let lines = args.frame.lines(lines)?;
     args.report
-        .write_with_output(&mut report, &args.output, |p| write_lines(p, &lines))
+        .write_with_output(&mut report, &args.output, |p| lines.write(p))
 }

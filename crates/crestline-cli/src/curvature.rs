@@ -4,9 +4,7 @@
 
 use std::path::PathBuf;
 
-use crestline::curvature::{
-    write_curvature_ply_with_quality, write_curvature_values, PER_VERTEX_FORMATS,
-};
+use crestline::curvature::PER_VERTEX_FORMATS;
 use crestline::io::{choose_format, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, Surface};
 use crestline::Result;
@@ -62,8 +60,8 @@ pub fn run(args: &CurvatureArgs) -> Result<()> {
     let mut files = OutputSet::default();
     report.stage("write", || {
         files.write(&args.output, |p| match format {
-            FileFormat::Ply => write_curvature_ply_with_quality(p, mesh, &field, options.quality),
-            _ => write_curvature_values(p, mesh, &field, options.quality, args.structure.structure),
+            FileFormat::Ply => field.write_ply_with_quality(p, mesh, options.quality),
+            _ => field.write_values(p, mesh, options.quality, args.structure.structure),
         })
     })?;
     if let Some(path) = &args.report.report {

@@ -2,10 +2,11 @@
 //! creases and suggestive contours, hidden lines removed) as SVG, with an optional
 //! PNG preview.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use crestline::draw::{svg_document, write_png, write_svg, Page, Paper, PaperLength, Style};
-use crestline::io::{choose_format, FileFormat};
+use crestline::draw::{write_png, Page, Paper, PaperLength, Style};
+use crestline::io::{choose_format, write_atomically, FileFormat};
 use crestline::jobs::{draw, DrawingOptions, MorseOptions, RidgesOptions};
 use crestline::Result;
 
@@ -138,7 +139,7 @@ pub fn run(args: &DrawArgs) -> Result<()> {
     let mut options = args.options();
     let base = args.style.as_deref().map(Style::read).transpose()?;
     let style = options.style(base.unwrap_or_default())?;
-    options.draw_options().check()?;
+    options.check()?;
     let mut report = report_with_progress("draw", &args.mesh);
     let loaded = load_for_tracing(&args.mesh, &args.features.tracer, &mut report)?;
     options.ridges = options_for(&loaded.surface.mesh, &args.mesh, &args.features.tracer)?;
@@ -152,10 +153,12 @@ pub fn run(args: &DrawArgs) -> Result<()> {
         .map(|(group, count)| (group.to_string(), count.into()))
         .collect();
     report.count("paths", serde_json::Value::Object(paths));
-    let svg = svg_document(&drawing, &style);
+    let svg = drawing.svg(&style);
     let mut files = OutputSet::default();
     report.stage("write", || {
-        files.write(&args.output, |p| write_svg(p, &svg))
+        files.write(&args.output, |p| {
+            write_atomically(p, |w| w.write_all(svg.as_bytes()))
+        })
     })?;
     if let Some(png) = &png {
         let background = style.background.as_deref();

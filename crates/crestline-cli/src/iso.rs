@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use crestline::curvature::DerivativeOrder;
-use crestline::curvature::{write_curvature_ply, Estimator};
+use crestline::curvature::Estimator;
 use crestline::io::{soup_format, write_soup_of_structure, FileFormat};
 use crestline::jobs::{curvature, CurvatureOptions, IsoOptions};
 use crestline::Result;
@@ -89,7 +89,7 @@ pub fn run(args: &IsoArgs) -> Result<()> {
     let (mesh, field) = args.frame.surface(mesh, field)?;
     args.report
         .write_with_output(&mut report, &args.output, |p| match &field {
-            Some(field) => write_curvature_ply(p, &mesh, field),
+            Some(field) => field.write_ply(p, &mesh),
             None => write_soup_of_structure(p, &mesh.to_soup(), args.structure.structure),
         })
 }

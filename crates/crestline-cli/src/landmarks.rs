@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use crestline::io::is_volume_path;
 use crestline::jobs::{landmarks, CrestLinesOptions, LandmarksOptions, Length, LinesFrom};
-use crestline::landmarks::{write_landmarks, LandmarkFormat};
-use crestline::space::{self, Space};
+use crestline::landmarks::LandmarkFormat;
+use crestline::space::Space;
 use crestline::Result;
 
 use super::failure::explain;
@@ -93,12 +93,10 @@ pub fn run(args: &LandmarksArgs) -> Result<()> {
         landmarks(input, &args.options, &mut report).map_err(|e| explain(e, path))?
     };
     found.source = path.display().to_string();
-    let space = space::resolve(found.space, args.space)
+    let space = Space::resolve(found.space, args.space)
         .map_err(|e| naming(e, path))?
         .unwrap_or(Space::Lps);
     let (found, space) = args.frame.landmarks(found, space)?;
     args.report
-        .write_with_output(&mut report, &args.output, |p| {
-            write_landmarks(p, &found, space)
-        })
+        .write_with_output(&mut report, &args.output, |p| found.write(p, space))
 }

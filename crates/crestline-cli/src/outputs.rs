@@ -111,9 +111,20 @@ fn check_writable(role: &str, path: &Path) -> Result<()> {
         message: format!(
             "cannot write {role} in directory '{}': {}",
             dir.display(),
-            crestline::error::io_message(&e)
+            io_message(&e)
         ),
     })
+}
+
+/// The message of an I/O error without the name of the probe it arose on ("... at
+/// path \"/out/.crestline-XXXX\"", as `tempfile` says): the user named the
+/// directory, which the caller names.
+fn io_message(err: &std::io::Error) -> String {
+    let message = err.to_string();
+    match message.find(" at path \"") {
+        Some(at) => message[..at].to_string(),
+        None => message,
+    }
 }
 
 /// The extension of the format `path` names, with its dot (`.mrk.json`,

@@ -4,10 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crestline::jobs::{read_point_set, register};
-use crestline::register::{
-    write_transform, PointSet, Registration, RegistrationOptions, TransformFormat,
-};
+use crestline::jobs::register;
+use crestline::register::{PointSet, Registration, RegistrationOptions, TransformFormat};
 use crestline::{Error, Result, Space};
 
 use super::load::report_with_progress;
@@ -43,7 +41,7 @@ pub struct RegisterArgs {
 
 /// [`read_point_set`], with an error naming `path` if it holds too few line points.
 fn enough_points(path: &Path, space: Option<Space>) -> Result<PointSet> {
-    let set = read_point_set(path, space)?;
+    let set = PointSet::read(path, space)?;
     if set.line_points.len() < 3 {
         return Err(Error::File {
             path: path.to_path_buf(),
@@ -100,7 +98,5 @@ pub fn run(args: &RegisterArgs) -> Result<()> {
     report.count("iterations", registration.iterations);
     println!("{}", summary(&registration, moving.line_points.len()));
     args.report
-        .write_with_output(&mut report, &args.output, |p| {
-            write_transform(p, &registration)
-        })
+        .write_with_output(&mut report, &args.output, |p| registration.write(p))
 }

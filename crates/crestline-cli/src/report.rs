@@ -5,12 +5,13 @@ use std::fmt;
 use std::io::Write;
 use std::path::Path;
 use std::sync::Arc;
+use std::time::Instant;
 
 use serde::Serialize;
 use serde_json::Value;
 
 use crestline::io::write_atomically;
-use crestline::progress::{self, Observer};
+use crestline::progress::Observer;
 use crestline::Result;
 
 /// One timed stage of a run.
@@ -90,7 +91,11 @@ impl Report {
 
     /// Run `work`, recording its wall-clock time as stage `name`.
     pub fn stage<T>(&mut self, name: &str, work: impl FnOnce() -> T) -> T {
-        progress::stage(self, name, work)
+        self.stage_started(name);
+        let start = Instant::now();
+        let result = work();
+        self.stage_finished(name, start.elapsed().as_secs_f64());
+        result
     }
 
     /// Record a count (or any value) under `counts`.

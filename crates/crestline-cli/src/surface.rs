@@ -1,12 +1,11 @@
 //! The surface a command works on: a mesh file, or the isosurface of a 3D image with
 //! the image's own curvature ([`crestline::jobs::isosurface`]).
 
-use std::borrow::Cow;
 use std::path::Path;
 
 use crate::report::Report;
 use crestline::curvature::DerivativeOrder;
-use crestline::io::{is_volume_path, read_volume_with, VolumeReadOptions};
+use crestline::io::{is_volume_path, VolumeReadOptions};
 use crestline::jobs::{self, IsoOptions, Surface};
 use crestline::volume::Volume;
 use crestline::{Error, Result};
@@ -129,11 +128,10 @@ pub const IMAGES: &str =
 
 /// The 3D image at `path` (the stage `read`; of DICOM input, the series
 /// `series` chooses), its non-finite samples set to the background with a
-/// warning ([`jobs::prepared_image`]).
+/// warning ([`Volume::prepared`]).
 pub fn read_image(path: &Path, series: &SeriesArg, report: &mut Report) -> Result<Volume> {
-    let volume = report.stage("read", || read_volume_with(path, &series.options()))?;
-    let prepared = jobs::prepared_image(Cow::Owned(volume), report).map_err(|e| naming(e, path))?;
-    Ok(prepared.into_owned())
+    let volume = report.stage("read", || series.options().read(path))?;
+    volume.prepared(report).map_err(|e| naming(e, path))
 }
 
 /// An error unless `path` names a 3D image; `command` is the one that needs it.

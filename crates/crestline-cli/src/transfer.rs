@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use crestline::io::is_volume_path;
-use crestline::jobs::{crest_lines, transfer, transfer_mesh_lines, CrestLinesOptions, Surface};
+use crestline::jobs::{crest_lines, ridges, transfer, CrestLinesOptions, Surface};
 use crestline::landmarks::LandmarkFormat;
-use crestline::lines::{read_json, FeatureLines};
+use crestline::lines::FeatureLines;
 use crestline::transfer::{read_labelled, write_labelled, LabelledPoint, TransferOptions};
-use crestline::{space, Error, Result, Space};
+use crestline::{Error, Result, Space};
 
 use super::failure::explain;
 use super::load::{load_mesh, report_with_progress, StrictArg};
@@ -108,7 +108,7 @@ impl TransferArgs {
 
     /// The lines of the scan `path`: the crest lines of an image's isosurface at
     /// `--level`, or the ridges and valleys of a mesh in the frame it states or
-    /// `--space` gives ([`transfer_mesh_lines`]).
+    /// `--space` gives ([`TransferOptions::mesh_tracing`]).
     fn lines_of(
         &self,
         path: &Path,
@@ -124,8 +124,8 @@ impl TransferArgs {
             _ => {
                 let (mesh, _) = load_mesh(path, self.strict, report)?;
                 let surface = Surface::of_mesh(mesh);
-                let lines =
-                    transfer_mesh_lines(&surface, options, report).map_err(|e| explain(e, path))?;
+                let lines = ridges(&surface, &options.mesh_tracing(), report)
+                    .map_err(|e| explain(e, path))?;
                 self.in_frame(lines, path)
             }
         }
@@ -133,7 +133,7 @@ impl TransferArgs {
 
     /// Lines of a mesh in the frame they state, or `--space`, or LPS.
     fn in_frame(&self, mut lines: FeatureLines, path: &Path) -> Result<FeatureLines> {
-        let frame = space::resolve(lines.space, self.space).map_err(|e| naming(e, path))?;
+        let frame = Space::resolve(lines.space, self.space).map_err(|e| naming(e, path))?;
         lines.space = Some(frame.unwrap_or(Space::Lps));
         Ok(lines)
     }
@@ -165,9 +165,11 @@ pub fn run(args: &TransferArgs) -> Result<()> {
     let mut report = report_with_progress("transfer", &args.subject);
     let landmarks = report.stage("read landmarks", || read_labelled(&args.template_landmarks))?;
     let template = match &args.template_lines {
-        Some(path) if images => report.stage("read template lines", || read_json(path))?,
+        Some(path) if images => {
+            report.stage("read template lines", || FeatureLines::read_json(path))?
+        }
         Some(path) => {
-            let lines = report.stage("read template lines", || read_json(path))?;
+            let lines = report.stage("read template lines", || FeatureLines::read_json(path))?;
             args.in_frame(lines, path)?
         }
         None => args.lines_of(&args.template, &options, &mut report)?,

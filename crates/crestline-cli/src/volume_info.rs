@@ -4,9 +4,7 @@
 use std::path::Path;
 
 use crate::report::Report;
-use crestline::io::read_volume_with;
-use crestline::jobs::scale::image_scale;
-use crestline::jobs::{image_info, voxel_size};
+use crestline::jobs::image_info;
 use crestline::volume::{ValueSummary, Volume};
 use crestline::{Result, Space};
 
@@ -21,12 +19,12 @@ pub fn run(
     report_arg: &ReportArg,
     mut report: Report,
 ) -> Result<()> {
-    let volume = report.stage("read", || read_volume_with(path, &series.options()))?;
+    let volume = report.stage("read", || series.options().read(path))?;
     let values = image_info(&volume, &mut report);
     let scale = values
         .otsu
         .is_finite()
-        .then(|| image_scale(&volume, values.otsu, voxel_size(&volume)));
+        .then(|| volume.feature_scale(values.otsu, volume.voxel_size()));
     if let Some(scale) = scale {
         report.count("scale", scale);
     }

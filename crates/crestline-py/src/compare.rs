@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
-use crestline::compare::{compare, in_one_frame, read_features, Tolerance};
-use crestline::register::{read_transform, RigidTransform};
+use crestline::compare::{Features, Tolerance};
+use crestline::register::RigidTransform;
 use nalgebra::Matrix4;
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
@@ -24,7 +24,7 @@ fn motion(
     matrix: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<Option<RigidTransform>> {
     if let Some(path) = file {
-        return read_transform(&path).map(Some).map_err(raised);
+        return RigidTransform::read(&path).map(Some).map_err(raised);
     }
     let Some(matrix) = matrix else {
         return Ok(None);
@@ -57,13 +57,13 @@ fn compare_files(
         .transpose()
         .map_err(raised)?
         .unwrap_or_default();
-    let first = read_features(&a).map_err(raised)?;
-    let mut second = read_features(&b).map_err(raised)?;
+    let first = Features::read(&a).map_err(raised)?;
+    let mut second = Features::read(&b).map_err(raised)?;
     if let Some(motion) = motion(transform_file, transform_matrix)? {
         second = second.moved(&motion);
     }
-    let (first, second) = in_one_frame(first, second);
+    let (first, second) = Features::in_one_frame(first, second);
     let length = tolerance.resolve(&first).map_err(raised)?;
-    let found = compare(&first, &second, length);
+    let found = first.compare(&second, length);
     serde_json::to_string(&found).map_err(|e| raised(crestline::Error::Argument(e.to_string())))
 }

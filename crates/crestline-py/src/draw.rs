@@ -1,7 +1,7 @@
 //! Line drawings: feature lines and silhouettes of a mesh with hidden lines
 //! removed, as SVG and optionally PNG ([`jobs::draw`]).
 
-use crestline::draw::{render_png, svg_document, Style};
+use crestline::draw::{render_png, Style};
 use crestline::jobs;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -37,7 +37,7 @@ fn draw<'py>(
     let drawn = py.detach(|| -> crestline::Result<(String, Option<Vec<u8>>)> {
         let style = options.style(Style::default())?;
         let drawing = jobs::draw(surface, (None, given), &options, &mut observer)?;
-        let svg = svg_document(&drawing, &style);
+        let svg = drawing.svg(&style);
         let image = png
             .then(|| render_png(&svg, style.background.as_deref()))
             .transpose()?;

@@ -3,8 +3,7 @@
 
 use std::path::PathBuf;
 
-use crestline::lines::vertex_labels::{family_label, label_nearest_corners};
-use crestline::lines::{write_labels, FeatureLines, LineKind, Polyline};
+use crestline::lines::{write_point_labels, FeatureLines, LineKind, Polyline};
 use crestline::mesh::{Mesh, VertexId};
 use numpy::ndarray::Array1;
 use numpy::{IntoPyArray, PyReadonlyArray2};
@@ -121,8 +120,7 @@ pub fn write_lines(
 ) -> PyResult<()> {
     let mut lines = feature_lines(lines)?;
     lines.space = crate::volume::frame(space)?;
-    py.detach(|| crestline::lines::write_lines(&path, &lines))
-        .map_err(raised)
+    py.detach(|| lines.write(&path)).map_err(raised)
 }
 
 /// A line's kind and where its points lie: the three mesh vertices each point
@@ -152,7 +150,7 @@ pub fn write_line_labels(
         let label = LineKind::ALL
             .into_iter()
             .find(|k| k.name() == kind)
-            .and_then(family_label)
+            .filter(|kind| matches!(kind, LineKind::Ridge | LineKind::Valley))
             .ok_or_else(|| {
                 PyValueError::new_err(format!(
                     "lines[{i}]: vertex labels hold ridge and valley lines, not {kind:?} lines"
@@ -180,7 +178,6 @@ pub fn write_line_labels(
             points.push((label, corners));
         }
     }
-    let labels = mesh.to_input_order(&label_nearest_corners(n, points), 0);
-    py.detach(|| write_labels(&path, &labels, mesh, structure))
+    py.detach(|| write_point_labels(&path, mesh, points, structure))
         .map_err(raised)
 }

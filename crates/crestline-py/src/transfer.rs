@@ -1,6 +1,6 @@
 //! Landmark transfer as Python sees it: a template's labelled landmarks carried
 //! onto a subject through their lines ([`jobs::transfer`]), the lines of a mesh
-//! it registers ([`jobs::transfer_mesh_lines`]), and the labelled landmark files
+//! it registers ([`TransferOptions::mesh_tracing`]), and the labelled landmark files
 //! ([`crestline::transfer::read_labelled`], [`write_labelled`]) and the lines
 //! files a cohort computes the template's lines into.
 
@@ -88,7 +88,7 @@ fn transfer_landmarks<'py>(
 }
 
 /// The lines of the mesh that [`jobs::transfer`] registers
-/// ([`jobs::transfer_mesh_lines`], the JSON `options` of [`TransferOptions`]),
+/// ([`TransferOptions::mesh_tracing`], the JSON `options` of [`TransferOptions`]),
 /// as line dicts.
 #[pyfunction]
 #[pyo3(signature = (mesh, options, progress=None))]
@@ -101,11 +101,11 @@ fn transfer_mesh_lines<'py>(
     let options: TransferOptions = job_options("transfer", options)?;
     let surface = mesh.get().surface();
     let mut observer = Callback::new(progress);
-    let lines = py.detach(|| jobs::transfer_mesh_lines(surface, &options, &mut observer));
+    let lines = py.detach(|| jobs::ridges(surface, &options.mesh_tracing(), &mut observer));
     line_dicts(py, &observer.outcome(lines)?.lines, Some(&surface.mesh))
 }
 
-/// [`transfer_mesh_lines`] of the mesh file `path`, read and repaired as the
+/// The lines [`transfer_mesh_lines`] gives, of the mesh file `path`, read and repaired as the
 /// command-line tool reads it, with the frame the file states (or `None`).
 #[pyfunction]
 #[pyo3(signature = (path, options, progress=None))]
@@ -121,7 +121,7 @@ fn transfer_mesh_file_lines<'py>(
         let soup = crestline::io::read_mesh(&path)?;
         let (mesh, _) = Mesh::from_soup(soup).map_err(|e| e.in_file(&path))?;
         let surface = Surface::of_mesh(mesh);
-        let lines = jobs::transfer_mesh_lines(&surface, &options, &mut observer)
+        let lines = jobs::ridges(&surface, &options.mesh_tracing(), &mut observer)
             .map_err(|e| e.in_file(&path))?;
         Ok((lines, surface))
     });
@@ -139,7 +139,7 @@ fn read_lines_file(
     path: PathBuf,
 ) -> PyResult<(Vec<Bound<'_, PyDict>>, Option<&'static str>)> {
     let lines = py
-        .detach(|| crestline::lines::read_json(&path))
+        .detach(|| crestline::lines::FeatureLines::read_json(&path))
         .map_err(raised)?;
     let dicts = line_dicts(py, &lines.lines, None)?;
     Ok((dicts, lines.space.map(|s| s.name())))

@@ -57,9 +57,7 @@ fn read_volume<'py>(
     series: Option<String>,
 ) -> PyResult<ImageArrays<'py>> {
     let options = VolumeReadOptions { series };
-    let volume = py
-        .detach(|| crestline::io::read_volume_with(&path, &options))
-        .map_err(raised)?;
+    let volume = py.detach(|| options.read(&path)).map_err(raised)?;
     Ok(image_arrays(py, &volume))
 }
 
@@ -72,9 +70,7 @@ fn read_dicom<'py>(
     series: Option<String>,
 ) -> PyResult<ImageArrays<'py>> {
     let options = VolumeReadOptions { series };
-    let volume = py
-        .detach(|| crestline::io::read_dicom(&files, &options))
-        .map_err(raised)?;
+    let volume = py.detach(|| options.read_dicom(&files)).map_err(raised)?;
     Ok(image_arrays(py, &volume))
 }
 
@@ -213,25 +209,25 @@ fn image_landmarks(
 }
 
 /// The landmarks of `lines`, whose relative lengths are in `unit`s, both the
-/// sampling's and the feature scale's ([`jobs::landmarks_of_lines`]), as the
+/// sampling's and the feature scale's ([`jobs::LinesFrom::Lines`]), as the
 /// JSON the library writes.
 #[pyfunction]
 fn lines_landmarks(lines: Vec<LineParts<'_>>, unit: f64, options: &str) -> PyResult<String> {
     let lines = feature_lines(lines)?;
     let options: jobs::LandmarksOptions = job_options("landmarks", options)?;
     let mut observer = Callback::new(None);
-    let units = jobs::Units {
-        sample: unit,
-        scale: unit,
+    let input = jobs::LinesFrom::Lines {
+        lines: &lines,
+        unit,
     };
-    let found = jobs::landmarks_of_lines(&lines, units, &options, &mut observer);
+    let found = jobs::landmarks(input, &options, &mut observer);
     landmarks_json(&observer.outcome(found)?)
 }
 
 /// Write landmarks given as the JSON the library serializes them to, in the
 /// format of the file's extension (`.mrk.json`, `.json`, `.csv`), their
 /// positions in the frame they `declared`, else the one `given`, else LPS
-/// ([`crestline::space::resolve`]).
+/// ([`crestline::Space::resolve`]).
 #[pyfunction]
 #[pyo3(signature = (path, landmarks, declared, given))]
 fn write_landmarks(
@@ -243,10 +239,10 @@ fn write_landmarks(
     let invalid = |e: serde_json::Error| raised(crestline::Error::Argument(e.to_string()));
     let found: crestline::landmarks::Landmarks =
         serde_json::from_str(landmarks).map_err(invalid)?;
-    let space = crestline::space::resolve(frame(declared)?, frame(given)?)
+    let space = crestline::Space::resolve(frame(declared)?, frame(given)?)
         .map_err(raised)?
         .unwrap_or(crestline::Space::Lps);
-    crestline::landmarks::write_landmarks(&path, &found, space).map_err(raised)
+    found.write(&path, space).map_err(raised)
 }
 
 /// Write the moving → fixed motion `matrix` (4 × 4), in the frame `space`, as
@@ -265,7 +261,7 @@ fn write_transform(path: PathBuf, matrix: PyReadonlyArray2<'_, f64>, space: &str
         Some(crestline::Space::Lps) => motion.flip_xy(),
         _ => motion,
     };
-    crestline::register::write_rigid_transform(&path, &in_ras).map_err(raised)
+    in_ras.write(&path).map_err(raised)
 }
 
 /// The frame `name` names (`RAS` or `LPS`, any case), if any.
@@ -279,7 +275,10 @@ pub fn frame(name: Option<&str>) -> PyResult<Option<crestline::Space>> {
 fn voxel_size(affine: PyReadonlyArray2<'_, f64>) -> f64 {
     let affine = affine.as_array();
     let placed = Matrix4::from_fn(|row, column| affine[(row, column)]);
-    jobs::largest_spacing(crestline::volume::split_affine(&placed).0)
+    crestline::volume::split_affine(&placed)
+        .0
+        .into_iter()
+        .fold(0.0, f64::max)
 }
 
 /// Landmarks as the JSON the library writes.

@@ -18,7 +18,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Parser;
-use crestline::volume::{isosurface, Volume};
+use crestline::isosurface::isosurface;
+use crestline::volume::Volume;
 use crestline::Result;
 use nalgebra::Matrix3;
 

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use crestline::curvature::{relative_rms_error, CurvatureEstimator, JetFit, ShapeOperator};
+use crestline::curvature::{CurvatureEstimator, JetFit, ShapeOperator};
 use crestline::mesh::generate::{self, AnalyticMesh, Sampling};
 
 /// The relative RMS error of `estimator` on `surface`, and its time in seconds.
@@ -14,7 +14,9 @@ fn measure(surface: &AnalyticMesh, estimator: &dyn CurvatureEstimator) -> (f64, 
     let field = estimator.estimate(&surface.mesh).expect("estimate");
     let seconds = start.elapsed().as_secs_f64();
     (
-        relative_rms_error(&field, &surface.exact).expect("reliable vertices"),
+        field
+            .relative_rms_error(&surface.exact)
+            .expect("reliable vertices"),
         seconds,
     )
 }

@@ -11,8 +11,8 @@
 //! with the filter as its argument)
 
 use crestline::curvature::{
-    estimate_curvature, relative_rms_error, tangent_basis, write_curvature_ply, CurvatureEstimator,
-    CurvatureField, JetFit, PrincipalCurvatures, ShapeOperator,
+    estimate_curvature, CurvatureEstimator, CurvatureField, JetFit, PrincipalCurvatures,
+    ShapeOperator,
 };
 use crestline::mesh::generate::{self, Sampling};
 use crestline::mesh::Mesh;
@@ -69,13 +69,28 @@ fn main() -> crestline::Result<()> {
     );
     for (name, estimator) in estimators {
         let field = estimate_curvature(&surface.mesh, estimator)?;
-        let error = relative_rms_error(&field, &surface.exact).unwrap_or(f64::NAN);
+        let error = field.relative_rms_error(&surface.exact).unwrap_or(f64::NAN);
         println!("  {name:<24} relative RMS error {:6.2}%", 100.0 * error);
     }
     if let Some(out) = std::env::args().skip_while(|a| a != "--output").nth(1) {
         let field = estimate_curvature(&surface.mesh, &EdgeCurvatureFit)?;
-        write_curvature_ply(out.as_ref(), &surface.mesh, &field)?;
+        field.write_ply(out.as_ref(), &surface.mesh)?;
         println!("wrote {out}");
     }
     Ok(())
+}
+
+/// Two unit tangents that, with the unit normal `n`, make a right-handed
+/// orthonormal frame.
+fn tangent_basis(n: &Vector) -> (Vector, Vector) {
+    // Cross with the coordinate axis least aligned with n: never near-parallel.
+    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
+        Vector::x()
+    } else if n.y.abs() <= n.z.abs() {
+        Vector::y()
+    } else {
+        Vector::z()
+    };
+    let t1 = n.cross(&axis).normalize();
+    (t1, n.cross(&t1))
 }

@@ -50,7 +50,7 @@ impl PrincipalCurvatures {
     }
 
     /// The eigenpairs of the symmetric operator `[[a, b], [b, c]]` = `form` in the
-    /// orthonormal tangent basis `(t1, t2)` ([`tangent_basis`] of `normal`).
+    /// orthonormal tangent basis `(t1, t2)` (`tangent_basis` of `normal`).
     pub fn from_tangent_form(
         [a, b, c]: [f64; 3],
         (t1, t2): (Vector, Vector),

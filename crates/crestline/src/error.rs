@@ -87,7 +87,7 @@ impl Error {
         ))
     }
 
-    /// An I/O failure on `path` ([`io_message`]).
+    /// An I/O failure on `path` (`io_message`).
     pub fn io(path: &Path, err: std::io::Error) -> Error {
         Error::File {
             path: path.to_path_buf(),
@@ -99,7 +99,7 @@ impl Error {
 /// The message of an I/O error, without the name of the temporary file it arose
 /// on ("... at path \"/out/.crestline-XXXX\"", as `tempfile` says): the user asked
 /// for the final file, which the caller names.
-pub fn io_message(err: &std::io::Error) -> String {
+pub(crate) fn io_message(err: &std::io::Error) -> String {
     let message = err.to_string();
     match message.find(" at path \"") {
         Some(at) => message[..at].to_string(),
@@ -110,7 +110,7 @@ pub fn io_message(err: &std::io::Error) -> String {
 /// `text` with every control character (line breaks, tabs, NUL, bell, escape, ...)
 /// written as `\xNN`, so that a message quoting bytes of a malformed file stays on
 /// one line and cannot drive a terminal.
-pub fn escape_control(text: &str) -> Cow<'_, str> {
+pub(crate) fn escape_control(text: &str) -> Cow<'_, str> {
     if !text.chars().any(char::is_control) {
         return Cow::Borrowed(text);
     }

@@ -19,10 +19,9 @@
 //!   [`volume::Volume`], [`lines::FeatureLines`], [`curvature::CurvatureField`].
 //! - The methods, for finer control than the jobs: [`curvature`] (estimators),
 //!   [`ridges`] (extremality tracing, Hildebrandt, Polthier and Wardetzky 2005),
-//!   [`morse`] (Morse-Smale lines, Sahner et al. 2008), [`crest_lines`] and
-//!   [`volume`] (isosurfaces, Marching Lines after Thirion and Gourdon 1993, crease
-//!   surfaces after Schultz, Theisel and Seidel 2010), [`landmarks`], [`register`]
-//!   and [`draw`].
+//!   [`morse`] (Morse-Smale lines, Sahner et al. 2008), [`isosurface`] and
+//!   [`crest_lines`] of [`volume`]s (isosurfaces, and crest lines by Marching Lines,
+//!   after Thirion and Gourdon 1993), [`landmarks`], [`register`] and [`draw`].
 //! - [`progress`]: the [`progress::Observer`] every long computation reports to and
 //!   asks whether to go on; [`Error`]: the one error type.
 //!
@@ -67,12 +66,14 @@
 pub(crate) mod atomic;
 pub(crate) mod chain;
 pub mod compare;
+mod crease;
 pub mod crest_lines;
 pub mod curvature;
 pub(crate) mod differential;
 pub mod draw;
-pub mod error;
+mod error;
 pub mod io;
+pub mod isosurface;
 pub mod jobs;
 pub mod landmarks;
 pub(crate) mod linalg;
@@ -90,6 +91,14 @@ pub mod transfer;
 pub mod view;
 pub mod volume;
 mod xml;
+
+// The unit tests' helpers, shared with the integration tests, which name the
+// crate `crestline`.
+#[cfg(test)]
+extern crate self as crestline;
+#[cfg(test)]
+#[path = "../tests/library/common/mod.rs"]
+mod common;
 
 pub use error::{Error, Result};
 pub use space::Space;

@@ -7,7 +7,7 @@
 //! their parts are done), the figures it measures on the way (line counts, the share
 //! of singular triangles, ...) and warnings about its input. Between stages, and
 //! inside its own long loops, it asks the observer whether to go on
-//! ([`Observer::keep_going`], through [`checkpoint`]); an observer that says no stops
+//! ([`Observer::keep_going`], through `checkpoint`); an observer that says no stops
 //! the computation with [`crate::Error::Cancelled`]. A command-line tool turns these
 //! into a spinner and a JSON report, a Python binding into a callback that can also
 //! stop the run (Ctrl-C, or a callback that raises); [`Silent`] ignores them and
@@ -56,7 +56,7 @@ pub trait Observer {
 
     /// Whether the computation should go on; asked between stages and inside long
     /// loops, on the thread that started the computation. `false` stops it with
-    /// [`crate::Error::Cancelled`] at the next [`checkpoint`].
+    /// [`crate::Error::Cancelled`] at the next `checkpoint`.
     fn keep_going(&mut self) -> bool {
         true
     }
@@ -69,7 +69,7 @@ pub struct Silent;
 impl Observer for Silent {}
 
 /// Ask `observer` whether to go on: [`crate::Error::Cancelled`] if it says no.
-pub fn checkpoint(observer: &mut dyn Observer) -> crate::Result<()> {
+pub(crate) fn checkpoint(observer: &mut dyn Observer) -> crate::Result<()> {
     if observer.keep_going() {
         Ok(())
     } else {
@@ -78,7 +78,7 @@ pub fn checkpoint(observer: &mut dyn Observer) -> crate::Result<()> {
 }
 
 /// Run `work` as stage `name`: tell `observer` when it starts and how long it took.
-pub fn stage<T>(observer: &mut dyn Observer, name: &str, work: impl FnOnce() -> T) -> T {
+pub(crate) fn stage<T>(observer: &mut dyn Observer, name: &str, work: impl FnOnce() -> T) -> T {
     observer.stage_started(name);
     let start = Instant::now();
     let result = work();
@@ -89,7 +89,7 @@ pub fn stage<T>(observer: &mut dyn Observer, name: &str, work: impl FnOnce() -> 
 /// [`stage`] for work that can fail, between two [`checkpoint`]s: its error says
 /// which stage failed ([`crate::Error::in_stage`]), and a cancellation asked for
 /// before or during the stage stops the computation.
-pub fn try_stage<T>(
+pub(crate) fn try_stage<T>(
     observer: &mut dyn Observer,
     name: &str,
     work: impl FnOnce() -> crate::Result<T>,
@@ -99,7 +99,7 @@ pub fn try_stage<T>(
 
 /// [`try_stage`] for work that reports stages of its own to the same observer
 /// (its stages nest in this one).
-pub fn try_stage_with<T>(
+pub(crate) fn try_stage_with<T>(
     observer: &mut dyn Observer,
     name: &str,
     work: impl FnOnce(&mut dyn Observer) -> crate::Result<T>,

@@ -394,7 +394,7 @@ fn morse_reports_critical_points_before_and_after_and_writes_the_hierarchy() {
     assert_eq!(left.last(), Some(&20));
     let png = std::fs::read(&plot).unwrap();
     assert!(png.starts_with(b"\x89PNG"), "not a PNG");
-    let lines = crestline::lines::read_json(&out).unwrap();
+    let lines = crestline::lines::FeatureLines::read_json(&out).unwrap();
     assert!(lines
         .iter()
         .all(|l| l.kind == crestline::lines::LineKind::Ascending));
@@ -667,7 +667,7 @@ fn morse_keeps_saddles_forced_by_topology_and_warns_when_nothing_is_left() {
         let run = crestline(&args);
         assert!(run.status.success(), "{}", stderr(&run));
         let json: serde_json::Value = json_file(&report);
-        let lines = crestline::lines::read_json(&out).unwrap();
+        let lines = crestline::lines::FeatureLines::read_json(&out).unwrap();
         let saddles = json["counts_after"]["saddles"].as_u64().unwrap();
         let forced = json["counts_after"]["forced_saddles"].as_u64().unwrap();
         (stderr(&run), saddles - forced, forced, lines.len())
@@ -701,7 +701,9 @@ fn empty_results_are_warned_about_with_the_option_to_change() {
         "--threshold",
         "1e9",
     ]);
-    assert!(crestline::lines::read_json(&out).unwrap().is_empty());
+    assert!(crestline::lines::FeatureLines::read_json(&out)
+        .unwrap()
+        .is_empty());
     assert!(
         stderr(&run).starts_with("warning: meshes/bunny_small.obj: ")
             && stderr(&run).contains("--threshold"),
@@ -1676,6 +1678,28 @@ fn an_image_placed_beyond_the_representable_world_is_refused_naming_the_file() {
     }
 }
 
+/// A FreeSurfer triangle surface as FreeSurfer writes it: the magic number, a
+/// "created by" line, the counts, then big-endian float coordinates and int
+/// corners; no footer.
+fn write_freesurfer_surface(
+    path: &std::path::Path,
+    positions: &[crestline::Point],
+    triangles: &[[u32; 3]],
+) {
+    let mut bytes = vec![0xFF, 0xFF, 0xFE];
+    bytes.extend_from_slice(b"created by crestline\n\n");
+    for count in [positions.len(), triangles.len()] {
+        bytes.extend_from_slice(&(count as i32).to_be_bytes());
+    }
+    for c in positions.iter().flat_map(|p| p.iter()) {
+        bytes.extend_from_slice(&(*c as f32).to_be_bytes());
+    }
+    for &v in triangles.iter().flatten() {
+        bytes.extend_from_slice(&(v as i32).to_be_bytes());
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
 #[test]
 fn neuroimaging_outputs_fit_the_input_surface_or_are_refused_up_front() {
     let dir = tempfile::tempdir().unwrap();
@@ -1686,8 +1710,7 @@ fn neuroimaging_outputs_fit_the_input_surface_or_are_refused_up_front() {
     );
     let soup = crestline::io::read_mesh(obj.as_ref()).unwrap();
     let pial = dir.path().join("lh.pial");
-    crestline::io::freesurfer::write_surface(&pial, &soup.positions, &soup.triangles, None)
-        .unwrap();
+    write_freesurfer_surface(&pial, &soup.positions, &soup.triangles);
     let pial = pial.to_str().unwrap();
     let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
     let (curv, shape, label) = (

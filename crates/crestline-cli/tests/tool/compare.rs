@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crestline::register::{write_rigid_transform, RigidTransform};
+use crestline::register::RigidTransform;
 use crestline::Vector;
 use nalgebra::Rotation3;
 
@@ -88,7 +88,7 @@ fn a_turned_copy_mapped_back_has_the_same_lines() {
         assert!(out.status.success(), "{}", stderr(&out));
     }
     // Our JSON maps B onto A; ITK's file maps A's frame to B's, in LPS.
-    write_rigid_transform(&path("back.json"), &motion.inverse()).unwrap();
+    motion.inverse().write(&path("back.json")).unwrap();
     std::fs::write(path("back.tfm"), itk_file(&motion.flip_xy())).unwrap();
     let (a, b) = (path("a.json"), path("b.json"));
     let tolerance = ["--tolerance", "0.5%"];

@@ -333,7 +333,7 @@ fn readme_rust_quick_start() -> Result<(), Box<dyn std::error::Error>> {
     let soup = crestline::io::read_mesh("meshes/bunny.obj".as_ref())?;
     let (mesh, _repairs) = jobs::build_mesh(soup, false, &mut Silent)?;
     let ridges = jobs::ridges(&Surface::of_mesh(mesh), &Default::default(), &mut Silent)?;
-    crestline::lines::write_lines("ridges.vtk".as_ref(), &ridges)?;
+    ridges.write("ridges.vtk".as_ref())?;
     // README.md end
     Ok(())
 }

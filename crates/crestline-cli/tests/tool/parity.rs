@@ -9,8 +9,8 @@ use std::process::Command;
 
 use crestline::io::{read_mesh, read_volume};
 use crestline::jobs::{self, Length, Surface};
-use crestline::landmarks::{read_landmarks, Landmarks};
-use crestline::lines::{read_json, FeatureLines};
+use crestline::landmarks::Landmarks;
+use crestline::lines::FeatureLines;
 use crestline::mesh::{Mesh, TriangleSoup};
 use crestline::progress::Silent;
 use crestline::volume::Volume;
@@ -224,7 +224,7 @@ fn crest_lines_equal_the_job() {
             &[&["crest-lines", image, "--level", &level][..], &args].concat(),
         );
         let lines = jobs::crest_lines(&volume, LEVEL, &options, &mut Silent).unwrap();
-        assert_same_lines(&read_json(&file).unwrap(), &lines);
+        assert_same_lines(&FeatureLines::read_json(&file).unwrap(), &lines);
     }
 }
 
@@ -282,7 +282,7 @@ fn ridges_equal_the_job() {
             &[&["ridges", BUNNY][..], &args].concat(),
         );
         let lines = jobs::ridges(&surface, &options, &mut Silent).unwrap();
-        assert_same_lines(&read_json(&file).unwrap(), &lines);
+        assert_same_lines(&FeatureLines::read_json(&file).unwrap(), &lines);
     }
 }
 
@@ -320,7 +320,7 @@ fn landmarks_of_a_mesh_equal_the_job() {
             options: &ridges,
         };
         let found = jobs::landmarks(input, &options, &mut Silent).unwrap();
-        assert_same_landmarks(&read_landmarks(&file).unwrap().0, &found);
+        assert_same_landmarks(&Landmarks::read(&file).unwrap().0, &found);
     }
 }
 
@@ -357,7 +357,7 @@ fn landmarks_of_an_image_equal_the_job() {
             options: &crest,
         };
         let found = jobs::landmarks(input, &options, &mut Silent).unwrap();
-        assert_same_landmarks(&read_landmarks(&file).unwrap().0, &found);
+        assert_same_landmarks(&Landmarks::read(&file).unwrap().0, &found);
     }
 }
 
@@ -384,7 +384,7 @@ fn morse_equals_the_job() {
             &[&["morse", BUNNY][..], &args].concat(),
         );
         let (lines, _) = jobs::morse(&surface, None, &options, &mut Silent).unwrap();
-        assert_same_lines(&read_json(&file).unwrap(), &lines);
+        assert_same_lines(&FeatureLines::read_json(&file).unwrap(), &lines);
     }
 }
 
@@ -417,7 +417,7 @@ fn draw_equals_the_job() {
         let mut drawing = jobs::draw(&surface, (None, None), &options, &mut Silent).unwrap();
         drawing.source = BUNNY.to_string();
         let style = options.style(crestline::draw::Style::default()).unwrap();
-        let svg = crestline::draw::svg_document(&drawing, &style);
+        let svg = drawing.svg(&style);
         assert!(svg.matches("<path").count() > 10);
         assert_eq!(std::fs::read_to_string(&file).unwrap(), svg);
     }

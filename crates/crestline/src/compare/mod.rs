@@ -3,12 +3,12 @@
 //! or two versions of the tool.
 //!
 //! For each kind (lines: `ridge`, `valley`, `crest`, …; landmarks: `extremal`,
-//! `curvature_maximum`, `end`) [`compare`] gives the share of A's line length
+//! `curvature_maximum`, `end`) [`Features::compare`] gives the share of A's line length
 //! that lies within the tolerance of a line of the same kind in B (the distance to
 //! B's segments, not to its vertices, so B's sampling does not count), the share
 //! of A's landmarks with a landmark of the same kind in B within the tolerance,
 //! and the same from B to A. B's points can first be moved into A's frame by a
-//! rigid motion ([`read_transform`](crate::register::read_transform)).
+//! rigid motion ([`RigidTransform::read`](crate::register::RigidTransform::read)).
 
 mod line_files;
 mod markups;
@@ -27,9 +27,7 @@ use crate::space::{convert_all, Space};
 use crate::{Error, Point, Result};
 use near::Near;
 
-pub use read::read_features;
-
-/// Lines and landmarks by kind, as [`compare`] takes them.
+/// Lines and landmarks by kind, as [`Features::compare`] takes them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Features {
     /// The segments of the lines of each kind.
@@ -148,10 +146,8 @@ impl Features {
     }
 }
 
-/// `a` and `b` in one frame: RAS when both files stated theirs; when one did not
-/// (a mesh's lines against its markups), the other's points as its file holds
-/// them, which the undeclared ones share.
-pub fn in_one_frame(a: Features, b: Features) -> (Features, Features) {
+/// [`Features::in_one_frame`].
+pub(crate) fn in_one_frame(a: Features, b: Features) -> (Features, Features) {
     match (a.declared, b.declared) {
         (None, Some(_)) => (a, b.as_written()),
         (Some(_), None) => (a.as_written(), b),
@@ -262,9 +258,8 @@ impl Default for Tolerance {
     }
 }
 
-/// How far `a` and `b` agree within `tolerance` (world units), kind by kind, both
-/// ways; `b` is taken to be in `a`'s frame already ([`Features::moved`]).
-pub fn compare(a: &Features, b: &Features, tolerance: f64) -> Comparison {
+/// [`Features::compare`].
+pub(crate) fn compare(a: &Features, b: &Features, tolerance: f64) -> Comparison {
     let line_kinds = kinds(a.segments.keys().chain(b.segments.keys()));
     let point_kinds = kinds(a.points.keys().chain(b.points.keys()));
     let lines = line_kinds
@@ -368,6 +363,22 @@ fn point_share_near(points: &[Point], others: &[Point], tolerance: f64) -> f64 {
     let near = Near::of_points(others, tolerance);
     let matched = points.par_iter().filter(|p| near.within(p)).count();
     matched as f64 / points.len() as f64
+}
+
+impl Features {
+    /// `a` and `b` in one frame: RAS when both files stated theirs; when one did not
+    /// (a mesh's lines against its markups), the other's points as its file holds
+    /// them, which the undeclared ones share.
+    pub fn in_one_frame(a: Features, b: Features) -> (Features, Features) {
+        in_one_frame(a, b)
+    }
+
+    /// How far these features and `other` agree within `tolerance` (world units),
+    /// kind by kind, both ways; `other` is taken to be in this one's frame already
+    /// ([`Features::moved`]).
+    pub fn compare(&self, other: &Features, tolerance: f64) -> Comparison {
+        compare(self, other, tolerance)
+    }
 }
 
 #[cfg(test)]

@@ -10,16 +10,8 @@ use crate::lines::{read_json, LineFormat};
 use crate::space::Space;
 use crate::{Error, Point, Result};
 
-/// The lines and landmarks of the file `path`, by kind: a lines JSON file (its
-/// segments), a landmarks JSON file (its point landmarks, and its lines'
-/// segments), 3D Slicer markups (`.mrk.json`: point lists and curves), or a
-/// landmarks CSV file (its points). Positions are converted into
-/// RAS when the file states its frame, and taken as they are otherwise (a mesh's
-/// lines).
-///
-/// Errors are [`Error::File`] naming `path`: another kind of file, or one that
-/// does not read.
-pub fn read_features(path: &Path) -> Result<Features> {
+/// [`Features::read`].
+pub(crate) fn read_features(path: &Path) -> Result<Features> {
     match LineFormat::from_path(path) {
         Ok(LineFormat::Obj) => return super::line_files::read_obj_lines(path),
         Ok(LineFormat::Vtk) => return super::line_files::read_vtk_lines(path),
@@ -99,4 +91,19 @@ fn read_csv(path: &Path) -> Result<Features> {
         features.add_point(cell(kind), position);
     }
     Ok(features)
+}
+
+impl Features {
+    /// The lines and landmarks of the file `path`, by kind: a lines JSON file (its
+    /// segments), a landmarks JSON file (its point landmarks, and its lines'
+    /// segments), 3D Slicer markups (`.mrk.json`: point lists and curves), or a
+    /// landmarks CSV file (its points). Positions are converted into
+    /// RAS when the file states its frame, and taken as they are otherwise (a mesh's
+    /// lines).
+    ///
+    /// Errors are [`Error::File`] naming `path`: another kind of file, or one that
+    /// does not read.
+    pub fn read(path: &Path) -> Result<Features> {
+        read_features(path)
+    }
 }

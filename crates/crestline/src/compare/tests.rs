@@ -196,7 +196,7 @@ fn obj_and_vtk_lines_read_as_the_json_of_the_same_lines() {
     for name in ["lines.obj", "lines.vtk", "lines.json"] {
         let path = folder.path().join(name);
         crate::lines::write_lines(&path, &lines).unwrap();
-        let read = read_features(&path).unwrap();
+        let read = Features::read(&path).unwrap();
         assert_eq!(read, expected, "{name}");
         assert_eq!(read.line_counts["ridge"], 1, "{name}");
         // The closed square's four segments, its closing one included.
@@ -205,7 +205,7 @@ fn obj_and_vtk_lines_read_as_the_json_of_the_same_lines() {
     // PLY holds 32-bit floats: the same segments to their precision.
     let path = folder.path().join("lines.ply");
     crate::lines::write_lines(&path, &lines).unwrap();
-    let read = read_features(&path).unwrap();
+    let read = Features::read(&path).unwrap();
     assert_eq!(read.line_counts, expected.line_counts);
     assert_eq!(read.declared, expected.declared);
     for (kind, segments) in &expected.segments {
@@ -228,7 +228,7 @@ fn another_programs_obj_polylines_are_lines_of_no_kind() {
     // lone vertex record, as Blender and others write polylines.
     let text = "o Curve\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nl 1/1 2/1 3/1 1/1\nv 5 5 5\nv 6 5 5\nl -2 -1\n";
     std::fs::write(&path, text).unwrap();
-    let read = read_features(&path).unwrap();
+    let read = Features::read(&path).unwrap();
     assert_eq!(read.declared, None);
     assert_eq!(read.line_counts[line_files::UNNAMED_KIND], 2);
     let segments = &read.segments[line_files::UNNAMED_KIND];
@@ -246,7 +246,7 @@ fn vtk_5_1_cells_and_field_arrays_give_the_kinds() {
         LINES 3 4\nOFFSETS vtktypeint64\n0 2 4\nCONNECTIVITY vtktypeint64\n0 1 2 3\n\
         CELL_DATA 2\nFIELD FieldData 1\nkind 1 2 int\n1 0\n";
     std::fs::write(&path, text).unwrap();
-    let read = read_features(&path).unwrap();
+    let read = Features::read(&path).unwrap();
     assert_eq!(read.declared, Some(Space::Ras));
     assert_eq!(
         read.segments["valley"],
@@ -264,7 +264,7 @@ fn a_mesh_or_a_broken_lines_file_is_refused_naming_it() {
     let refused = |name: &str, text: &str, says: &str| {
         let path = folder.path().join(name);
         std::fs::write(&path, text).unwrap();
-        let message = read_features(&path).unwrap_err().to_string();
+        let message = Features::read(&path).unwrap_err().to_string();
         assert!(
             message.contains(name) && message.contains(says),
             "{message}"

@@ -9,7 +9,7 @@
 //!   isosurface through it has principal curvatures `k_max ≥ k_min` (positive on a
 //!   bright convex object), directions `t_max`, `t_min` and extremalities
 //!   `e_max = ∇k_max · t_max`, `e_min = ∇k_min · t_min`
-//!   ([`crate::differential::isosurface_curvature`]).
+//!   (`crate::differential::isosurface_curvature`).
 //! - Ridges are maxima of `k_max` along `t_max` where `k_max > |k_min|`, so that
 //!   Thirion's crest lines of the curvature larger in magnitude map to our ridges;
 //!   valleys are minima of `k_min` along `t_min` where `|k_min| > |k_max|`.
@@ -23,30 +23,35 @@
 //!   (`∇e_max · t_max < 0` for a maximum, `> 0` for a minimum) and the curvature
 //!   condition holds there.
 //! - The lines are chained by point key without regard to direction
-//!   ([`crate::volume::marching_lines()`]) and are unoriented: each runs in the
-//!   direction of its grid keys ([`BiIsoLine::in_key_order`]). The curvature is
+//!   (`marching_lines::marching_lines`) and are unoriented: each runs in the
+//!   direction of its grid keys (`BiIsoLine::in_key_order`). The curvature is
 //!   computed in the frame of the grid's axes and ties of an extremality at exactly
 //!   0 are broken there, so that the lines do not depend on the world frame the
 //!   image declares (module `frames`). Their strength is the
 //!   integral of the curvature magnitude along them (dimensionless).
-//! - Parabolic lines ([`parabolic_lines`]) are the bi-iso-lines of the Gaussian
+//! - Parabolic lines (`parabolic_lines`) are the bi-iso-lines of the Gaussian
 //!   curvature `K = k_max k_min` at 0, a field with a global sign; iso-Gaussian
-//!   curves ([`iso_gaussian_lines`]) those at another value.
+//!   curves (`iso_gaussian_lines`) those at another value.
 //! - The smoothed image is kept whole (one value per sample), but the derivatives
 //!   of order 1 to 3 and the curvature only at the corners of the cells the
 //!   isosurface meets (the others cannot carry a line), computed over blocks of z
 //!   slices (module `frames`): memory grows with the isosurface, not with the image.
 
 mod frames;
+mod marching_lines;
+
+pub use marching_lines::Sweep;
 
 use crate::lines::oriented::{along_line, DirectedSample};
 use crate::lines::{FeatureLines, LineExtractor, LineKind, Polyline};
-use crate::progress::{try_stage, Observer, Silent};
-use crate::volume::marching_lines::{BiIsoLine, SecondField, Sweep};
+#[cfg(test)]
+use crate::progress::Silent;
+use crate::progress::{try_stage, Observer};
 use crate::volume::trilinear::{weight_derivatives, weights};
 use crate::volume::{Derivatives, Volume};
 use crate::{Error, Point, Result, Vector};
 use frames::{Curvatures, Frame};
+use marching_lines::{BiIsoLine, SecondField};
 
 /// The extremality of one kind of crest line as the second field of the Marching
 /// Lines, oriented per cell: `e_max` for ridges (maxima of `k_max` along `t_max`),
@@ -212,7 +217,7 @@ impl<'de> serde::Deserialize<'de> for LineFamily {
     }
 }
 
-/// What [`trace`] traces, and how.
+/// What `trace` traces, and how.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineTracing {
     /// The isosurface level `I`; inside is `f ≥ I`.
@@ -257,9 +262,10 @@ impl LineTracing {
 /// first (ridges and valleys each from the same number of seeds).
 ///
 /// Errors as [`Derivatives::new`] (σ, direction matrix) and
-/// [`marching_lines`](crate::volume::marching_lines()) (level, samples, dimensions),
+/// [`marching_lines`](marching_lines::marching_lines()) (level, samples, dimensions),
 /// and for a non-finite `J`.
-pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
+#[cfg(test)]
+pub(crate) fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
     trace_observed(volume, tracing, &mut Silent)
 }
 
@@ -267,7 +273,7 @@ pub fn trace(volume: &Volume, tracing: &LineTracing) -> Result<Vec<Polyline>> {
 /// derivatives to order 3) and `ridges` and `valleys` (crest lines) or `lines`
 /// (the other families), and asking it between them whether to go on
 /// ([`Error::Cancelled`] if not).
-pub fn trace_observed(
+pub(crate) fn trace_observed(
     volume: &Volume,
     tracing: &LineTracing,
     observer: &mut dyn Observer,
@@ -323,7 +329,7 @@ pub fn trace_observed(
     Ok(polylines(lines, kind))
 }
 
-/// Marching Lines as a line extractor of volumes: [`trace_observed`], the lines
+/// Marching Lines as a line extractor of volumes: `trace_observed`, the lines
 /// collected in a [`FeatureLines`].
 impl LineExtractor<Volume> for LineTracing {
     fn extract(&self, volume: &Volume, observer: &mut dyn Observer) -> Result<FeatureLines> {
@@ -337,13 +343,15 @@ impl LineExtractor<Volume> for LineTracing {
 /// The crest lines (ridges, then valleys) of the isosurface `f = level` of
 /// `volume` smoothed by a Gaussian of standard deviation `sigma` in world units,
 /// every cell visited: [`trace`] with [`LineTracing::new`].
-pub fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+#[cfg(test)]
+pub(crate) fn crest_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
     trace(volume, &LineTracing::new(level, sigma))
 }
 
 /// The parabolic lines (`K = 0`) of the isosurface `f = level` of `volume`
 /// smoothed by `sigma`: [`trace`] with [`LineFamily::Parabolic`].
-pub fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
+#[cfg(test)]
+pub(crate) fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Polyline>> {
     iso_gaussian_lines(volume, level, sigma, 0.0)
 }
 
@@ -351,7 +359,8 @@ pub fn parabolic_lines(volume: &Volume, level: f64, sigma: f64) -> Result<Vec<Po
 /// smoothed by `sigma`: [`trace`] with [`LineFamily::Gauss`] (of kind
 /// [`LineKind::Parabolic`] for `gauss = 0`). `gauss` has the units of a curvature
 /// squared (world units⁻²).
-pub fn iso_gaussian_lines(
+#[cfg(test)]
+pub(crate) fn iso_gaussian_lines(
     volume: &Volume,
     level: f64,
     sigma: f64,
@@ -436,3 +445,6 @@ fn corner_frames(
     let local = std::array::from_fn(|a| index[a] - cell[a] as f64);
     Some((curvatures.corners(cell)?, weights(local)))
 }
+
+#[cfg(test)]
+mod tests;

@@ -24,7 +24,7 @@ pub const CLEAN_FIT_RESIDUAL: f64 = 1e-5;
 const SAMPLED_FITS: usize = 2000;
 
 /// [`JetFit`] on a mesh whose median fit residual is below
-/// [`CLEAN_FIT_RESIDUAL`], [`ShapeOperator`] otherwise.
+/// `CLEAN_FIT_RESIDUAL`, [`ShapeOperator`] otherwise.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct AutoEstimator;
 

@@ -24,7 +24,7 @@ pub struct CurvatureField {
     pub normal: Vec<Vector>,
     /// Vertices whose values are not to be trusted: on the boundary, where the
     /// estimator had too little data, or where its estimate was not finite or an
-    /// outlier and was replaced ([`super::repair_outliers`]).
+    /// outlier and was replaced (`super::repair_outliers`).
     pub unreliable: Vec<bool>,
     /// Extremalities `[e_max, e_min]` per vertex, where the estimator gives them
     /// directly (e.g. [`super::JetFit`], from the third-order terms of its fitted
@@ -33,7 +33,7 @@ pub struct CurvatureField {
     /// the signs of the directions stored in [`Self::d_max`] and [`Self::d_min`]:
     /// flipping a direction flips its extremality. `None` where the estimator only
     /// gives curvature; consumers then differentiate the curvature across the mesh
-    /// ([`crate::ridges::extremality::extremality`]).
+    /// (`crate::ridges::extremality::extremality`).
     pub extremality: Option<[Vec<f64>; 2]>,
     /// Where the estimator fits a surface to the vertices around each one (e.g.
     /// [`super::JetFit`]): the root mean square distance of those vertices from the

@@ -24,10 +24,12 @@ use rayon::prelude::*;
 
 use super::PrincipalCurvatures;
 use super::{isosurface_curvature, CurvatureEstimator, CurvatureField, IsoCurvature};
+#[cfg(test)]
+use crate::isosurface::{isosurface, Isosurface};
 use crate::mesh::Mesh;
 use crate::volume::trilinear::corners_and_weights;
 use crate::volume::voxel_set::{VoxelSet, VoxelSetBuilder};
-use crate::volume::{isosurface, BSpline, Derivatives, Isosurface, Jet, Partial, Volume};
+use crate::volume::{BSpline, Derivatives, Jet, Partial, Volume};
 use crate::{Error, Point, Result, Vector};
 
 /// The partials of order 1 to 3 along the index axes (fx fy fz; fxx fxy fxz fyy
@@ -360,6 +362,7 @@ impl CurvatureEstimator for ImageCurvature {
 ///
 /// Errors as [`ImageCurvature::new`] and [`isosurface()`] (no surface at that
 /// level, non-finite samples).
+#[cfg(test)]
 pub fn image_isosurface(
     volume: &Volume,
     level: f64,

@@ -37,7 +37,7 @@ use super::{tangent_basis, CurvatureEstimator, CurvatureField};
 /// noise. Estimates are
 /// computed in the unit frame ([`Mesh::in_unit_frame`]) and scaled back, and
 /// non-finite or outlying ones are flagged and replaced
-/// ([`super::robust::repair_outliers`]).
+/// (`super::robust::repair_outliers`).
 #[derive(Clone, Copy, Debug)]
 pub struct JetFit {
     /// Smallest number of vertices to fit to (the vertex itself included).

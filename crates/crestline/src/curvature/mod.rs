@@ -27,22 +27,27 @@ mod quality;
 mod robust;
 mod shape_operator;
 
-pub use accuracy::relative_rms_error;
-pub use auto::{AutoEstimator, CLEAN_FIT_RESIDUAL};
+pub use auto::AutoEstimator;
+pub(crate) use auto::CLEAN_FIT_RESIDUAL;
 pub use choice::Estimator;
 pub use field::{CurvatureEstimator, CurvatureField, GivenCurvature, WithoutExtremality};
-pub use image::{image_isosurface, DerivativeOrder, ImageCurvature};
+#[cfg(test)]
+pub(crate) use image::image_isosurface;
+pub use image::{DerivativeOrder, ImageCurvature};
 pub use jet::JetFit;
-pub use output::{estimate_curvature, write_curvature_ply, write_curvature_ply_with_quality};
-pub use per_vertex::{
-    freesurfer_values, write_curvature_values, PER_VERTEX_FORMATS, SIGN_CONVENTION,
-    SIGN_CONVENTION_KEY,
-};
+pub use output::estimate_curvature;
+pub use per_vertex::PER_VERTEX_FORMATS;
 pub use quality::Quality;
-pub use robust::{repair_outliers, OUTLIER_SCALES};
+#[cfg(test)]
+pub(crate) use robust::repair_outliers;
 pub use shape_operator::ShapeOperator;
 
-pub use crate::differential::{
-    implicit_curvature, isosurface_curvature, symmetric_2x2_eigen, tangent_basis, IsoCurvature,
-    PrincipalCurvatures, ThirdOrder,
+#[cfg(test)]
+pub(crate) use crate::differential::ThirdOrder;
+pub use crate::differential::{implicit_curvature, PrincipalCurvatures};
+pub(crate) use crate::differential::{
+    isosurface_curvature, symmetric_2x2_eigen, tangent_basis, IsoCurvature,
 };
+
+#[cfg(test)]
+mod tests;

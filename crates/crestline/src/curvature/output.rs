@@ -20,17 +20,13 @@ pub fn estimate_curvature(
     Ok(field)
 }
 
-/// Write `mesh` as binary PLY with the double vertex properties `k_max`, `k_min`,
-/// `mean`, `gauss`, `dmax_x/y/z`, `dmin_x/y/z`, `n_x/y/z`, `unreliable` (1 or 0)
-/// and `quality`: the quantity [`Quality::default`] chooses, under the name that
-/// MeshLab and pymeshlab colour and filter by.
-pub fn write_curvature_ply(path: &Path, mesh: &Mesh, field: &CurvatureField) -> Result<()> {
+/// [`CurvatureField::write_ply`].
+pub(crate) fn write_curvature_ply(path: &Path, mesh: &Mesh, field: &CurvatureField) -> Result<()> {
     write_curvature_ply_with_quality(path, mesh, field, Quality::default())
 }
 
-/// [`write_curvature_ply`] with the `quality` property holding the quantity that
-/// `quality` chooses.
-pub fn write_curvature_ply_with_quality(
+/// [`CurvatureField::write_ply_with_quality`].
+pub(crate) fn write_curvature_ply_with_quality(
     path: &Path,
     mesh: &Mesh,
     field: &CurvatureField,
@@ -82,4 +78,20 @@ pub fn write_curvature_ply_with_quality(
         },
     ];
     write_ply(path, mesh, &attributes)
+}
+
+impl CurvatureField {
+    /// Write `mesh` as binary PLY with the double vertex properties `k_max`, `k_min`,
+    /// `mean`, `gauss`, `dmax_x/y/z`, `dmin_x/y/z`, `n_x/y/z`, `unreliable` (1 or 0)
+    /// and `quality`: the quantity [`Quality::default`] chooses, under the name that
+    /// MeshLab and pymeshlab colour and filter by.
+    pub fn write_ply(&self, path: &Path, mesh: &Mesh) -> Result<()> {
+        write_curvature_ply(path, mesh, self)
+    }
+
+    /// [`CurvatureField::write_ply`] with the `quality` property holding the quantity that
+    /// `quality` chooses.
+    pub fn write_ply_with_quality(&self, path: &Path, mesh: &Mesh, quality: Quality) -> Result<()> {
+        write_curvature_ply_with_quality(path, mesh, self, quality)
+    }
 }

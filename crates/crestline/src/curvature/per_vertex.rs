@@ -28,16 +28,12 @@ pub const SIGN_CONVENTION_KEY: &str = "CurvatureSign";
 pub const SIGN_CONVENTION: &str =
     "positive where the surface is convex seen from outside (gyral crowns), outward normals";
 
-/// The formats [`write_curvature_values`] writes.
+/// The formats [`CurvatureField::write_values`] writes.
 pub const PER_VERTEX_FORMATS: [FileFormat; 2] =
     [FileFormat::GiftiShape, FileFormat::FreeSurferCurv];
 
-/// Write the quantity `quality` of `field` (on `mesh`) per input vertex, in the
-/// format of the extension of `path`: `.shape.gii` (crestline's sign, the
-/// quantity's name as the array's `Name`, `structure` as the file's) or `.curv`
-/// (FreeSurfer's sign). See
-/// the module documentation. Written atomically.
-pub fn write_curvature_values(
+/// [`CurvatureField::write_values`].
+pub(crate) fn write_curvature_values(
     path: &Path,
     mesh: &Mesh,
     field: &CurvatureField,
@@ -65,5 +61,22 @@ pub fn freesurfer_values(quality: Quality, field: &CurvatureField) -> Vec<f64> {
         Quality::KMax => negated(&field.k_min),
         Quality::KMin => negated(&field.k_max),
         Quality::Gauss | Quality::Curvedness => quality.values(field),
+    }
+}
+
+impl CurvatureField {
+    /// Write the quantity `quality` of `field` (on `mesh`) per input vertex, in the
+    /// format of the extension of `path`: `.shape.gii` (crestline's sign, the
+    /// quantity's name as the array's `Name`, `structure` as the file's) or `.curv`
+    /// (FreeSurfer's sign). See
+    /// the module documentation. Written atomically.
+    pub fn write_values(
+        &self,
+        path: &Path,
+        mesh: &Mesh,
+        quality: Quality,
+        structure: Structure,
+    ) -> Result<()> {
+        write_curvature_values(path, mesh, self, quality, structure)
     }
 }

@@ -24,7 +24,7 @@ use super::{CurvatureEstimator, CurvatureField, PrincipalCurvatures};
 /// Robustness: the operator is computed in the unit frame ([`Mesh::in_unit_frame`])
 /// and the curvatures scaled back, so any coordinate scale works; non-finite and
 /// outlying estimates (e.g. at a vertex whose star has collapsed) are flagged
-/// unreliable and replaced ([`super::robust::repair_outliers`]).
+/// unreliable and replaced (`super::robust::repair_outliers`).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ShapeOperator;
 

@@ -198,12 +198,8 @@ impl Camera {
         self.height
     }
 
-    /// Whether the projection is a perspective one.
-    pub fn is_perspective(&self) -> bool {
-        self.perspective
-    }
-
     /// The unit viewing direction (from the eye into the scene).
+    #[cfg(test)]
     pub fn forward(&self) -> Vector {
         self.forward
     }

@@ -4,20 +4,20 @@
 //! Drawing takes lines, not an extractor, so the output of any
 //! [`LineExtractor`](crate::lines::LineExtractor) can be drawn. The steps, each a
 //! function of its own:
-//! 1. a [`Camera`] frames the mesh ([`Camera::framing`]: orthographic by default,
+//! 1. a `Camera` frames the mesh (`Camera::framing`: orthographic by default,
 //!    an orbit direction or an explicit eye, target and up);
-//! 2. optionally the [`silhouettes`] (smooth occluding contours), the [`borders`]
-//!    of an open mesh, its [`creases`] and its [`suggestive_contours`] are traced
+//! 2. optionally the `silhouettes` (smooth occluding contours), the `borders`
+//!    of an open mesh, its `creases` and its `suggestive_contours` are traced
 //!    on the mesh and drawn like any other line;
-//! 3. a [`DepthBuffer`] of the mesh is rasterized ([`DepthBuffer::render`]);
+//! 3. a `DepthBuffer` of the mesh is rasterized (`DepthBuffer::render`);
 //! 4. every line is resampled below a pixel, each sample tested against the buffer,
 //!    and the visible runs kept and simplified (Douglas–Peucker)
-//!    ([`visible_drawing`]);
-//! 5. the [`Drawing`] is written as SVG in a [`Style`] ([`svg_document`],
-//!    [`write_svg`]) and optionally rendered to PNG (`write_png`, with the `png`
+//!    (`visible_drawing`);
+//! 5. the [`Drawing`] is written as SVG in a [`Style`] ([`Drawing::svg`],
+//!    `write_svg`) and optionally rendered to PNG (`write_png`, with the `png`
 //!    feature).
 //!
-//! [`draw`] runs steps 2–4 with [`DrawOptions`] ([`draw_observed`] reporting
+//! `draw` runs steps 2–4 with `DrawOptions` (`draw_observed` reporting
 //! each), and [`crate::jobs::draw`] the whole of `crestline draw`.
 //!
 //! Depth tolerances are in mean edge lengths of the mesh, so a drawing does not
@@ -41,26 +41,30 @@ mod zero_lines;
 
 use rayon::prelude::*;
 
-use crate::curvature::{estimate_curvature, CurvatureEstimator, ShapeOperator};
+#[cfg(test)]
+use crate::curvature::ShapeOperator;
+use crate::curvature::{estimate_curvature, CurvatureEstimator};
 use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::Mesh;
-use crate::progress::{try_stage, Observer, Silent};
+#[cfg(test)]
+use crate::progress::Silent;
+use crate::progress::{try_stage, Observer};
 use crate::{Error, Result};
 
-pub use camera::{Camera, Projection, ScreenPoint, View, MAX_CANVAS_SIDE};
-pub use depth::DepthBuffer;
-pub use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex, PARALLEL_ANGLE};
-pub use edge_lines::{borders, creases};
-pub use page::{Page, Paper, PaperLength, PAPERS, PIXELS_PER_MM};
-pub use plot::{for_plotter, DUPLICATE_DISTANCE, JOIN_DISTANCE, SHORTEST_DUPLICATE};
+pub(crate) use camera::{Camera, Projection, View};
+pub(crate) use depth::DepthBuffer;
+pub(crate) use duplicates::{clear_of_silhouettes, runs_along_outlines, SilhouetteIndex};
+pub(crate) use edge_lines::{borders, creases};
+pub use page::{Page, Paper, PaperLength};
+pub(crate) use plot::for_plotter;
 #[cfg(feature = "png")]
 pub use raster::{render_png, write_png};
-pub use silhouette::silhouettes;
-pub use simplify::{douglas_peucker, douglas_peucker_kept};
-pub use style::{check_taper, KindStyle, Style, MAX_TAPER};
-pub use suggestive::{suggestive_contours, SuggestiveOptions};
-pub use svg::{svg_document, write_svg};
-pub use visibility::visible_pieces;
+pub(crate) use silhouette::silhouettes;
+pub(crate) use simplify::douglas_peucker_kept;
+pub(crate) use style::check_taper;
+pub use style::{KindStyle, Style};
+pub(crate) use suggestive::{suggestive_contours, SuggestiveOptions};
+pub(crate) use visibility::visible_pieces;
 
 /// A visible piece of a line on the canvas.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,7 +76,7 @@ pub struct ScreenPath {
     pub depths: Vec<f64>,
     /// n · v at every point (the surface normal against the unit vector towards
     /// the viewer), for lines that fade where the surface turns away; empty if
-    /// the line did not carry it ([`with_facing`]).
+    /// the line did not carry it (`with_facing`).
     pub facings: Vec<f64>,
     /// Whether the piece is a whole closed line.
     pub closed: bool,
@@ -82,7 +86,7 @@ pub struct ScreenPath {
 
 impl ScreenPath {
     /// Keep the points Douglas–Peucker keeps at `tolerance` pixels
-    /// ([`douglas_peucker_kept`]), with their depths.
+    /// (`douglas_peucker_kept`), with their depths.
     pub fn simplify(&mut self, tolerance: f64) {
         let kept = douglas_peucker_kept(&self.points, self.closed, tolerance);
         retain_flagged(&mut self.points, &kept);
@@ -139,13 +143,13 @@ impl Drawing {
 
 /// The per-point value of a line that holds n · v, the cosine between the surface
 /// normal and the direction towards the viewer ([`with_facing`]).
-pub const FACING: &str = "facing";
+pub(crate) const FACING: &str = "facing";
 
 /// Gives every line of `lines` that keeps its surface locations the value
 /// [`FACING`]: n · v at each point, with n the vertex normals interpolated at the
 /// location and v the unit vector towards the viewer. Lines faded by view
 /// ([`KindStyle::fade_by_view`]) need it.
-pub fn with_facing(mesh: &Mesh, camera: &Camera, lines: &mut FeatureLines) {
+pub(crate) fn with_facing(mesh: &Mesh, camera: &Camera, lines: &mut FeatureLines) {
     let normals = mesh.vertex_normals();
     lines.lines.par_iter_mut().for_each(|line| {
         if line.locations.len() != line.points.len() {
@@ -170,7 +174,7 @@ pub fn with_facing(mesh: &Mesh, camera: &Camera, lines: &mut FeatureLines) {
 
 /// The settings of [`draw`] and [`visible_drawing`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DrawOptions {
+pub(crate) struct DrawOptions {
     /// Trace and draw the silhouettes. Default: no.
     pub silhouettes: bool,
     /// Silhouette lines shorter than this many mean edge lengths are dropped.
@@ -264,7 +268,8 @@ impl DrawOptions {
 /// Draw `lines` on `mesh` as seen by `camera`: the silhouettes, borders, creases
 /// and suggestive contours (with curvature by the [`ShapeOperator`]) if asked
 /// for, a depth buffer, and the visible pieces of every line.
-pub fn draw(
+#[cfg(test)]
+pub(crate) fn draw(
     mesh: &Mesh,
     lines: &FeatureLines,
     camera: &Camera,
@@ -284,7 +289,7 @@ pub fn draw(
 /// `observer` of the stages — each family traced (named after its SVG group, with
 /// the count `<kind>_lines`) and `visibility` — and asking it between them
 /// whether to go on.
-pub fn draw_observed(
+pub(crate) fn draw_observed(
     mesh: &Mesh,
     mut lines: FeatureLines,
     camera: &Camera,
@@ -325,7 +330,7 @@ pub fn draw_observed(
 
 /// The visible, simplified pieces of `lines` against `buffer`: one group for
 /// every kind among the lines (silhouettes first), even if nothing of it is seen.
-pub fn visible_drawing(
+pub(crate) fn visible_drawing(
     lines: &FeatureLines,
     camera: &Camera,
     buffer: &DepthBuffer,
@@ -404,3 +409,6 @@ fn clear_feature_lines(pieces: &mut [(LineKind, Vec<ScreenPath>)], clearance: f6
                 .collect();
         });
 }
+
+#[cfg(test)]
+mod tests;

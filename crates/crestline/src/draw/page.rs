@@ -83,7 +83,7 @@ impl From<PaperLength> for String {
     }
 }
 
-/// A paper size: a name of [`PAPERS`] or `WxH` with a unit (`210x297mm`,
+/// A paper size: a name of `PAPERS` or `WxH` with a unit (`210x297mm`,
 /// `8.5x11in`), portrait or landscape as given.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "String", into = "String")]
@@ -252,7 +252,7 @@ impl Page {
         self.paper.size_mm.map(|side| side - 2.0 * self.margin.0)
     }
 
-    /// The canvas of the printable area, in drawing pixels ([`PIXELS_PER_MM`]).
+    /// The canvas of the printable area, in drawing pixels (`PIXELS_PER_MM`).
     pub fn canvas(&self) -> [u32; 2] {
         self.printable_mm()
             .map(|mm| (mm * PIXELS_PER_MM).round().max(1.0) as u32)

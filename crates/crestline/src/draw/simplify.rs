@@ -4,6 +4,7 @@
 /// ends, and every point farther than `tolerance` from the chord of the span it
 /// splits. A closed line is simplified as an open one from its first point back to
 /// itself, so the result is again a closed line without a repeated end.
+#[cfg(test)]
 pub fn douglas_peucker(points: &[[f64; 2]], closed: bool, tolerance: f64) -> Vec<[f64; 2]> {
     points
         .iter()

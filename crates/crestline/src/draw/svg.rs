@@ -15,12 +15,8 @@
 //!   pixels to millimetres ([`PIXELS_PER_MM`]), the canvas offset by the margin.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
-use std::path::Path;
 
-use crate::atomic::write_atomically;
 use crate::xml::escape;
-use crate::Result;
 
 use super::page::{Page, PIXELS_PER_MM};
 use super::style::{KindStyle, Style};
@@ -29,8 +25,8 @@ use super::{Drawing, Group, ScreenPath};
 /// The smallest and largest factor [`KindStyle::width_by_strength`] applies.
 const WIDTH_FACTORS: (f64, f64) = (0.5, 2.0);
 
-/// The SVG text of `drawing` in `style`.
-pub fn svg_document(drawing: &Drawing, style: &Style) -> String {
+/// [`Drawing::svg`].
+pub(crate) fn svg_document(drawing: &Drawing, style: &Style) -> String {
     let mut svg = String::new();
     svg.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let background = style
@@ -269,7 +265,9 @@ fn median_strength(paths: &[ScreenPath]) -> f64 {
     strengths.get(strengths.len() / 2).copied().unwrap_or(0.0)
 }
 
-/// Write the SVG text `svg` to `path` (under a temporary name, renamed on success).
-pub fn write_svg(path: &Path, svg: &str) -> Result<()> {
-    write_atomically(path, |w| w.write_all(svg.as_bytes()))
+impl Drawing {
+    /// The SVG text of `drawing` in `style`.
+    pub fn svg(&self, style: &Style) -> String {
+        svg_document(self, style)
+    }
 }

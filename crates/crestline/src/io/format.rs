@@ -189,6 +189,7 @@ pub fn choose_format<T: FormatChoice>(path: &Path, what: &str, choices: &[T]) ->
 
 /// The extensions of the formats of `choices`, in order: the lists of supported
 /// extensions that readers publish, such as [`super::SUPPORTED_MESH_EXTENSIONS`].
+#[cfg(test)]
 pub(crate) const fn extensions<T, const N: usize>(
     choices: &[(FileFormat, T); N],
 ) -> [&'static str; N] {

@@ -1,10 +1,10 @@
 //! Reading and writing triangle meshes.
 //!
 //! [`read_mesh`] reads OBJ, PLY (ASCII and binary), OFF, STL (ASCII and binary) and
-//! GIfTI (`.gii`, see [`gifti`]) files into a [`TriangleSoup`], choosing the format
-//! by the file extension, and FreeSurfer surfaces (see [`freesurfer`]) by their
+//! GIfTI (`.gii`, see `gifti`) files into a [`TriangleSoup`], choosing the format
+//! by the file extension, and FreeSurfer surfaces (see `freesurfer`) by their
 //! magic bytes whatever their name (`lh.pial` has no extension); the per-format
-//! readers ([`read_obj`], [`read_ply`], [`read_off`], [`read_stl`]) parse
+//! readers (`read_obj`, `read_ply`, `read_off`, `read_stl`) parse
 //! bytes already in memory. Readers check the structure of a file (counts, indices,
 //! numbers) and fan polygons into triangles, but keep coordinates as written: a NaN
 //! or infinite coordinate is left to [`crate::mesh::Mesh::from_soup`] to reject.
@@ -13,7 +13,7 @@
 //! they quote is shortened, and its control characters escaped when the error is
 //! displayed). Counts announced by a header are checked against the size of the
 //! file before anything is allocated for them, and a polygon declaring more than
-//! [`MAX_FACE_CORNERS`] corners is rejected before its indices are read.
+//! `MAX_FACE_CORNERS` corners is rejected before its indices are read.
 //!
 //! [`write_ply`] and [`write_obj`] save a [`crate::mesh::Mesh`]; [`write_soup`] saves
 //! any triangles, orientable or not, as PLY, OBJ, VTK or GIfTI. Like every writer of the
@@ -24,8 +24,8 @@
 //! through [`write_vertex_values`].
 //!
 //! [`read_volume`] reads 3D images (NIfTI, NRRD, MetaImage, DICOM series) into a
-//! [`crate::volume::Volume`], [`read_volume_with`] a chosen DICOM series,
-//! [`read_dicom`] a series from a list of files, and [`read_raw_volume`]
+//! [`crate::volume::Volume`], [`VolumeReadOptions::read`] a chosen DICOM series,
+//! [`VolumeReadOptions::read_dicom`] a series from a list of files, and `read_raw_volume`
 //! headerless samples.
 //!
 //! Every reader and writer of the crate that picks its format by the file name
@@ -35,8 +35,8 @@
 
 pub(crate) mod file;
 mod format;
-pub mod freesurfer;
-pub mod gifti;
+pub(crate) mod freesurfer;
+pub(crate) mod gifti;
 mod obj;
 mod off;
 mod ply;
@@ -53,18 +53,23 @@ pub(crate) mod vtk;
 
 pub use crate::atomic::write_atomically;
 pub use format::{choose_format, FileFormat, FormatChoice};
-pub use obj::{read_obj, write_obj};
-pub use off::read_off;
-pub use ply::{read_ply, write_ply, VertexAttribute};
+#[cfg(test)]
+pub(crate) use obj::read_obj;
+pub use obj::write_obj;
+#[cfg(test)]
+pub(crate) use off::read_off;
+#[cfg(test)]
+pub(crate) use ply::read_ply;
+pub use ply::{write_ply, VertexAttribute};
 pub(crate) use ply_edges::read_ply_edges;
 pub use soup::{soup_format, write_soup, write_soup_of_structure};
-pub use stl::read_stl;
+#[cfg(test)]
+pub(crate) use stl::read_stl;
 pub use structure::Structure;
-pub use vertex_data::{read_vertex_values, write_vertex_values, VERTEX_VALUE_FORMATS};
-pub use volume::{
-    is_volume_path, read_dicom, read_raw_volume, read_volume, read_volume_with, volume_files,
-    SampleType, VolumeReadOptions, SUPPORTED_VOLUME_EXTENSIONS,
-};
+pub use vertex_data::{read_vertex_values, write_vertex_values};
+pub use volume::{is_volume_path, read_volume, volume_files, VolumeReadOptions};
+#[cfg(test)]
+pub(crate) use volume::{read_raw_volume, SampleType};
 
 use std::path::Path;
 
@@ -88,11 +93,12 @@ const READERS: [(FileFormat, Parser); 5] = [
 ];
 
 /// The file extensions [`read_mesh`] understands (compared case-insensitively).
-pub const SUPPORTED_MESH_EXTENSIONS: &[&str] = &format::extensions(&READERS);
+#[cfg(test)]
+pub(crate) const SUPPORTED_MESH_EXTENSIONS: &[&str] = &format::extensions(&READERS);
 
 /// A callback told how many bytes of a file have been parsed so far and the file's
 /// total size, e.g. to drive a progress bar.
-pub type Progress<'a> = &'a dyn Fn(u64, u64);
+pub(crate) type Progress<'a> = &'a dyn Fn(u64, u64);
 
 /// Read a triangle mesh file, choosing the reader by the extension, in any letter
 /// case: `.obj`, `.ply` (ASCII, binary little and big endian), `.off` (also `COFF`,
@@ -102,17 +108,27 @@ pub type Progress<'a> = &'a dyn Fn(u64, u64);
 ///
 /// GIfTI and FreeSurfer surfaces are declared [`Space::Ras`]; a FreeSurfer
 /// surface with a valid volume geometry is placed in scanner RAS and keeps the
-/// geometry ([`TriangleSoup::volume_geometry`], see [`freesurfer`]).
+/// geometry ([`TriangleSoup::volume_geometry`], see `freesurfer`).
 ///
 /// Errors are [`Error::File`] naming `path`: an unsupported extension, a missing
 /// file, a directory, or malformed content (with the line, element or array).
+///
+/// # Examples
+///
+/// ```
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// let soup = crestline::io::read_mesh(path.as_ref())?;
+/// let (mesh, _repairs) = crestline::mesh::Mesh::from_soup(soup)?;
+/// assert!(mesh.vertex_count() > 0);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn read_mesh(path: &Path) -> Result<TriangleSoup> {
     read_mesh_impl(path, None)
 }
 
 /// [`read_mesh`], calling `progress(bytes_parsed, total_bytes)` as parsing advances
 /// (about every megabyte, and once at the end).
-pub fn read_mesh_with_progress(path: &Path, progress: Progress<'_>) -> Result<TriangleSoup> {
+pub fn read_mesh_with_progress(path: &Path, progress: &dyn Fn(u64, u64)) -> Result<TriangleSoup> {
     read_mesh_impl(path, Some(progress))
 }
 
@@ -323,7 +339,7 @@ fn quoted(text: &str) -> String {
 
 /// Most corners a polygon may have: far more than any real mesh uses, few enough
 /// that a corrupt count cannot make a reader loop or allocate for long.
-pub const MAX_FACE_CORNERS: usize = 1024;
+pub(crate) const MAX_FACE_CORNERS: usize = 1024;
 
 /// Check the corner count a file declares for a polygon before reading it.
 fn check_corner_count(count: u64) -> std::result::Result<usize, String> {
@@ -382,3 +398,6 @@ fn push_polygon(
     triangles.extend(scratch.windows(2).skip(1).map(|w| [first, w[0], w[1]]));
     Ok(())
 }
+
+#[cfg(test)]
+mod tests;

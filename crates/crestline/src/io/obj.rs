@@ -19,6 +19,7 @@ use crate::{Point, Result, Space};
 /// or `v//vn`, with 1-based or negative (relative) indices; polygons are fanned into
 /// triangles. Faces may refer to vertices defined later in the file. All other
 /// records (normals, texture coordinates, groups, materials, lines) are ignored.
+#[cfg(test)]
 pub fn read_obj(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }

@@ -23,6 +23,7 @@ const MIN_FACE_BYTES: usize = 8;
 /// lines, one vertex per line (values after x, y, z are ignored) and one face per
 /// line (`n i1 ... in`, 0-based, optionally followed by a colour; 3 to
 /// [`super::MAX_FACE_CORNERS`] corners). Polygons are fanned into triangles.
+#[cfg(test)]
 pub fn read_off(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }

@@ -32,6 +32,7 @@ const DROPPED_VERTEX_PROPERTIES: &[&str] = &["x", "y", "z", "nx", "ny", "nz"];
 /// Element names must be unique, and the counts of the header must fit in the
 /// file: a header announcing more records than the file can hold is an error
 /// before anything is read.
+#[cfg(test)]
 pub fn read_ply(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }

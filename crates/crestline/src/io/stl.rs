@@ -17,6 +17,7 @@ const BINARY_FACET_BYTES: usize = 50;
 /// STL stores every facet's corners separately, so each triangle gets three new
 /// positions: [`crate::mesh::Mesh::from_soup`] welds the duplicates. Facet normals
 /// are ignored.
+#[cfg(test)]
 pub fn read_stl(bytes: &[u8]) -> Result<TriangleSoup> {
     super::parse_bytes(bytes, None, parse)
 }

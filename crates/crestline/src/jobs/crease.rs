@@ -6,11 +6,9 @@ use std::borrow::Cow;
 use serde::{Deserialize, Serialize};
 
 use super::image::prepared_image;
+use crate::crease::{crease_surface_of, default_options, Survey, DEFAULT_STRENGTH_FRACTION};
 use crate::mesh::TriangleSoup;
 use crate::progress::{try_stage, Observer};
-use crate::volume::crease::{
-    crease_surface_of, default_options, Survey, DEFAULT_STRENGTH_FRACTION,
-};
 use crate::volume::{Smoothing, Volume};
 use crate::{Error, Result};
 
@@ -66,11 +64,31 @@ impl CreaseOptions {
 
 /// The ridge (or valley) surface of `volume` as `options` say: triangles that need
 /// not be orientable, with the per-vertex scalars `strength` (−λ3) and `degenerate`
-/// ([`crate::volume::crease::crease_surface`]). Stages `reconstruction` (the
-/// survey of the eigenvalues, [`Survey`]), `eigenframes` (the field kept where
-/// creases are as strong as asked) and those of [`crease_surface_of`]; the counts
+/// (`crate::crease::crease_surface`). Stages `reconstruction` (the
+/// survey of the eigenvalues, `Survey`), `eigenframes` (the field kept where
+/// creases are as strong as asked) and those of `crease_surface_of`; the counts
 /// `kept samples`, `vertices` and `triangles`, and a warning naming the option that
-/// emptied the surface. Non-finite samples are replaced first ([`prepared_image`]).
+/// emptied the surface. Non-finite samples are replaced first ([`Volume::prepared`]).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let surface = jobs::crease(&volume, &jobs::CreaseOptions::default(), &mut Silent)?;
+/// println!("{} triangles", surface.triangles.len());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn crease(
     volume: &Volume,
     options: &CreaseOptions,

@@ -7,10 +7,11 @@ use serde::{Deserialize, Serialize};
 
 use super::image::{image_units, prepared_image};
 use super::Length;
+use crate::crest_lines::Sweep;
 use crate::crest_lines::{LineFamily, LineTracing};
 use crate::lines::{FeatureLines, LineExtractor, MinLength, MinStrength};
 use crate::progress::Observer;
-use crate::volume::{Sweep, Volume};
+use crate::volume::Volume;
 use crate::{Error, Result};
 
 /// Options of [`crest_lines`]. Each field is an option of the tool and a keyword
@@ -73,10 +74,31 @@ impl Default for CrestLinesOptions {
 
 /// The lines `options` ask for on the isosurface `f = level` of `volume` (inside
 /// is `f ≥ level`), by Marching Lines (Thirion & Gourdon 1993;
-/// [`crate::crest_lines::trace`]), at least `min_length` long and `min_strength`
-/// strong: the stages of [`crate::crest_lines::trace_observed`], the counts `traced` and `lines`, and
+/// `crate::crest_lines::trace`), at least `min_length` long and `min_strength`
+/// strong: the stages of `crate::crest_lines::trace_observed`, the counts `traced` and `lines`, and
 /// a warning when no line is left. Non-finite samples are replaced first
-/// ([`prepared_image`]).
+/// ([`Volume::prepared`]).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let options = jobs::CrestLinesOptions::default();
+/// let lines = jobs::crest_lines(&volume, 40.0, &options, &mut Silent)?;
+/// println!("{} crest lines", lines.len());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn crest_lines(
     volume: &Volume,
     level: f64,

@@ -32,6 +32,19 @@ pub struct CurvatureOptions {
 /// The principal curvatures and directions at every vertex of `surface`: the
 /// stage `curvature`, and the count `unreliable` of vertices whose estimate was
 /// flagged (the boundary, outliers).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let field = jobs::curvature(&surface, &jobs::CurvatureOptions::default(), &mut Silent)?;
+/// assert_eq!(field.k_max.len(), surface.mesh.vertex_count());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn curvature(
     surface: &Surface,
     options: &CurvatureOptions,

@@ -162,8 +162,15 @@ pub(crate) fn morse_of_a_picture() -> MorseOptions {
 }
 
 impl DrawingOptions {
+    /// Checks the settings of the drawing step: errors ([`Error::Argument`]) for
+    /// a negative or non-finite silhouette clearance, or a crease angle not strictly
+    /// between 0 and 180 degrees.
+    pub fn check(&self) -> Result<()> {
+        self.draw_options().check()
+    }
+
     /// The settings of the drawing step ([`crate::draw::draw`]).
-    pub fn draw_options(&self) -> DrawOptions {
+    pub(crate) fn draw_options(&self) -> DrawOptions {
         let clearance = self.silhouette_clearance.map(|c| self.pixels(c));
         DrawOptions {
             silhouettes: self.silhouettes,
@@ -204,7 +211,7 @@ impl DrawingOptions {
     }
 
     /// The camera that frames `surface` as these options say.
-    pub fn camera(&self, surface: &Surface) -> Result<Camera> {
+    pub(crate) fn camera(&self, surface: &Surface) -> Result<Camera> {
         let view = match self.camera {
             Some([ex, ey, ez, tx, ty, tz, ux, uy, uz]) => View::LookAt {
                 eye: Point::new(ex, ey, ez),
@@ -262,9 +269,24 @@ impl DrawingOptions {
 
 /// The drawing of `surface` as `options` say: the feature lines (the stage
 /// `extraction`, with the stages of their job; or the `given` lines instead), the
-/// other families and the visibility ([`draw_observed`]), a warning saying why
+/// other families and the visibility (`draw_observed`), a warning saying why
 /// when nothing is seen. `volume` is the image of an isosurface, which `lines`
 /// crest needs.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let options = jobs::DrawingOptions::default();
+/// let drawing = jobs::draw(&surface, (None, None), &options, &mut Silent)?;
+/// let svg = drawing.svg(&options.style(Default::default())?);
+/// assert!(svg.starts_with("<?xml"));
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn draw(
     surface: &Surface,
     (volume, given): (Option<&Volume>, Option<FeatureLines>),

@@ -9,27 +9,24 @@ use super::scale::{chosen_scale, image_scale, mesh_scale};
 use super::{Length, Units};
 use crate::curvature::{CurvatureEstimator, DerivativeOrder, Estimator, ImageCurvature};
 use crate::error::readable;
+use crate::isosurface::isosurface as marching_cubes;
 use crate::mesh::Mesh;
 use crate::progress::{try_stage, Observer};
-use crate::volume::{isosurface as marching_cubes, Derivatives, Volume};
+use crate::volume::{Derivatives, Volume};
 use crate::{Error, Result};
 
-/// One voxel: the largest spacing of `volume`, the unit of the image jobs'
-/// relative [`Length`]s.
-pub fn voxel_size(volume: &Volume) -> f64 {
+/// [`Volume::voxel_size`].
+pub(crate) fn voxel_size(volume: &Volume) -> f64 {
     largest_spacing(volume.spacing())
 }
 
 /// One voxel of an image of voxel size `spacing`: the largest.
-pub fn largest_spacing(spacing: [f64; 3]) -> f64 {
+pub(crate) fn largest_spacing(spacing: [f64; 3]) -> f64 {
     spacing.into_iter().fold(0.0, f64::max)
 }
 
-/// `volume` with its non-finite samples (NaN outside the mask of a resampled scan,
-/// say) set to its smallest finite value, the background, with a warning to
-/// `observer`; returned as it is when every sample is finite. An image without a
-/// finite sample is an error.
-pub fn prepared_image<'v>(
+/// [`Volume::prepared`], borrowing `volume` when every sample is finite.
+pub(crate) fn prepared_image<'v>(
     volume: Cow<'v, Volume>,
     observer: &mut dyn Observer,
 ) -> Result<Cow<'v, Volume>> {
@@ -171,8 +168,8 @@ impl Surface {
 
     /// The units of the relative [`Length`]s on this surface: one voxel and the
     /// image's feature scale for an isosurface; the mean edge length and the
-    /// scale of its area ([`mesh_scale`]) for a mesh.
-    pub fn units(&self) -> Units {
+    /// scale of its area (`mesh_scale`) for a mesh.
+    pub(crate) fn units(&self) -> Units {
         match self.image {
             Some(image) => Units {
                 sample: image.voxel,
@@ -268,12 +265,32 @@ fn check_level(
 /// `options` say, as a closed oriented mesh with the curvature `options` choose:
 /// the stages `smoothing`, `isosurface`, `mesh` and (for the image's curvature)
 /// `derivatives`, and the counts `vertices` and `faces`. Non-finite samples are
-/// replaced first ([`prepared_image`]). The smoothed image is dropped once the
+/// replaced first ([`Volume::prepared`]). The smoothed image is dropped once the
 /// surface is extracted, and the image's derivatives are kept only around the
 /// vertices ([`ImageCurvature::at_points`]), up to the order `needs` (the job's
 /// that uses the surface: [`DerivativeOrder::Third`] for ridges, which take the
 /// image's extremalities); `None` computes none, for a caller that takes the
 /// mesh alone (the surface then has no curvature of its own).
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let surface = jobs::isosurface(&volume, 40.0, &jobs::IsoOptions::default(), None, &mut Silent)?;
+/// assert!(surface.mesh.face_count() > 0);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn isosurface(
     volume: &Volume,
     level: f64,
@@ -322,4 +339,19 @@ pub fn isosurface(
             extremalities,
         }),
     })
+}
+
+impl Volume {
+    /// One voxel: the largest spacing of `volume`, the unit of the image jobs'
+    /// relative [`Length`]s.
+    pub fn voxel_size(&self) -> f64 {
+        voxel_size(self)
+    }
+
+    /// This image with its non-finite samples (NaN outside the mask of a resampled
+    /// scan, say) set to its smallest finite value, the background, with a warning
+    /// to `observer`. An image without a finite sample is an error.
+    pub fn prepared(self, observer: &mut dyn Observer) -> Result<Volume> {
+        prepared_image(Cow::Owned(self), observer).map(Cow::into_owned)
+    }
 }

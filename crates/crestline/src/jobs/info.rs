@@ -22,12 +22,25 @@ pub struct MeshInfo {
     /// The mean edge length, each edge counted once: the unit of the mesh jobs'
     /// relative lengths.
     pub mean_edge_length: f64,
-    /// The default feature scale ([`super::scale::mesh_scale`]).
+    /// The default feature scale (`super::scale::mesh_scale`).
     pub feature_scale: f64,
 }
 
 /// What `mesh` holds: the stage `topology`, and the counts `vertices`, `faces`,
 /// `edges`, `boundary_loops` and `components`.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let info = jobs::mesh_info(&surface.mesh, &mut Silent);
+/// assert_eq!(info.counts[0], surface.mesh.vertex_count());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn mesh_info(mesh: &Mesh, observer: &mut dyn Observer) -> MeshInfo {
     let components = stage(observer, "topology", || mesh.components());
     let info = MeshInfo {
@@ -50,6 +63,26 @@ pub fn mesh_info(mesh: &Mesh, observer: &mut dyn Observer) -> MeshInfo {
 
 /// The value statistics of `volume` (range, percentiles, histogram, Otsu's level:
 /// a first isosurface level to try): the stage `statistics`.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::progress::Silent;
+/// # use crestline::jobs;
+/// // A small image of an ellipsoid: values fall off from 100 at its centre.
+/// let n = 24;
+/// let samples = (0..n * n * n)
+///     .map(|i| {
+///         let [x, y, z] = [i % n, i / n % n, i / (n * n)].map(|c| c as f32 - 11.5);
+///         100.0 - 10.0 * (x * x + 2.0 * y * y + 3.0 * z * z).sqrt()
+///     })
+///     .collect();
+/// let identity = nalgebra::Matrix3::identity();
+/// let volume = crestline::volume::Volume::new([n; 3], [1.0; 3], [0.0; 3], identity, samples)?;
+/// let summary = jobs::image_info(&volume, &mut Silent);
+/// assert!(summary.max <= 100.0);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn image_info(volume: &Volume, observer: &mut dyn Observer) -> ValueSummary {
     stage(observer, "statistics", || ValueSummary::of(volume))
 }

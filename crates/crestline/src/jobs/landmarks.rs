@@ -54,19 +54,43 @@ pub enum LinesFrom<'a> {
         options: &'a CrestLinesOptions,
     },
     /// The ridges and valleys of a surface by extremality tracing ([`ridges`]);
-    /// its units are the surface's ([`Surface::units`]).
+    /// its units are the surface's: one voxel and the image's feature scale on an
+    /// isosurface, the mean edge length and the scale of its area on a mesh.
     Surface {
         /// The surface.
         surface: &'a Surface,
         /// How the lines are traced.
         options: &'a RidgesOptions,
     },
+    /// Lines found elsewhere (read from a file, say), whose relative lengths are
+    /// in `unit`s: both the sampling's and the feature scale's.
+    Lines {
+        /// The lines.
+        lines: &'a FeatureLines,
+        /// The unit of the relative lengths, in world units.
+        unit: f64,
+    },
 }
 
 /// The landmarks of the crest lines of `input` (Thirion's extremal points,
 /// curvature maxima, line ends, and a descriptor per line;
-/// [`crate::landmarks::landmarks`]), with the stages of the tracing and
+/// `crate::landmarks::landmarks`), with the stages of the tracing and
 /// `landmarks`, and the counts `landmarks` and `crest_lines`.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let ridges = jobs::RidgesOptions::default();
+/// let input = jobs::LinesFrom::Surface { surface: &surface, options: &ridges };
+/// let found = jobs::landmarks(input, &jobs::LandmarksOptions::default(), &mut Silent)?;
+/// println!("{} extremal points", found.points.len());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn landmarks(
     input: LinesFrom<'_>,
     options: &LandmarksOptions,
@@ -89,13 +113,20 @@ pub fn landmarks(
         LinesFrom::Surface { surface, options } => {
             (ridges(surface, options, observer)?, surface.units())
         }
+        LinesFrom::Lines { lines, unit } => {
+            let units = Units {
+                sample: unit,
+                scale: unit,
+            };
+            return landmarks_of_lines(lines, units, options, observer);
+        }
     };
     landmarks_of_lines(&lines, units, options, observer)
 }
 
 /// The landmarks of `lines`, whose relative lengths are in `units`: the stage
 /// `landmarks` and the counts `landmarks` and `crest_lines`.
-pub fn landmarks_of_lines(
+pub(crate) fn landmarks_of_lines(
     lines: &FeatureLines,
     units: Units,
     options: &LandmarksOptions,

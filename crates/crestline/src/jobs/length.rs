@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 /// A length: in world units (millimetres for most scans), a multiple of the
 /// input's own unit — the largest voxel spacing of an image, the mean edge length
-/// of a mesh — or a multiple of the feature scale ([`super::scale`]), resolved by
+/// of a mesh — or a multiple of the feature scale (`super::scale`), resolved by
 /// the job. Serialized as a number, as `{"units": x}` or as `{"scales": x}`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -26,11 +26,11 @@ pub enum Length {
 
 /// What the relative [`Length`]s of one input are relative to, in world units.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Units {
+pub(crate) struct Units {
     /// The input's sampling: one voxel (the largest spacing), or the mean edge
     /// length of a mesh.
     pub sample: f64,
-    /// The feature scale ([`super::scale`]).
+    /// The feature scale (`super::scale`).
     pub scale: f64,
 }
 
@@ -46,31 +46,11 @@ impl Length {
     }
 
     /// The length in world units, for an input whose units are `units`.
-    pub fn resolve(self, units: Units) -> f64 {
+    pub(crate) fn resolve(self, units: Units) -> f64 {
         match self {
             Length::World(length) => length,
             Length::Relative { units: count } => count * units.sample,
             Length::Scaled { scales } => scales * units.scale,
-        }
-    }
-
-    /// The length, checked to be finite and at least 0 (positive if `positive`),
-    /// for an input whose units are `units`; the error names the option `name`.
-    pub fn resolve_checked(self, units: Units, name: &str, positive: bool) -> crate::Result<f64> {
-        let length = self.resolve(units);
-        let valid = length.is_finite()
-            && if positive {
-                length > 0.0
-            } else {
-                length >= 0.0
-            };
-        if valid {
-            Ok(length)
-        } else {
-            let least = if positive { "positive" } else { "at least 0" };
-            Err(crate::Error::Argument(format!(
-                "{name} is a length, finite and {least}, not {length}"
-            )))
         }
     }
 }

@@ -9,6 +9,18 @@ use crate::Result;
 /// consistently, as [`Mesh::from_soup_strict`]) and renumbered if its vertex
 /// order is scattered ([`Mesh::from_file_soup`]): the stage `build`, and each
 /// repair as a warning.
+///
+/// # Examples
+///
+/// ```
+/// use crestline::progress::Silent;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// let soup = crestline::io::read_mesh(path.as_ref())?;
+/// let (mesh, repairs) = crestline::jobs::build_mesh(soup, false, &mut Silent)?;
+/// assert!(mesh.face_count() > 0);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn build_mesh(
     soup: TriangleSoup,
     strict: bool,

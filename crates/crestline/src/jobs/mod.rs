@@ -27,7 +27,7 @@
 //! | `draw` | [`draw`] | [`DrawingOptions`] |
 //! | `register` | [`register()`] | [`RegistrationOptions`](crate::register::RegistrationOptions) |
 //! | `landmarks` | [`landmarks`] | [`LandmarksOptions`] |
-//! | `transfer` | [`transfer()`], [`transfer_mesh_lines`] | [`TransferOptions`](crate::transfer::TransferOptions) |
+//! | `transfer` | [`transfer()`], [`ridges`] of meshes with [`TransferOptions::mesh_tracing`](crate::transfer::TransferOptions::mesh_tracing) | [`TransferOptions`](crate::transfer::TransferOptions) |
 //! | `view` | [`view`] | [`ViewOptions`] |
 //!
 //! [`defaults`] gives every options struct's defaults as JSON, as the Python
@@ -45,7 +45,7 @@ mod mesh;
 mod morse;
 mod register;
 mod ridges;
-pub mod scale;
+mod scale;
 mod transfer;
 mod view;
 
@@ -53,18 +53,18 @@ pub use crease::{crease, CreaseOptions};
 pub use crest::{crest_lines, CrestLinesOptions};
 pub use curvature::{curvature, CurvatureOptions};
 pub use draw::{draw, DrawingOptions, LinesChoice};
-pub use image::{
-    image_units, isosurface, largest_spacing, prepared_image, voxel_size, CurvatureSource,
-    FromImage, IsoOptions, Surface,
-};
+#[cfg(test)]
+pub(crate) use image::image_units;
+pub use image::{isosurface, CurvatureSource, FromImage, IsoOptions, Surface};
 pub use info::{image_info, mesh_info, MeshInfo};
-pub use landmarks::{landmarks, landmarks_of_lines, LandmarksOptions, LinesFrom};
-pub use length::{Length, Units};
+pub use landmarks::{landmarks, LandmarksOptions, LinesFrom};
+pub use length::Length;
+pub(crate) use length::Units;
 pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
-pub use register::{read_point_set, register};
+pub use register::register;
 pub use ridges::{ridges, RidgesOptions};
-pub use transfer::{transfer, transfer_mesh_lines};
+pub use transfer::transfer;
 pub use view::{view, ViewOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":
@@ -113,3 +113,6 @@ where
     serde_json::from_value(options)
         .map_err(|e| crate::Error::Argument(format!("the options of {job}: {e}")))
 }
+
+#[cfg(test)]
+mod tests;

@@ -98,6 +98,19 @@ impl MorseOptions {
 /// and what the run found besides (critical points before and after, the
 /// cancellation sequence), the counts `minima`, `saddles`, `maxima` and `lines`,
 /// and a warning saying why when no line is left.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let (lines, summary) = jobs::morse(&surface, None, &jobs::MorseOptions::default(), &mut Silent)?;
+/// assert!(!lines.is_empty());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn morse(
     surface: &Surface,
     values: Option<Vec<f64>>,

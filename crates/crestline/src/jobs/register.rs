@@ -11,8 +11,28 @@ use crate::space::{self, Space};
 use crate::{Error, Point, Result};
 
 /// The rigid motion taking `moving` onto `fixed` as `options` say
-/// ([`crate::register::register`]): the stage `registration`, and the counts
+/// (trimmed ICP, [`crate::register`]): the stage `registration`, and the counts
 /// `fixed_points`, `moving_points` and `matched`.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// use crestline::register::{PointSet, RegistrationOptions};
+///
+/// // The bunny's vertices, and a copy moved by 2 mm along x.
+/// let fixed = PointSet { line_points: surface.mesh.positions().to_vec(), key_points: vec![] };
+/// let shift = crestline::Vector::new(2.0, 0.0, 0.0);
+/// let moved = fixed.line_points.iter().map(|p| p + shift).collect();
+/// let moving = PointSet { line_points: moved, key_points: vec![] };
+/// let found = jobs::register(&fixed, &moving, &RegistrationOptions::default(), &mut Silent)?;
+/// println!("rms {} after {} iterations", found.rms, found.iterations);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn register(
     fixed: &PointSet,
     moving: &PointSet,
@@ -29,15 +49,8 @@ pub fn register(
     Ok(found)
 }
 
-/// The points to register of a file, in RAS: a lines file (`crestline-lines`
-/// JSON; every line point) or a landmarks file (`crestline-landmarks` JSON; every
-/// line point, and the extremal points as key points), each in the frame it
-/// declares. `space` is the frame of a file that declares none (a lines file of a
-/// mesh, or of an older version); such a file without `space` is refused, as is a
-/// `space` that contradicts the file, so that frames are never mixed silently.
-///
-/// Errors are [`Error::File`] naming `path`.
-pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
+/// [`PointSet::read`].
+pub(crate) fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
     let in_file = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
@@ -73,4 +86,18 @@ pub fn read_point_set(path: &Path, space: Option<Space>) -> Result<PointSet> {
         line_points: to_ras(line_points),
         key_points: to_ras(key_points),
     })
+}
+
+impl PointSet {
+    /// The points to register of a file, in RAS: a lines file (`crestline-lines`
+    /// JSON; every line point) or a landmarks file (`crestline-landmarks` JSON; every
+    /// line point, and the extremal points as key points), each in the frame it
+    /// declares. `space` is the frame of a file that declares none (a lines file of a
+    /// mesh, or of an older version); such a file without `space` is refused, as is a
+    /// `space` that contradicts the file, so that frames are never mixed silently.
+    ///
+    /// Errors are [`Error::File`] naming `path`.
+    pub fn read(path: &Path, space: Option<Space>) -> Result<PointSet> {
+        read_point_set(path, space)
+    }
 }

@@ -60,7 +60,7 @@ pub struct RidgesOptions {
     /// feature conditions of the paper (eqs. 5, 6).
     #[cfg_attr(feature = "clap", arg(long))]
     pub all_extrema: bool,
-    /// The feature scale of a mesh, in world units ([`super::scale`]): the surface
+    /// The feature scale of a mesh, in world units (`super::scale`): the surface
     /// is smoothed for a time of scale² before its curvature is estimated, and the
     /// extremalities for (scale/2)², both in world units rather than in mean edge
     /// lengths, so that another sampling of the same surface gives the same lines
@@ -157,6 +157,20 @@ impl RidgesOptions {
 /// ([`ExtremalityTracer::trace`]): its stages and counts, the counts `vertices` and
 /// `faces`, and warnings for repaired curvature and when no line is strong
 /// enough.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// # let surface = Surface::of_mesh(mesh);
+/// let lines = jobs::ridges(&surface, &jobs::RidgesOptions::default(), &mut Silent)?;
+/// assert!(!lines.is_empty());
+/// lines.write(std::env::temp_dir().join("bunny_ridges.vtk").as_ref())?;
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn ridges(
     surface: &Surface,
     options: &RidgesOptions,

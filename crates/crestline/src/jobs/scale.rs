@@ -30,11 +30,8 @@ pub const MESH_SCALE_SHARE: f64 = 0.01;
 /// a feature scale ([`super::RidgesOptions::scale`]), unless given.
 pub const SCALE_SMOOTH_STEPS: usize = 3;
 
-/// The default feature scale of the isosurface `level` of `volume` (inside is
-/// `f ≥ level`): [`IMAGE_SCALE_SHARE`] times the cube root of the enclosed volume
-/// (the samples at or above the level, times a voxel's volume), at least one
-/// voxel (`voxel`, the largest spacing): below that the grid cannot tell.
-pub fn image_scale(volume: &Volume, level: f64, voxel: f64) -> f64 {
+/// [`Volume::feature_scale`].
+pub(crate) fn image_scale(volume: &Volume, level: f64, voxel: f64) -> f64 {
     let inside = volume
         .samples()
         .iter()
@@ -61,5 +58,15 @@ pub fn chosen_scale(given: Option<f64>, default: impl FnOnce() -> f64) -> crate:
         Some(scale) => Err(crate::Error::Argument(format!(
             "`scale` is {scale}; it must be a positive, finite length"
         ))),
+    }
+}
+
+impl Volume {
+    /// The default feature scale of the isosurface `level` of `volume` (inside is
+    /// `f ≥ level`): `IMAGE_SCALE_SHARE` times the cube root of the enclosed volume
+    /// (the samples at or above the level, times a voxel's volume), at least one
+    /// voxel (`voxel`, the largest spacing): below that the grid cannot tell.
+    pub fn feature_scale(&self, level: f64, voxel: f64) -> f64 {
+        image_scale(self, level, voxel)
     }
 }

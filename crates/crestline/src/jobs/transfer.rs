@@ -1,8 +1,7 @@
 //! A template's labelled landmarks carried onto another scan through their crest
 //! lines (`crestline transfer`; [`crate::transfer`]).
 
-use super::image::Surface;
-use super::ridges::{ridges, RidgesOptions};
+use super::ridges::RidgesOptions;
 use crate::lines::FeatureLines;
 use crate::progress::Observer;
 use crate::space::Space;
@@ -35,17 +34,14 @@ pub fn transfer(
     Ok(carried)
 }
 
-/// The lines of a mesh that [`transfer`] registers: its ridges and valleys
-/// ([`ridges`], the default tracing) at least [`TransferOptions::mesh_threshold`]
-/// strong, with the stages and counts of [`ridges`].
-pub fn transfer_mesh_lines(
-    surface: &Surface,
-    options: &TransferOptions,
-    observer: &mut dyn Observer,
-) -> Result<FeatureLines> {
-    let tracing = RidgesOptions {
-        threshold: options.mesh_threshold,
-        ..RidgesOptions::default()
-    };
-    ridges(surface, &tracing, observer)
+impl TransferOptions {
+    /// How the lines of a mesh that [`transfer`] registers are traced: its ridges
+    /// and valleys ([`ridges`](super::ridges()), the default tracing) at least
+    /// [`TransferOptions::mesh_threshold`] strong.
+    pub fn mesh_tracing(&self) -> RidgesOptions {
+        RidgesOptions {
+            threshold: self.mesh_threshold,
+            ..RidgesOptions::default()
+        }
+    }
 }

@@ -67,10 +67,8 @@ struct Document {
     landmarks: Landmarks,
 }
 
-/// Write `landmarks`, whose positions are in `space`, to `path` in the format
-/// its name gives ([`LandmarkFormat::from_path`]), atomically: on an error `path`
-/// is untouched.
-pub fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Result<()> {
+/// [`Landmarks::write`].
+pub(crate) fn write_landmarks(path: &Path, landmarks: &Landmarks, space: Space) -> Result<()> {
     match LandmarkFormat::from_path(path)? {
         LandmarkFormat::Json => {
             let document = Document {
@@ -108,9 +106,8 @@ pub fn holds_landmarks(text: &str) -> bool {
         .is_some_and(|format| format == FORMAT)
 }
 
-/// Read a landmark JSON file written by [`write_landmarks`]: the landmarks and the
-/// space of their positions. Malformed files are an [`Error::File`] naming `path`.
-pub fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {
+/// [`Landmarks::read`].
+pub(crate) fn read_landmarks(path: &Path) -> Result<(Landmarks, Space)> {
     let text = crate::io::file::read_text(path)?;
     let malformed = |message: String| Error::File {
         path: path.to_path_buf(),
@@ -173,4 +170,19 @@ fn curve(line: &LineLandmark, space: Space) -> Value {
         if line.convex { "convex" } else { "concave" }
     );
     markups::curve(&name, line.closed, &description, (&line.points, space))
+}
+
+impl Landmarks {
+    /// Write these landmarks, whose positions are in `space`, to `path` in the format
+    /// its name gives ([`LandmarkFormat::from_path`]), atomically: on an error `path`
+    /// is untouched.
+    pub fn write(&self, path: &Path, space: Space) -> Result<()> {
+        write_landmarks(path, self, space)
+    }
+
+    /// Read a landmark JSON file written by [`Landmarks::write`]: the landmarks and the
+    /// space of their positions. Malformed files are an [`Error::File`] naming `path`.
+    pub fn read(path: &Path) -> Result<(Landmarks, Space)> {
+        read_landmarks(path)
+    }
 }

@@ -13,12 +13,12 @@
 //!   are extremal, Thirion's most stable landmarks. The closing segment of a loop
 //!   is not searched: a principal direction carried once around a loop may come
 //!   back reversed. A sign change counts only where the signs on both sides hold
-//!   for an arc length of at least [`LandmarkOptions::persistence`]: where the other
+//!   for an arc length of at least `LandmarkOptions::persistence`: where the other
 //!   curvature barely changes along the line its estimated extremality flickers
 //!   about zero.
 //! - **curvature maxima**: points where the line's curvature magnitude (`|k_max|`
 //!   on a ridge, `|k_min|` on a valley) is the largest within an arc length
-//!   [`LandmarkOptions::radius`] on both sides.
+//!   `LandmarkOptions::radius` on both sides.
 //! - **line ends**: the two ends of every open line.
 //!
 //! Every line gets a descriptor: length, mean curvature (by arc length), strength
@@ -26,7 +26,9 @@
 
 pub(crate) mod export;
 
-pub use export::{holds_landmarks, read_landmarks, write_landmarks, LandmarkFormat, Space, FORMAT};
+pub(crate) use export::read_landmarks;
+pub use export::LandmarkFormat;
+pub(crate) use export::{holds_landmarks, Space, FORMAT};
 
 use serde::{Deserialize, Serialize};
 
@@ -128,7 +130,7 @@ impl Landmarks {
 
 /// Parameters of [`landmarks`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LandmarkOptions {
+pub(crate) struct LandmarkOptions {
     /// A curvature maximum is the largest within this arc length on both sides
     /// (world units).
     pub radius: f64,
@@ -144,7 +146,7 @@ pub struct LandmarkOptions {
 ///
 /// Errors ([`Error::Argument`]) if the radius or the persistence is not finite
 /// and positive.
-pub fn landmarks(lines: &FeatureLines, options: &LandmarkOptions) -> Result<Landmarks> {
+pub(crate) fn landmarks(lines: &FeatureLines, options: &LandmarkOptions) -> Result<Landmarks> {
     let checks = [
         ("the radius of curvature maxima `radius`", options.radius),
         (
@@ -424,3 +426,6 @@ fn describe(line: &Polyline, id: usize, curvature: &[f64]) -> LineLandmark {
         points: line.points.clone(),
     }
 }
+
+#[cfg(test)]
+mod tests;

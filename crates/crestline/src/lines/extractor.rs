@@ -18,7 +18,7 @@ use super::FeatureLines;
 pub trait LineExtractor<Input: ?Sized = Mesh> {
     /// Find the feature lines of `input`, telling `observer` of the stages and
     /// stopping with [`crate::Error::Cancelled`] when it asks
-    /// ([`crate::progress::checkpoint`]); [`crate::progress::Silent`] when no one
+    /// (`crate::progress::checkpoint`); [`crate::progress::Silent`] when no one
     /// listens.
     fn extract(&self, input: &Input, observer: &mut dyn Observer) -> Result<FeatureLines>;
 }

@@ -83,11 +83,8 @@ pub fn write_json(path: &Path, lines: &FeatureLines) -> Result<()> {
     })
 }
 
-/// Read a `crestline-lines/1` JSON file written by [`write_json`].
-///
-/// Malformed JSON, a missing or different `format`, unknown keys or kinds, and lines
-/// that [`FeatureLines::validate`] would reject are an [`Error::File`] naming `path`.
-pub fn read_json(path: &Path) -> Result<FeatureLines> {
+/// [`FeatureLines::read_json`].
+pub(crate) fn read_json(path: &Path) -> Result<FeatureLines> {
     let text = crate::io::file::read_text(path)?;
     let malformed = |message: String| Error::File {
         path: path.to_path_buf(),
@@ -164,5 +161,15 @@ pub(super) mod point_arrays {
     pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<Point>, D::Error> {
         let arrays = Vec::<[f64; 3]>::deserialize(deserializer)?;
         Ok(arrays.into_iter().map(Point::from).collect())
+    }
+}
+
+impl FeatureLines {
+    /// Read a `crestline-lines/1` JSON file written by `write_json`.
+    ///
+    /// Malformed JSON, a missing or different `format`, unknown keys or kinds, and lines
+    /// that [`FeatureLines::validate`] would reject are an [`Error::File`] naming `path`.
+    pub fn read_json(path: &Path) -> Result<FeatureLines> {
+        read_json(path)
     }
 }

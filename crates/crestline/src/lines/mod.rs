@@ -1,21 +1,21 @@
 //! Feature lines: the output of every extractor, and the writers that save them.
 //!
 //! A [`FeatureLines`] value is a list of [`Polyline`]s, each tagged with a
-//! [`LineKind`], a closed flag and a strength. [`write_lines`] saves it in the format
+//! [`LineKind`], a closed flag and a strength. [`FeatureLines::write`] saves it in the format
 //! given by the file extension ([`LineFormat::from_path`]):
 //!
 //! | extension | format | writer |
 //! |---|---|---|
-//! | `.json` | `crestline-lines/1` JSON, read back by [`read_json`] | [`write_json`] |
-//! | `.obj` | Wavefront OBJ, `v` and `l` records | [`write_obj`] |
-//! | `.ply` | binary little-endian PLY, `vertex` and `edge` elements | [`write_ply`] |
-//! | `.vtk` | legacy ASCII VTK `POLYDATA` (ParaView, VisIt) | [`write_vtk`] |
-//! | `.vtp` | VTK XML poly data, a polyline per line (ParaView, 3D Slicer) | [`write_vtp`] |
-//! | `.vtu` | VTK XML unstructured grid of segments (meshio, ParaView, 3D Slicer) | [`write_vtu`] |
-//! | `.mrk.json` | 3D Slicer markups, a curve per line | [`write_markups`] |
+//! | `.json` | `crestline-lines/1` JSON, read back by [`FeatureLines::read_json`] | `write_json` |
+//! | `.obj` | Wavefront OBJ, `v` and `l` records | `write_obj` |
+//! | `.ply` | binary little-endian PLY, `vertex` and `edge` elements | `write_ply` |
+//! | `.vtk` | legacy ASCII VTK `POLYDATA` (ParaView, VisIt) | `write_vtk` |
+//! | `.vtp` | VTK XML poly data, a polyline per line (ParaView, 3D Slicer) | `write_vtp` |
+//! | `.vtu` | VTK XML unstructured grid of segments (meshio, ParaView, 3D Slicer) | `write_vtu` |
+//! | `.mrk.json` | 3D Slicer markups, a curve per line | `write_markups` |
 //!
 //! Ridge and valley lines traced on a mesh can also be written as labels of its
-//! vertices ([`write_vertex_labels`]: GIfTI `.label.gii`, FreeSurfer `.label`),
+//! vertices (`write_vertex_labels`: GIfTI `.label.gii`, FreeSurfer `.label`),
 //! which needs the mesh besides the lines.
 //!
 //! Every format that can says the frame of the points ([`FeatureLines::space`]):
@@ -43,7 +43,7 @@ mod ply;
 pub(crate) mod surface_fair;
 #[cfg(test)]
 mod test_meshes;
-pub mod vertex_labels;
+mod vertex_labels;
 mod vtk;
 mod vtk_xml;
 pub(crate) mod zero_set;
@@ -60,19 +60,24 @@ use crate::io::{choose_format, FileFormat, FormatChoice};
 use crate::{Error, Point, Result, Space};
 
 pub use crate::chain::{chain, Chain};
-pub use border::{write_border, BorderSurface};
-pub use direction_field::{DirectionField, EdgeSigns};
+pub(crate) use border::{write_border, BorderSurface};
+pub(crate) use direction_field::{DirectionField, EdgeSigns};
 pub use extractor::{LineExtractor, SurfaceWithCurvature, SurfaceWithValues};
-pub use json::{read_json, write_json, FORMAT};
+pub(crate) use json::read_json;
+pub(crate) use json::{write_json, FORMAT};
 pub use location::SurfaceLocation;
-pub use markups::{write_markups, SLICER_SCHEMA};
-pub use obj::write_obj;
+pub(crate) use markups::write_markups;
+pub(crate) use obj::write_obj;
 pub use on_surface::{write_on_surface, SURFACE_FORMATS};
 pub use pipeline::{LineExporter, LineFilter, MinLength, MinStrength};
-pub use ply::write_ply;
-pub use vertex_labels::{vertex_labels, write_labels, write_vertex_labels, LABEL_FORMATS};
-pub use vtk::write_vtk;
-pub use vtk_xml::{write_vtp, write_vtu};
+pub(crate) use ply::write_ply;
+#[cfg(test)]
+pub(crate) use vertex_labels::write_labels;
+pub use vertex_labels::write_point_labels;
+pub(crate) use vertex_labels::write_vertex_labels;
+pub(crate) use vertex_labels::LABEL_FORMATS;
+pub(crate) use vtk::write_vtk;
+pub(crate) use vtk_xml::{write_vtp, write_vtu};
 pub use zero_set::{LinePoint, ZeroSet};
 
 /// What a feature line is. Serialized in lowercase (`"ridge"`, `"valley"`, ...).
@@ -473,19 +478,19 @@ impl<'a> IntoIterator for &'a FeatureLines {
 /// A file format for feature lines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LineFormat {
-    /// `crestline-lines/1` JSON ([`write_json`], [`read_json`]).
+    /// `crestline-lines/1` JSON (`write_json`, [`FeatureLines::read_json`]).
     Json,
-    /// Wavefront OBJ with `l` records ([`write_obj`]).
+    /// Wavefront OBJ with `l` records (`write_obj`).
     Obj,
-    /// Binary little-endian PLY with vertices and edges ([`write_ply`]).
+    /// Binary little-endian PLY with vertices and edges (`write_ply`).
     Ply,
-    /// Legacy ASCII VTK `POLYDATA` ([`write_vtk`]).
+    /// Legacy ASCII VTK `POLYDATA` (`write_vtk`).
     Vtk,
-    /// VTK XML poly data ([`write_vtp`]).
+    /// VTK XML poly data (`write_vtp`).
     Vtp,
-    /// VTK XML unstructured grid of segments ([`write_vtu`]).
+    /// VTK XML unstructured grid of segments (`write_vtu`).
     Vtu,
-    /// 3D Slicer markups, a curve per line ([`write_markups`]).
+    /// 3D Slicer markups, a curve per line (`write_markups`).
     Markups,
 }
 
@@ -541,9 +546,8 @@ impl FormatChoice for LineFormat {
     }
 }
 
-/// Write `lines` to `path` in the format given by its extension
-/// ([`LineFormat::from_path`]).
-pub fn write_lines(path: &Path, lines: &FeatureLines) -> Result<()> {
+/// [`FeatureLines::write`].
+pub(crate) fn write_lines(path: &Path, lines: &FeatureLines) -> Result<()> {
     LineFormat::from_path(path)?.write(path, lines)
 }
 
@@ -564,3 +568,14 @@ fn one_line(text: &str) -> String {
         .map(|c| if c.is_control() { ' ' } else { c })
         .collect()
 }
+
+impl FeatureLines {
+    /// Write `lines` to `path` in the format given by its extension
+    /// ([`LineFormat::from_path`]).
+    pub fn write(&self, path: &Path) -> Result<()> {
+        write_lines(path, self)
+    }
+}
+
+#[cfg(test)]
+mod tests;

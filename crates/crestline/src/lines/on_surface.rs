@@ -17,7 +17,7 @@ pub const SURFACE_FORMATS: [FileFormat; 3] =
 
 /// Write `lines`, traced on `mesh`, in the format of the extension of `path`
 /// ([`SURFACE_FORMATS`]): labels of the vertices they pass near
-/// ([`write_vertex_labels`]) or a border file ([`write_border`]) whose triangles
+/// (`write_vertex_labels`) or a border file (`write_border`) whose triangles
 /// are numbered as in the file the mesh was read from. `structure` is the border
 /// file's and a GIfTI label file's.
 pub fn write_on_surface(

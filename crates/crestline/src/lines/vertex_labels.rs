@@ -37,16 +37,6 @@ pub const VALLEY: i32 = 2;
 /// The formats [`write_vertex_labels`] writes.
 pub const LABEL_FORMATS: [FileFormat; 2] = [FileFormat::GiftiLabel, FileFormat::FreeSurferLabel];
 
-/// The label of each vertex of the input surface of `mesh`, in its order (see
-/// the module documentation): [`UNLABELLED`], [`RIDGE`] or [`VALLEY`].
-///
-/// Errors ([`Error::Argument`]): a line of another kind than ridge or valley, or
-/// a line without the surface locations of its points (faired lines leave the
-/// surface).
-pub fn vertex_labels(lines: &FeatureLines, mesh: &Mesh) -> Result<Vec<i32>> {
-    labels_of(lines, mesh).map_err(Error::Argument)
-}
-
 /// [`vertex_labels`], its error a message.
 fn labels_of(lines: &FeatureLines, mesh: &Mesh) -> std::result::Result<Vec<i32>, String> {
     let mut points = Vec::new();
@@ -74,7 +64,7 @@ fn labels_of(lines: &FeatureLines, mesh: &Mesh) -> std::result::Result<Vec<i32>,
     ))
 }
 
-/// The label of the lines of `kind`: [`RIDGE`], [`VALLEY`], or `None` for the
+/// The label of the lines of `kind`: `RIDGE`, `VALLEY`, or `None` for the
 /// kinds vertex labels do not hold.
 pub fn family_label(kind: LineKind) -> Option<i32> {
     match kind {
@@ -88,7 +78,7 @@ pub fn family_label(kind: LineKind) -> Option<i32> {
 /// its family's label and the vertices it interpolates with their weights: a
 /// point labels its corner of largest weight, and of the points that label a
 /// vertex the one of largest weight there wins. Vertices no point labels are
-/// [`UNLABELLED`].
+/// `UNLABELLED`.
 pub fn label_nearest_corners(
     vertex_count: usize,
     points: impl IntoIterator<Item = (i32, Vec<(VertexId, f64)>)>,
@@ -150,9 +140,9 @@ fn label_table() -> Vec<GiftiLabel> {
 /// format of the extension of `path`: `.label.gii` or `.label` (see the module
 /// documentation). Written atomically.
 ///
-/// Errors: those of [`vertex_labels`], as [`Error::File`] naming `path`, and an
+/// Errors: those of `vertex_labels`, as [`Error::File`] naming `path`, and an
 /// unsupported extension.
-pub fn write_vertex_labels(
+pub(crate) fn write_vertex_labels(
     path: &Path,
     lines: &FeatureLines,
     mesh: &Mesh,
@@ -166,8 +156,43 @@ pub fn write_vertex_labels(
     write_labels(path, &labels, mesh, structure)
 }
 
+/// Write the labels of the vertices of `mesh` that line `points` pass near, as
+/// [`write_on_surface`](super::write_on_surface) labels a mesh's own lines: each
+/// point given as its line's kind (ridge or valley) and the vertices of `mesh` it
+/// interpolates, with their weights; a point labels its corner of largest weight.
+/// For lines found elsewhere, located on `mesh`. Written atomically, in the format
+/// of the extension of `path`: `.label.gii` (naming `structure`) or `.label`.
+///
+/// Errors: a point of another kind than ridge or valley ([`Error::Argument`]),
+/// and those of writing the labels ([`Error::File`] naming `path`).
+pub fn write_point_labels(
+    path: &Path,
+    mesh: &Mesh,
+    points: impl IntoIterator<Item = (LineKind, Vec<(VertexId, f64)>)>,
+    structure: Structure,
+) -> Result<()> {
+    let labelled = points
+        .into_iter()
+        .map(|(kind, corners)| {
+            let label = family_label(kind).ok_or_else(|| {
+                Error::Argument(format!(
+                    "vertex labels hold ridge and valley lines, not {kind} lines"
+                ))
+            })?;
+            Ok((label, corners))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let labels = label_nearest_corners(mesh.vertex_count(), labelled);
+    write_labels(
+        path,
+        &mesh.to_input_order(&labels, UNLABELLED),
+        mesh,
+        structure,
+    )
+}
+
 /// Write `labels`, one per vertex of the input surface of `mesh` in its order
-/// ([`UNLABELLED`], [`RIDGE`] or [`VALLEY`], as [`vertex_labels`] gives them), in
+/// (`UNLABELLED`, `RIDGE` or `VALLEY`, as `vertex_labels` gives them), in
 /// the format of the extension of `path`: `.label.gii` or `.label` (see the
 /// module documentation), a GIfTI file naming `structure` as Workbench reads it.
 /// Written atomically.

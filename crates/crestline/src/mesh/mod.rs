@@ -314,7 +314,7 @@ impl Mesh {
 
     /// The outgoing halfedges of `v`, counter-clockwise, starting with
     /// [`Mesh::vertex_halfedge`] (so on the boundary the first is the boundary one).
-    pub fn outgoing(&self, v: VertexId) -> Outgoing<'_> {
+    pub fn outgoing(&self, v: VertexId) -> impl Iterator<Item = HalfedgeId> + '_ {
         let start = self.vertex_halfedge(v);
         Outgoing {
             mesh: self,
@@ -342,7 +342,7 @@ impl Mesh {
 }
 
 /// Iterator over the outgoing halfedges of a vertex; see [`Mesh::outgoing`].
-pub struct Outgoing<'a> {
+pub(crate) struct Outgoing<'a> {
     mesh: &'a Mesh,
     start: HalfedgeId,
     current: Option<HalfedgeId>,

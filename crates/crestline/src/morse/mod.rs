@@ -137,7 +137,7 @@ impl MorseSmale {
     /// Default fairing iterations on the surface: the staircases of mesh edges
     /// turn 36 radians per 100 px in a drawing of the bunny, 7 after 20 and 6 after
     /// 40 iterations, while the share of their length on the indicator's crest
-    /// (upper quartile) stays at 81–82% (`tests/library/morse_drawing.rs`).
+    /// (upper quartile) stays at 81–82% (`src/draw/tests/morse_drawing.rs`).
     pub const DEFAULT_SMOOTH_ITERATIONS: usize = 30;
     /// The most fairing iterations ([`Self::smooth`]) accepted.
     pub const MAX_SMOOTH_ITERATIONS: usize = 1000;

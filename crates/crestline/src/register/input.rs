@@ -22,15 +22,8 @@ struct Document {
     matrix: [[f64; 4]; 4],
 }
 
-/// The moving → fixed motion in RAS of the transform file `path`: a `.json` as
-/// [`super::write_transform`] writes it, or an ITK `.tfm` holding one transform
-/// of 12 parameters (`AffineTransform_double_3_3`, `MatrixOffsetTransformBase`)
-/// whose 3 × 3 part is a rotation (ITK's `x ↦ M·(x − c) + c + t`, with `c` its
-/// fixed parameters).
-///
-/// Errors are [`Error::File`] naming `path`: an unreadable or malformed file, or a
-/// transform that is not a rigid motion.
-pub fn read_transform(path: &Path) -> Result<RigidTransform> {
+/// [`RigidTransform::read`].
+pub(crate) fn read_transform(path: &Path) -> Result<RigidTransform> {
     let format = TransformFormat::from_path(path)?;
     let text = crate::io::file::read_text(path)?;
     let parsed = match format {
@@ -98,6 +91,20 @@ fn numbers_after(text: &str, key: &str) -> std::result::Result<Vec<f64>, String>
                 .map_err(|_| format!("'{word}' on the '{key}' line is not a number"))
         })
         .collect()
+}
+
+impl RigidTransform {
+    /// The moving → fixed motion in RAS of the transform file `path`: a `.json` as
+    /// [`Registration::write`](super::Registration::write) writes it, or an ITK
+    /// `.tfm` holding one transform of 12 parameters (`AffineTransform_double_3_3`,
+    /// `MatrixOffsetTransformBase`) whose 3 × 3 part is a rotation (ITK's
+    /// `x ↦ M·(x − c) + c + t`, with `c` its fixed parameters).
+    ///
+    /// Errors are [`Error::File`] naming `path`: an unreadable or malformed file, or a
+    /// transform that is not a rigid motion.
+    pub fn read(path: &Path) -> Result<RigidTransform> {
+        read_transform(path)
+    }
 }
 
 #[cfg(test)]

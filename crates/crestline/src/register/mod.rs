@@ -1,8 +1,8 @@
 //! Rigid registration of two sets of crest-line points: Thirion's use of crest
 //! lines, aligning two scans of the same subject.
 //!
-//! [`register`] finds the rigid motion taking the `moving` set onto the `fixed` one
-//! in three steps:
+//! [`jobs::register`](crate::jobs::register()) finds the rigid motion taking the
+//! `moving` set onto the `fixed` one in three steps:
 //! 1. starting guesses from the moments of the line points (`register/initial.rs`): the
 //!    centroids matched without rotation, and the 24 right-handed alignments of the
 //!    principal axes;
@@ -17,10 +17,10 @@
 //! fitted, ξ chosen automatically as the minimizer of `e(ξ) / ξ³` (e the mean squared
 //! distance of the kept pairs) over `ξ ≥` [`RegistrationOptions::min_overlap`].
 //! Closest points come from a k-d tree over the fixed points; each step is the
-//! least-squares fit of [`fit::best_rigid_fit`] (Kabsch 1976, Umeyama 1991).
+//! least-squares fit of `fit::best_rigid_fit` (Kabsch 1976, Umeyama 1991).
 //! Everything is deterministic: no random sampling, ties broken by order.
 //!
-//! [`write_transform`] saves the result as JSON or as an ITK/3D Slicer transform
+//! [`Registration::write`] saves the result as JSON or as an ITK/3D Slicer transform
 //! file.
 
 pub(crate) mod fit;
@@ -36,10 +36,12 @@ use crate::{Error, Point, Result};
 use icp::{trimmed_icp, Alignment, Schedule, Target};
 use initial::{hypotheses, principal_frame};
 
-pub use fit::best_rigid_fit;
-pub use input::read_transform;
-pub use output::{write_rigid_transform, write_transform, TransformFormat};
-pub use transform::{rotation_angle, RigidTransform};
+#[cfg(test)]
+pub(crate) use fit::best_rigid_fit;
+pub use output::TransformFormat;
+#[cfg(test)]
+pub(crate) use transform::rotation_angle;
+pub use transform::RigidTransform;
 
 /// The points of one scan to register.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -51,7 +53,7 @@ pub struct PointSet {
     pub key_points: Vec<Point>,
 }
 
-/// Settings of [`register`] (and of `crestline register`, [`crate::jobs::register`]).
+/// Settings of [`jobs::register`](crate::jobs::register()) (and of `crestline register`).
 /// The first two are options of the tool and keyword arguments of the Python
 /// package, documented here once (with the feature `clap` this struct is the
 /// tool's arguments); the schedule of the coarse stage and the tolerance are the
@@ -135,7 +137,7 @@ impl RegistrationOptions {
     }
 }
 
-/// The result of [`register`].
+/// The result of [`jobs::register`](crate::jobs::register()).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Registration {
     /// The rigid motion taking the moving points onto the fixed ones.
@@ -157,7 +159,7 @@ pub struct Registration {
 /// Errors ([`Error::Argument`]) if a set has fewer than three line points, its
 /// line points lie on one line, a coordinate is not finite, or an option is out
 /// of range.
-pub fn register(
+pub(crate) fn register(
     fixed: &PointSet,
     moving: &PointSet,
     options: &RegistrationOptions,
@@ -239,3 +241,6 @@ fn strided_sample(points: &[Point], at_most: usize) -> Vec<Point> {
     let stride = points.len().div_ceil(at_most);
     points.iter().step_by(stride).copied().collect()
 }
+
+#[cfg(test)]
+mod tests;

@@ -49,7 +49,7 @@ struct Fit {
     iterations: usize,
 }
 
-/// The file formats of [`write_transform`].
+/// The file formats of [`Registration::write`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TransformFormat {
     /// `.json`: the moving → fixed transform in RAS, with the fit's figures.
@@ -79,13 +79,8 @@ impl FormatChoice for TransformFormat {
     }
 }
 
-/// Write `registration` to `path`, in the format of its extension
-/// ([`TransformFormat::from_path`]; see [`crate::register`] for the
-/// conventions of each). Written under a temporary name and renamed on success.
-///
-/// Errors: [`Error::File`] for another extension or a failed write,
-/// [`Error::Argument`] for a transform with a non-finite entry.
-pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
+/// [`Registration::write`].
+pub(crate) fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
     let fit = Fit {
         rms: registration.rms,
         matched_share: registration.matched_share,
@@ -95,9 +90,8 @@ pub fn write_transform(path: &Path, registration: &Registration) -> Result<()> {
     write(path, &registration.transform, Some(fit))
 }
 
-/// Write a moving → fixed motion in RAS (of a registration made elsewhere, say)
-/// as [`write_transform`] does, without the fit's figures.
-pub fn write_rigid_transform(path: &Path, transform: &RigidTransform) -> Result<()> {
+/// [`RigidTransform::write`].
+pub(crate) fn write_rigid_transform(path: &Path, transform: &RigidTransform) -> Result<()> {
     write(path, transform, None)
 }
 
@@ -150,4 +144,24 @@ pub fn itk_text(transform: &RigidTransform) -> String {
          Parameters: {}\nFixedParameters: 0 0 0\n",
         parameters.join(" ")
     )
+}
+
+impl RigidTransform {
+    /// Write a moving → fixed motion in RAS (of a registration made elsewhere, say)
+    /// as [`Registration::write`] does, without the fit's figures.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        write_rigid_transform(path, self)
+    }
+}
+
+impl Registration {
+    /// Write `registration` to `path`, in the format of its extension
+    /// ([`TransformFormat::from_path`]; see [`crate::register`] for the
+    /// conventions of each). Written under a temporary name and renamed on success.
+    ///
+    /// Errors: [`Error::File`] for another extension or a failed write,
+    /// [`Error::Argument`] for a transform with a non-finite entry.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        write_transform(path, self)
+    }
 }

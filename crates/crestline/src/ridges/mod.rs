@@ -5,7 +5,7 @@
 //! the shared line tools of [`crate::lines`]):
 //! 1. optional implicit smoothing of the surface ([`presmooth_surface`]);
 //! 2. principal curvatures and directions (any [`CurvatureEstimator`]), extremalities
-//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) ([`extremality()`]);
+//!    e_max, e_min (eq. 4) and regular triangles (Definition 1) (`extremality()`);
 //!    an estimator that gives the extremalities itself
 //!    ([`CurvatureField::extremality`]: [`crate::curvature::JetFit`], from the
 //!    third-order terms of its fitted jets) is used as it is, which keeps the
@@ -13,7 +13,7 @@
 //! 3. sign-aware implicit smoothing of the extremalities (§5.1)
 //!    (`ridges/smoothing.rs`); fitted extremalities are smoothed in
 //!    proportion to the noise their fit residual shows
-//!    ([`fitted_smoothing_factors`]), so clean meshes keep their precision;
+//!    (`fitted_smoothing_factors`), so clean meshes keep their precision;
 //! 4. tracing the zero sets in regular triangles under the feature conditions (eqs. 5,
 //!    6), then bridging singular triangles (§4.2) (`ridges/trace.rs`), with the shared
 //!    zero-set tracer ([`crate::lines::ZeroSet`]);
@@ -27,7 +27,7 @@
 //!
 //! Degrading instead of aborting: the built-in estimators flag non-finite and
 //! outlying curvatures unreliable and replace them by the median of their 1-ring
-//! ([`crate::curvature::repair_outliers`]), so such a vertex enters the extremality,
+//! (`crate::curvature::repair_outliers`), so such a vertex enters the extremality,
 //! its smoothing and the tracing with its neighbourhood's values, and a run never
 //! fails on one; their number is reported as `unreliable_vertices`. The geometry
 //! of every step is computed on the mesh scaled by a power of two into the unit
@@ -62,8 +62,9 @@ use crate::mesh::{Mesh, VertexId};
 use crate::progress::{checkpoint, stage, try_stage, try_stage_with, Observer, Silent, Timings};
 use crate::{Error, Result};
 
+pub(crate) use extremality::extremality;
 use extremality::regular_faces;
-pub use extremality::{extremality, Principal};
+pub use extremality::Principal;
 pub use smoothing::presmooth_surface;
 use trace::Extremality;
 
@@ -124,7 +125,7 @@ pub struct ExtremalityTracer {
     pub kinds: Kinds,
     /// Implicit smoothing steps of the extremalities. Extremalities the estimator
     /// gives with a fit residual are smoothed only where the residual shows noise
-    /// ([`fitted_smoothing_factors`]).
+    /// (`fitted_smoothing_factors`).
     pub smooth_steps: usize,
     /// Time step τ of extremality smoothing, in units of the mean edge length squared.
     pub smooth_time: f64,
@@ -159,7 +160,7 @@ impl ExtremalityTracer {
     pub const DEFAULT_SMOOTH_TIME: f64 = 2.0;
     /// Default number of implicit smoothing steps of extremalities the estimator
     /// gives ([`CurvatureField::extremality`], e.g. [`crate::curvature::JetFit`]'s),
-    /// weighted by [`fitted_smoothing_factors`]. Measured on a rotated, irregular
+    /// weighted by `fitted_smoothing_factors`. Measured on a rotated, irregular
     /// 30k-vertex ellipsoid (example `jet_extremality`): on the clean mesh the
     /// weights are about 10⁻⁵ and the ridge stays at 0.0004% of the diagonal from
     /// the true plane (every unweighted step costs precision: 1 step of τ = 0.25
@@ -204,9 +205,7 @@ impl ExtremalityTracer {
     pub const DEFAULT_THRESHOLD: f64 = 2.0;
     /// The most smoothing steps (of the surface or of the extremalities) accepted.
     pub const MAX_STEPS: usize = 1000;
-}
 
-impl ExtremalityTracer {
     /// The default tracer with one of the crate's estimators and the smoothing
     /// defaults of its extremalities: [`Self::DEFAULT_SMOOTH_STEPS`] and
     /// [`Self::DEFAULT_SMOOTH_TIME`] for the discrete ones of the shape operator,
@@ -708,7 +707,7 @@ fn regauge(values: &mut [f64], gauge: &[f64]) {
 /// The fit residual ([`CurvatureField::fit_residual`]) at and above which fitted
 /// extremalities are smoothed fully: the residual that tells a clean mesh from a
 /// noisy one ([`crate::curvature::CLEAN_FIT_RESIDUAL`], with the measured values).
-pub const FULL_SMOOTHING_RESIDUAL: f64 = crate::curvature::CLEAN_FIT_RESIDUAL;
+pub(crate) const FULL_SMOOTHING_RESIDUAL: f64 = crate::curvature::CLEAN_FIT_RESIDUAL;
 
 /// Per-vertex factors of the extremality smoothing where the field's
 /// extremalities come from a fit ([`CurvatureField::extremality`] with
@@ -718,7 +717,7 @@ pub const FULL_SMOOTHING_RESIDUAL: f64 = crate::curvature::CLEAN_FIT_RESIDUAL;
 /// fitted extremalities are left as they are, since every smoothing step moves
 /// their zero set away from the ridge (measured in the example
 /// `jet_extremality`). `None` for other fields.
-pub fn fitted_smoothing_factors(mesh: &Mesh, field: &CurvatureField) -> Option<Vec<f64>> {
+pub(crate) fn fitted_smoothing_factors(mesh: &Mesh, field: &CurvatureField) -> Option<Vec<f64>> {
     field.extremality.as_ref()?;
     let residual = field.fit_residual.as_ref()?;
     Some(

@@ -15,12 +15,12 @@
 //! it and [`Space::from_header`] reads it.
 //!
 //! FreeSurfer surfaces hold tkr-RAS coordinates, placed in the scanner's RAS by
-//! the [`VolumeGeometry`] of their image.
+//! the `VolumeGeometry` of their image.
 
 mod volume_geometry;
 
 pub(crate) use volume_geometry::to_tkr;
-pub use volume_geometry::VolumeGeometry;
+pub(crate) use volume_geometry::VolumeGeometry;
 
 use std::fmt;
 use std::str::FromStr;
@@ -44,10 +44,10 @@ pub enum Space {
 /// The length unit of coordinates in an anatomical frame: millimetres, as DICOM,
 /// ITK and NIfTI's usual `xyzt_units` have them (other NIfTI units are not
 /// converted).
-pub const UNITS: &str = "mm";
+pub(crate) const UNITS: &str = "mm";
 
 impl Space {
-    /// The unit of the coordinates of points in `space`: [`UNITS`] in an
+    /// The unit of the coordinates of points in `space`: `UNITS` in an
     /// anatomical frame, none without one.
     pub fn units_of(space: Option<Space>) -> Option<&'static str> {
         space.map(|_| UNITS)
@@ -111,7 +111,7 @@ impl Space {
 
 /// Convert `points`, in frame `from`, into `to`; points without a frame are
 /// taken to be in `to` already.
-pub fn convert_all<'a>(
+pub(crate) fn convert_all<'a>(
     from: Option<Space>,
     to: Space,
     points: impl IntoIterator<Item = &'a mut Point>,
@@ -123,10 +123,8 @@ pub fn convert_all<'a>(
     }
 }
 
-/// The frame of an input's points: the one it declares, else the one the user
-/// gives (`given`, the option `space`). A given frame that contradicts the
-/// declared one is an [`Error::Argument`]; `None` when neither says.
-pub fn resolve(declared: Option<Space>, given: Option<Space>) -> Result<Option<Space>> {
+/// [`Space::resolve`].
+pub(crate) fn resolve(declared: Option<Space>, given: Option<Space>) -> Result<Option<Space>> {
     match (declared, given) {
         (Some(declared), Some(given)) if declared != given => Err(Error::Argument(format!(
             "the input declares its points in {declared}; `space` {given} contradicts it"
@@ -152,6 +150,15 @@ impl FromStr for Space {
             "LPS" => Ok(Space::Lps),
             _ => Err(Error::unknown_name("world frame", name, Space::NAMES)),
         }
+    }
+}
+
+impl Space {
+    /// The frame of an input's points: the one it declares, else the one the user
+    /// gives (`given`, the option `space`). A given frame that contradicts the
+    /// declared one is an [`Error::Argument`]; `None` when neither says.
+    pub fn resolve(declared: Option<Space>, given: Option<Space>) -> Result<Option<Space>> {
+        resolve(declared, given)
     }
 }
 

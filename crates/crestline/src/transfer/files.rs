@@ -31,7 +31,7 @@ pub struct LabelledPoint {
 }
 
 /// The labelled points of `path`, in the order of the file, positions in RAS
-/// (see the [module](self) documentation for the formats).
+/// (see the module documentation for the formats).
 ///
 /// Errors are [`Error::File`] naming `path`: an unknown extension, a malformed
 /// file, or a file without points.

@@ -3,7 +3,7 @@
 //! non-rigidly, and mapping the landmarks by the same deformation.
 //!
 //! [`transfer`] works in three steps:
-//! 1. the rigid motion of [`crate::register::register`] (trimmed ICP from
+//! 1. the rigid motion of [`jobs::register`](crate::jobs::register()) (trimmed ICP from
 //!    moment-based guesses; Chetverikov et al. 2002) takes the template's line
 //!    points onto the subject's;
 //! 2. a smooth displacement field is then grown coarse to fine, as Thirion's
@@ -32,7 +32,7 @@
 //!    below [`TransferOptions::min_coverage`] or it has no confidence; it is
 //!    still placed, by the deformation its neighbours give.
 
-pub mod files;
+mod files;
 mod smooth;
 
 use kiddo::{ImmutableKdTree, SquaredEuclidean};

@@ -62,23 +62,15 @@ impl BSpline {
         }
     }
 
-    /// The number of samples along x, y and z.
-    pub fn dims(&self) -> [usize; 3] {
-        self.dims
-    }
-
-    /// The spline coefficients `c`, x fastest.
-    pub fn coefficients(&self) -> &[f32] {
-        &self.coefficients
-    }
-
     /// The value at the (fractional) voxel index `index`, or `None` outside the
     /// grid (`0 ≤ index[a] ≤ dims[a] − 1`).
+    #[cfg(test)]
     pub fn value_at_index(&self, index: [f64; 3]) -> Option<f64> {
         self.partials(index, 0).map(|p| p[0])
     }
 
     /// The value at world position `point`, or `None` outside the grid.
+    #[cfg(test)]
     pub fn value_at_world(&self, point: &Point) -> Option<f64> {
         self.value_at_index(self.index_of(point))
     }

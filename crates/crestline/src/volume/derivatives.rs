@@ -133,7 +133,7 @@ pub enum Smoothing {
 impl Derivatives {
     /// Partial derivatives of total order at most `max_order` (0 to 2: 1, 4 or 10
     /// grids) of the approximating cubic B-spline of `volume`
-    /// ([`Smoothing::CubicSpline`]).
+    /// (`Smoothing::CubicSpline`).
     ///
     /// Errors ([`Error::Argument`]) if `max_order > 2` (the spline's third
     /// derivatives jump at the grid points) or the direction matrix is not

@@ -12,35 +12,29 @@
 //! reader.
 //!
 //! [`Derivatives`] computes Gaussian derivatives of orders 0 to 3 on the grid
-//! (separable, moment-corrected kernels, σ in world units) and [`BSpline`] the C²
+//! (separable, moment-corrected kernels, σ in world units) and `BSpline` the C²
 //! cubic B-spline that interpolates the samples, both with world-space gradients,
-//! Hessians and third derivatives. [`isosurface()`] extracts the surface `f = I` as
-//! a closed, oriented [`crate::mesh::Mesh`], and [`marching_lines()`] the curves
-//! where it meets the level set of a second field (Thirion & Gourdon's Marching
-//! Lines).
+//! Hessians and third derivatives. The image extractors build on it: isosurfaces
+//! ([`crate::isosurface`]), crest lines by Marching Lines ([`crate::crest_lines`])
+//! and crease surfaces.
 
 pub(crate) mod bspline;
-pub mod crease;
 pub(crate) mod derivatives;
 pub(crate) mod grid;
-pub(crate) mod isosurface;
 pub(crate) mod jet;
 pub(crate) mod kernels;
-pub(crate) mod marching_lines;
 mod separable;
 mod statistics;
 pub(crate) mod trilinear;
 pub(crate) mod voxel_set;
 
-pub use bspline::BSpline;
-pub use derivatives::{Derivatives, Partial, Smoothing};
-pub use isosurface::{isosurface, Isosurface, VertexSource};
-pub use jet::{Jet, ThirdOrder};
-pub use marching_lines::{
-    bi_iso_lines, marching_lines, seeded_marching_lines, BiIsoLine, SampledField, SecondField,
-    Sweep,
-};
-pub use statistics::{ValueSummary, HISTOGRAM_BINS, PERCENTILES};
+pub(crate) use bspline::BSpline;
+pub(crate) use derivatives::Smoothing;
+pub use derivatives::{Derivatives, Partial};
+pub(crate) use jet::Jet;
+#[cfg(test)]
+pub(crate) use jet::ThirdOrder;
+pub use statistics::ValueSummary;
 
 use crate::{Error, Point, Result, Space, Vector};
 use grid::Grid;
@@ -324,7 +318,7 @@ impl Volume {
 /// neighbouring voxels are no longer resolved in f64 at any usual spacing, and
 /// surfaces and lines derived from them would have non-finite or collapsed
 /// coordinates (1e12 mm is a million kilometres).
-pub const MAX_WORLD_COORDINATE: f64 = 1e12;
+pub(crate) const MAX_WORLD_COORDINATE: f64 = 1e12;
 
 /// Refuse a placement whose grid reaches beyond [`MAX_WORLD_COORDINATE`] (a far
 /// origin, a spacing of 1e308): said now, naming the spacing and origin, rather
@@ -377,11 +371,11 @@ pub fn split_affine(affine: &Matrix4<f64>) -> ([f64; 3], [f64; 3], Matrix3<f64>)
 /// Most voxels a volume may have (2^34, 64 GiB of `f32`): far more than any image
 /// that fits in memory, few enough that a corrupt header is caught before anything
 /// is allocated for it.
-pub const MAX_VOXELS: u64 = 1 << 34;
+pub(crate) const MAX_VOXELS: u64 = 1 << 34;
 
 /// `nx · ny · nz`, checked: every dimension positive and the product at most
 /// [`MAX_VOXELS`].
-pub fn voxel_count(dims: [usize; 3]) -> Result<usize> {
+pub(crate) fn voxel_count(dims: [usize; 3]) -> Result<usize> {
     if dims.contains(&0) {
         return Err(invalid(format!("a dimension is zero in {dims:?}")));
     }
@@ -428,6 +422,8 @@ fn invalid(message: String) -> Error {
 
 #[cfg(test)]
 mod tests {
+    mod volume_derivatives;
+
     use super::*;
 
     #[test]

@@ -23,12 +23,12 @@ pub struct ValueSummary {
     pub max: f64,
     /// The mean of the finite samples.
     pub mean: f64,
-    /// `(p, value)` for each `p` of [`PERCENTILES`]: the exact percentile of the
+    /// `(p, value)` for each `p` of `PERCENTILES`: the exact percentile of the
     /// finite samples, with numpy's default (linear) definition — the value at
     /// rank `(n − 1)·p/100` of the sorted samples, interpolated linearly between
     /// the two samples around it (NaN when there is no finite sample).
     pub percentiles: Vec<(f64, f64)>,
-    /// Counts of finite samples in [`HISTOGRAM_BINS`] equal bins from `min` to
+    /// Counts of finite samples in `HISTOGRAM_BINS` equal bins from `min` to
     /// `max`.
     pub histogram: Vec<usize>,
     /// Otsu's threshold: the level between bins that best separates the

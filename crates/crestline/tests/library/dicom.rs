@@ -10,7 +10,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use crestline::io::{read_dicom, read_volume, read_volume_with, volume_files, VolumeReadOptions};
+use crestline::io::{read_volume, volume_files, VolumeReadOptions};
 use crestline::volume::Volume;
 use crestline::Space;
 
@@ -205,10 +205,10 @@ fn two_series_in_a_folder_are_listed_unless_one_is_chosen() {
     let options = VolumeReadOptions {
         series: Some(ct.to_string()),
     };
-    let chosen = read_volume_with(dir.path(), &options).unwrap();
+    let chosen = options.read(dir.path()).unwrap();
     assert_eq!(chosen, read("CT_small.dcm").unwrap());
     let files = [dir.path().join("CT_small.dcm")];
-    assert_eq!(read_dicom(&files, &options).unwrap(), chosen);
+    assert_eq!(options.read_dicom(&files).unwrap(), chosen);
 }
 
 #[test]
@@ -221,7 +221,7 @@ fn a_folder_without_dicom_files_is_an_error_saying_so() {
     let options = VolumeReadOptions {
         series: Some("1.2".to_string()),
     };
-    let err = read_volume_with(&nifti, &options).unwrap_err().to_string();
+    let err = options.read(&nifti).unwrap_err().to_string();
     assert!(err.contains("not DICOM"), "{err}");
 }
 

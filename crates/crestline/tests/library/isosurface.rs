@@ -6,8 +6,9 @@
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
+use crestline::isosurface::{isosurface, Isosurface, VertexSource};
 use crestline::mesh::Mesh;
-use crestline::volume::{isosurface, Isosurface, VertexSource, Volume};
+use crestline::volume::Volume;
 use crestline::{Point, Vector};
 use nalgebra::Matrix3;
 use rand::rngs::StdRng;

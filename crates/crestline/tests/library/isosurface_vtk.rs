@@ -5,7 +5,8 @@
 
 use crate::common;
 
-use crestline::volume::{isosurface, Volume};
+use crestline::isosurface::isosurface;
+use crestline::volume::Volume;
 use nalgebra::Matrix3;
 
 /// Reads `n³` little-endian f32 samples (x fastest) from a raw file and prints the

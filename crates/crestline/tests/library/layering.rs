@@ -1,6 +1,6 @@
 //! The core crate's modules form layers along the data flow
-//! (base helpers → mesh → chaining → volume → io → curvature → lines → extractors →
-//! drawing, comparison and transfer → views → jobs, which assemble them for the
+//! (base helpers → mesh → chaining → volume → io and isosurfaces → curvature →
+//! lines → extractors → drawing, comparison and transfer → views → jobs, which assemble them for the
 //! command-line tool and Python), and no module imports from a layer above its
 //! own: volumes produce meshes (isosurfaces), so `volume` sits above `mesh`. This
 //! test reads every `crate::` path in `src/` and fails on an upward (or sideways,
@@ -25,11 +25,13 @@ const LAYERS: &[(&str, u32)] = &[
     ("chain", 2),
     ("volume", 3),
     ("io", 4),
+    ("isosurface", 4),
     ("curvature", 5),
     ("lines", 6),
     ("ridges", 7),
     ("morse", 7),
     ("crest_lines", 7),
+    ("crease", 7),
     ("landmarks", 7),
     ("register", 7),
     ("draw", 8),

@@ -19,6 +19,7 @@ const HEADER_BYTES: usize = 15;
 ///
 /// Errors ([`Error::File`] naming `path`): no magic bytes, several values per
 /// vertex, or fewer values than the header announces.
+#[cfg(test)]
 pub fn read_curv(path: &Path) -> Result<Vec<f64>> {
     let bytes = crate::io::file::read(path)?;
     parse_curv(&bytes).map_err(|e| e.in_file(path))

@@ -22,6 +22,7 @@ use crate::space::VolumeGeometry;
 use crate::{Error, Result};
 
 /// The tag words FreeSurfer writes before the volume geometry.
+#[cfg(test)]
 const TAG: [i32; 3] = [2, 0, 20];
 
 /// The keys of the footer's lines, in their order.
@@ -37,6 +38,7 @@ const KEYS: [&str; 8] = [
 ];
 
 /// The footer of `geometry` as FreeSurfer and nibabel write it, tag included.
+#[cfg(test)]
 pub(crate) fn footer_bytes(geometry: &VolumeGeometry) -> Vec<u8> {
     let mut bytes: Vec<u8> = TAG.iter().flat_map(|w| w.to_be_bytes()).collect();
     let triple = |v: [f64; 3]| format!("{} {} {}", v[0], v[1], v[2]);

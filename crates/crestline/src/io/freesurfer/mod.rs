@@ -22,11 +22,13 @@ mod footer;
 pub(crate) mod label;
 pub(crate) mod surface;
 
-pub use curv::{read_curv, write_curv};
+#[cfg(test)]
+pub(crate) use curv::write_curv;
 pub use label::{write_label, LabelledVertex};
-pub use surface::write_surface;
+#[cfg(test)]
+pub(crate) use surface::write_surface;
 
-pub use crate::space::VolumeGeometry;
+pub(crate) use crate::space::VolumeGeometry;
 
 /// The magic bytes of a triangle surface file.
 pub(crate) const SURFACE_MAGIC: [u8; 3] = [0xFF, 0xFF, 0xFE];

@@ -8,18 +8,26 @@
 //! Either way the soup declares [`Space::Ras`] and keeps the footer, and
 //! [`write_surface`] writes the tkr-RAS coordinates and the footer back.
 
+#[cfg(test)]
 use std::io::Write;
+#[cfg(test)]
 use std::path::Path;
 
+#[cfg(test)]
 use crate::atomic::write_atomically;
-use crate::io::{fits_f32, Input};
+#[cfg(test)]
+use crate::io::fits_f32;
+use crate::io::Input;
 use crate::mesh::TriangleSoup;
 use crate::{Error, Point, Result, Space};
 
-use super::footer::{footer_bytes, read_footer};
+#[cfg(test)]
+use super::footer::footer_bytes;
+use super::footer::read_footer;
 use super::{count, VolumeGeometry, SURFACE_MAGIC};
 
 /// The "created by" line of the surfaces crestline writes.
+#[cfg(test)]
 const CREATED_BY: &str = "created by crestline";
 
 /// Bytes of a vertex (three f32) and of a face (three i32).
@@ -129,6 +137,7 @@ fn triangle(f: usize, corners: &[u8], vertex_count: usize) -> Result<[u32; 3]> {
 ///
 /// Errors ([`Error::File`] naming `path`): a coordinate that is not a finite
 /// 32-bit float once in tkr-RAS.
+#[cfg(test)]
 pub fn write_surface(
     path: &Path,
     positions: &[Point],

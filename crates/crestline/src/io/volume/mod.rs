@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 use flate2::read::{MultiGzDecoder, ZlibDecoder};
 
 use super::file;
-use super::format::{choose_format, extensions, FileFormat};
+use super::format::{choose_format, FileFormat};
 use crate::volume::{voxel_count, Volume};
 use crate::{Error, Result};
 
@@ -82,18 +82,15 @@ const READERS: [(FileFormat, Reader); 6] = [
     (FileFormat::MetaImageHeader, metaimage::read),
 ];
 
-/// The file extensions [`read_volume`] understands (compared case-insensitively).
-pub const SUPPORTED_VOLUME_EXTENSIONS: &[&str] = &extensions(&READERS);
-
 /// Whether `path` names a 3D image, so that a command can tell volumes from
-/// meshes: a file with one of [`SUPPORTED_VOLUME_EXTENSIONS`] (in any letter
+/// meshes: a file with an extension [`read_volume`] reads (in any letter
 /// case), or DICOM input (a folder, a DICOMDIR, a `.dcm` or `.dicom` file, or a
 /// file with the `DICM` mark at byte 128).
 pub fn is_volume_path(path: &Path) -> bool {
     reader_for(path).is_ok() || dicom::is_dicom_input(path)
 }
 
-/// How [`read_volume_with`] reads an image.
+/// How [`VolumeReadOptions::read`] reads an image.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct VolumeReadOptions {
     /// The Series Instance UID of the series to read from DICOM input holding
@@ -115,32 +112,25 @@ pub struct VolumeReadOptions {
 ///
 /// - a folder, a DICOMDIR, a `.dcm` or `.dicom` file, or a file with the `DICM`
 ///   mark at byte 128 (such as `.dicom` files): a DICOM series, in LPS; see
-///   [`read_volume_with`].
+///   [`VolumeReadOptions::read`].
 ///
 /// Errors are [`Error::File`] naming `path` (or a detached data file, or the file
 /// of a series at fault) and the problem.
+///
+/// # Examples
+///
+/// ```
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../volumes/mni152_wm_1mm.nii.gz");
+/// let volume = crestline::io::read_volume(path.as_ref())?;
+/// assert_eq!(volume.dims(), [197, 233, 189]);
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn read_volume(path: &Path) -> Result<Volume> {
     read_volume_with(path, &VolumeReadOptions::default())
 }
 
-/// Read a 3D image as [`read_volume`] does, with `options`.
-///
-/// DICOM input (with the cargo feature `dicom`; without it, an error saying so)
-/// is a folder (its files with the `DICM` mark; subfolders, hidden files and
-/// other files are skipped), a DICOMDIR (the files it references) or one file,
-/// single- or multi-frame. Of the images found, those of one series are read:
-/// the only one, or `options.series`. The volume's index axes are the rows, the
-/// columns and the normal of the slices, in LPS millimetres: slices are ordered by
-/// their Image Position (Patient) along the normal of their Image Orientation
-/// (Patient), and spaced by the step between those positions; an oblique series
-/// keeps its orientation as the direction matrix. Samples are the modality values
-/// (Rescale Slope and Intercept applied). Refused with an error naming the input
-/// and the problem: several series and none chosen (the error lists their UIDs),
-/// a missing slice or uneven spacing (the gap and the expected spacing), a gantry
-/// tilt (its angle; such series are not resampled), mixed orientations, sizes or
-/// pixel spacings, two slices at one position, colour images, and transfer
-/// syntaxes this build cannot decode (JPEG-LS, JPEG 2000; named with the file).
-pub fn read_volume_with(path: &Path, options: &VolumeReadOptions) -> Result<Volume> {
+/// [`VolumeReadOptions::read`].
+pub(crate) fn read_volume_with(path: &Path, options: &VolumeReadOptions) -> Result<Volume> {
     let series = options.series.as_deref();
     match reader_for(path) {
         Ok(read) if series.is_none() => read(path).map_err(|e| in_file(e, path)),
@@ -155,11 +145,8 @@ pub fn read_volume_with(path: &Path, options: &VolumeReadOptions) -> Result<Volu
     }
 }
 
-/// Read a DICOM series from a list of files, as [`read_volume_with`] reads a
-/// folder: files that hold no image are skipped, and of several series
-/// `options.series` is read. Errors about the series as a whole name the folder
-/// of the first file.
-pub fn read_dicom(files: &[PathBuf], options: &VolumeReadOptions) -> Result<Volume> {
+/// [`VolumeReadOptions::read_dicom`].
+pub(crate) fn read_dicom(files: &[PathBuf], options: &VolumeReadOptions) -> Result<Volume> {
     dicom::read(dicom::Input::Files(files), options.series.as_deref())
 }
 
@@ -194,6 +181,7 @@ fn read_head(path: &Path) -> Result<Vec<u8>> {
 /// Read a file of bare samples: `dims` samples (x fastest) of type `sample_type`
 /// in little- or big-endian byte order, placed with `spacing`, at the origin and
 /// axis-aligned. The file must hold exactly the samples.
+#[cfg(test)]
 pub fn read_raw_volume(
     path: &Path,
     dims: [usize; 3],
@@ -451,6 +439,37 @@ fn decode_samples(bytes: &[u8], sample_type: SampleType, little_endian: bool, ou
         SampleType::U32 => decode(bytes, little, out, |a| u32::from_le_bytes(a) as f32),
         SampleType::F32 => decode(bytes, little, out, f32::from_le_bytes),
         SampleType::F64 => decode(bytes, little, out, |a| f64::from_le_bytes(a) as f32),
+    }
+}
+
+impl VolumeReadOptions {
+    /// Read a 3D image as [`read_volume`] does, with these options.
+    ///
+    /// DICOM input (with the cargo feature `dicom`; without it, an error saying so)
+    /// is a folder (its files with the `DICM` mark; subfolders, hidden files and
+    /// other files are skipped), a DICOMDIR (the files it references) or one file,
+    /// single- or multi-frame. Of the images found, those of one series are read:
+    /// the only one, or `series`. The volume's index axes are the rows, the
+    /// columns and the normal of the slices, in LPS millimetres: slices are ordered by
+    /// their Image Position (Patient) along the normal of their Image Orientation
+    /// (Patient), and spaced by the step between those positions; an oblique series
+    /// keeps its orientation as the direction matrix. Samples are the modality values
+    /// (Rescale Slope and Intercept applied). Refused with an error naming the input
+    /// and the problem: several series and none chosen (the error lists their UIDs),
+    /// a missing slice or uneven spacing (the gap and the expected spacing), a gantry
+    /// tilt (its angle; such series are not resampled), mixed orientations, sizes or
+    /// pixel spacings, two slices at one position, colour images, and transfer
+    /// syntaxes this build cannot decode (JPEG-LS, JPEG 2000; named with the file).
+    pub fn read(&self, path: &Path) -> Result<Volume> {
+        read_volume_with(path, self)
+    }
+
+    /// Read a DICOM series from a list of files, as [`VolumeReadOptions::read`] reads a
+    /// folder: files that hold no image are skipped, and of several series
+    /// `series` is read. Errors about the series as a whole name the folder
+    /// of the first file.
+    pub fn read_dicom(&self, files: &[PathBuf]) -> Result<Volume> {
+        read_dicom(files, self)
     }
 }
 

@@ -8,7 +8,10 @@ use crestline::volume::Volume;
 use crestline::Point;
 use rayon::prelude::*;
 
+// Each test module takes what it needs, in the library's unit tests and here.
+
 /// A copy of `mesh` with every position mapped by `map` (same triangles).
+#[allow(dead_code)]
 pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
     let soup = TriangleSoup {
         positions: mesh.positions().iter().map(map).collect(),
@@ -21,6 +24,7 @@ pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
 /// `volume` moved by the inverse of `transform`, on the same grid: the value at
 /// world point `x` is `interpolate(transform(x))` (an interpolant of `volume`), 0
 /// outside it. Anatomy at `p` in `volume` lies at `transform⁻¹(p)` in the copy.
+#[allow(dead_code)]
 pub fn resampled(
     volume: &Volume,
     transform: &RigidTransform,
