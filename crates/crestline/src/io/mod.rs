@@ -37,7 +37,7 @@ pub(crate) mod file;
 mod format;
 pub(crate) mod freesurfer;
 pub(crate) mod gifti;
-mod obj;
+pub(crate) mod obj;
 mod off;
 mod ply;
 mod ply_binary;

@@ -5,7 +5,7 @@
 //! so its indices are not the file's vertex numbers, and it reports errors without a
 //! line number.
 
-use std::io::Write;
+use std::io::{self, Write};
 use std::path::Path;
 
 use super::{line_error, parse_number, parse_point, push_polygon, Input};
@@ -107,6 +107,18 @@ pub fn write_obj(path: &Path, mesh: &Mesh) -> Result<()> {
     write_triangles_obj(path, mesh.positions(), &mesh.triangles(), mesh.space())
 }
 
+/// The `v x y z` record of every point, in full `f64` precision: the vertices of
+/// a mesh's file and of a lines file alike.
+pub(crate) fn write_vertices<'a>(
+    w: &mut impl Write,
+    points: impl IntoIterator<Item = &'a Point>,
+) -> io::Result<()> {
+    for p in points {
+        writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
+    }
+    Ok(())
+}
+
 /// [`write_obj`] for any indexed triangles (checked by the caller to be in range),
 /// with their frame marked in a leading comment as 3D Slicer does.
 pub(super) fn write_triangles_obj(
@@ -119,9 +131,7 @@ pub(super) fn write_triangles_obj(
         if let Some(space) = space {
             writeln!(w, "# {}", space.slicer_mark())?;
         }
-        for p in positions {
-            writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
-        }
+        write_vertices(w, positions)?;
         for triangle in triangles {
             let [a, b, c] = triangle.map(|v| u64::from(v) + 1);
             writeln!(w, "f {a} {b} {c}")?;

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use super::indexing::{indexed, points};
 use super::{one_line, write_checked, FeatureLines, FORMAT};
+use crate::io::obj::write_vertices;
 use crate::Result;
 
 /// Write `lines` to `path` as a Wavefront OBJ file of `l` (polyline) records.
@@ -25,9 +26,7 @@ fn write_body(w: &mut impl Write, lines: &FeatureLines) -> io::Result<()> {
     }
     writeln!(w, "# source: {}", one_line(&lines.source))?;
     writeln!(w, "# {} lines, {} points", lines.len(), lines.point_count())?;
-    for p in points(lines) {
-        writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
-    }
+    write_vertices(w, points(lines))?;
     for item in indexed(lines) {
         let line = item.line;
         let closure = if line.closed { "closed" } else { "open" };
