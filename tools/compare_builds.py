@@ -39,6 +39,7 @@ MESH_RUNS = [
     ("curvature", [], "curvature.ply"),
     ("ridges", [], "ridges.json"),
     ("ridges", [], "ridges.vtk"),
+    ("ridges", [], "ridges.obj"),
     ("morse", [], "morse.json"),
     ("landmarks", [], "landmarks.mrk.json"),
     ("draw", [], "drawing.svg"),
