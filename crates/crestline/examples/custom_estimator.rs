@@ -81,16 +81,11 @@ fn main() -> crestline::Result<()> {
 }
 
 /// Two unit tangents that, with the unit normal `n`, make a right-handed
-/// orthonormal frame.
+/// orthonormal frame: `n × z`, or `n × x` where `n` is nearly along z.
 fn tangent_basis(n: &Vector) -> (Vector, Vector) {
-    // Cross with the coordinate axis least aligned with n: never near-parallel.
-    let axis = if n.x.abs() <= n.y.abs() && n.x.abs() <= n.z.abs() {
-        Vector::x()
-    } else if n.y.abs() <= n.z.abs() {
-        Vector::y()
-    } else {
-        Vector::z()
-    };
-    let t1 = n.cross(&axis).normalize();
+    let t1 = n
+        .cross(&Vector::z())
+        .try_normalize(0.1)
+        .unwrap_or_else(|| n.cross(&Vector::x()).normalize());
     (t1, n.cross(&t1))
 }
