@@ -2,8 +2,8 @@
 //! `cargo run --release -- …` line, run as `crestline …`) of a ```` ```sh ```` block in
 //! README.md and docs/guide/*.md runs as written and exits with 0, and every relative
 //! link of README.md and docs/ names a file that exists (and a heading, where it
-//! names one). The first ```` ```rust ```` blocks of README.md and
-//! docs/guide/library.md are code of this file, compiled and run.
+//! names one). Every ```` ```rust ```` block of README.md and docs/guide/*.md is
+//! code of this file, compiled and run.
 //!
 //! The commands of one page run in order in one temporary directory holding links
 //! to the repository's `meshes/`, `volumes/` and, when fetched, `data/`, so a command
@@ -355,18 +355,55 @@ fn guide_library_jobs() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// The extractors of docs/guide/library.md, as its second ```` ```rust ```` block
+/// shows them.
+#[allow(unused_variables)]
+fn guide_library_extractors() -> Result<(), Box<dyn std::error::Error>> {
+    // docs/guide/library.md extractors begin
+    use crestline::curvature::{estimate_curvature, JetFit};
+    use crestline::lines::{LineExtractor, SurfaceWithCurvature};
+    use crestline::mesh::Mesh;
+    use crestline::progress::Silent;
+    use crestline::ridges::ExtremalityTracer;
+
+    let (mesh, _repairs) = Mesh::from_soup(crestline::io::read_mesh("meshes/cow.obj".as_ref())?)?;
+    let lines = ExtremalityTracer::default().extract(&mesh, &mut Silent)?; // curvature estimated
+    let field = estimate_curvature(&mesh, &JetFit::default())?; // or from elsewhere
+    let given = SurfaceWithCurvature {
+        mesh: &mesh,
+        curvature: &field,
+    };
+    let lines = ExtremalityTracer::default().extract(&given, &mut Silent)?;
+    lines.write("lines.vtk".as_ref())?;
+    // docs/guide/library.md extractors end
+    assert!(!lines.is_empty());
+    Ok(())
+}
+
+/// Every page with Rust code, and the markers of its blocks' code in this file, in
+/// the page's order.
+const RUST_BLOCKS: [(&str, &[&str]); 2] = [
+    ("README.md", &["README.md"]),
+    (
+        "docs/guide/library.md",
+        &["docs/guide/library.md", "docs/guide/library.md extractors"],
+    ),
+];
+
 #[test]
 #[ignore = "run by the_documents_rust_blocks_are_this_code_and_run, beside meshes/ and volumes/"]
 fn documents_rust_blocks_child() {
     readme_rust_quick_start().unwrap();
     guide_library_jobs().unwrap();
+    guide_library_extractors().unwrap();
 }
 
-/// The first ```` ```rust ```` block of `text`.
-fn first_rust_block(text: &str) -> Option<String> {
-    let start = text.find("```rust\n")? + "```rust\n".len();
-    let end = start + text[start..].find("```")?;
-    Some(text[start..end].to_string())
+/// Every ```` ```rust ```` block of `text`, in order.
+fn rust_blocks(text: &str) -> Vec<String> {
+    text.split("```rust\n")
+        .skip(1)
+        .filter_map(|rest| rest.find("```").map(|end| rest[..end].to_string()))
+        .collect()
 }
 
 /// The lines of this file between the markers `// <page> begin` and `// <page> end`,
@@ -387,12 +424,22 @@ fn marked_code(page: &str) -> String {
 #[test]
 fn the_documents_rust_blocks_are_this_code_and_run() {
     let root = repository();
-    for page in ["README.md", "docs/guide/library.md"] {
+    let guide = std::fs::read_dir(root.join("docs/guide")).unwrap();
+    for path in guide.map(|e| e.unwrap().path()) {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let page = format!("docs/guide/{}", path.file_name().unwrap().to_string_lossy());
+        assert!(
+            rust_blocks(&text).is_empty() || RUST_BLOCKS.iter().any(|(p, _)| *p == page),
+            "{page} has rust blocks that documents.rs does not compile (RUST_BLOCKS)"
+        );
+    }
+    for (page, markers) in RUST_BLOCKS {
         let text = std::fs::read_to_string(root.join(page)).unwrap();
+        let compiled: Vec<String> = markers.iter().map(|m| marked_code(m)).collect();
         assert_eq!(
-            first_rust_block(&text).as_deref(),
-            Some(marked_code(page).as_str()),
-            "{page}'s first rust block is not the code compiled in documents.rs"
+            rust_blocks(&text),
+            compiled,
+            "{page}'s rust blocks are not the code compiled in documents.rs"
         );
     }
     // Run them where a user would, beside `meshes/` and `volumes/`.
