@@ -70,6 +70,14 @@ pub use view::{view, ViewOptions};
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":
 /// {...}, ...}`, keyed by job and then by option, as the options structs
 /// serialize.
+///
+/// # Examples
+///
+/// ```
+/// let defaults = crestline::jobs::defaults();
+/// assert_eq!(defaults["ridges"]["threshold"], 2.0);
+/// assert_eq!(defaults["crest_lines"]["sigma"], serde_json::json!({"scales": 1.0}));
+/// ```
 pub fn defaults() -> serde_json::Value {
     serde_json::json!({
         "curvature": CurvatureOptions::default(),

@@ -49,6 +49,20 @@ impl Default for ViewOptions {
 /// lines instead) and the curvature (the stage `curvature`, by the surface's
 /// estimator or the ridges' one) of `surface` that a view shows. `volume` is the
 /// image of an isosurface, which `lines` crest needs.
+///
+/// # Examples
+///
+/// ```
+/// # use crestline::jobs::{self, Surface, ViewOptions};
+/// # use crestline::progress::Silent;
+/// # let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../meshes/bunny_small.obj");
+/// # let (mesh, _repairs) = jobs::build_mesh(crestline::io::read_mesh(path.as_ref())?, false, &mut Silent)?;
+/// let surface = Surface::of_mesh(mesh);
+/// let (lines, curvature) = jobs::view(&surface, (None, None), &ViewOptions::default(), &mut Silent)?;
+/// assert!(!lines.is_empty());
+/// assert_eq!(curvature.k_max.len(), surface.mesh.vertex_count());
+/// # Ok::<(), crestline::Error>(())
+/// ```
 pub fn view(
     surface: &Surface,
     (volume, given): (Option<&Volume>, Option<FeatureLines>),
