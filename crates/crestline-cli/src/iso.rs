@@ -48,7 +48,7 @@ impl IsoArgs {
     fn options(&self) -> IsoOptions {
         IsoOptions {
             estimator: self.estimator,
-            ..self.surface.iso_options()
+            ..self.surface.iso
         }
     }
 }

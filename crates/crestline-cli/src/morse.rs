@@ -158,7 +158,7 @@ pub fn run(args: &MorseCommand) -> Result<()> {
     let mut report = report_with_progress("morse", &args.mesh);
     let iso = IsoOptions {
         estimator: args.estimator,
-        ..args.volume.iso_options()
+        ..args.volume.iso
     };
     let loaded = load_surface(
         &args.mesh,

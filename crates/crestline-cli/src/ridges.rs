@@ -57,7 +57,7 @@ impl TracerArgs {
     pub fn iso_options(&self) -> IsoOptions {
         IsoOptions {
             estimator: self.ridges.estimator,
-            ..self.volume.iso_options()
+            ..self.volume.iso
         }
     }
 }

@@ -45,11 +45,6 @@ impl SeriesArg {
 }
 
 impl VolumeArgs {
-    /// The isosurface options these arguments give.
-    pub fn iso_options(&self) -> IsoOptions {
-        self.iso
-    }
-
     /// Whether an option that applies to 3D images alone was given: `--level`,
     /// `--sigma`, `--close` or `--series`.
     fn any_image_option(&self) -> bool {

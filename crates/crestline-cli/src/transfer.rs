@@ -143,7 +143,7 @@ impl TransferArgs {
 pub fn run(args: &TransferArgs) -> Result<()> {
     LandmarkFormat::from_path(&args.output)?;
     let images = args.images()?;
-    let options = args.options.clone();
+    let options = &args.options;
     options.validate()?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
         .chain(args.report.output())
@@ -172,10 +172,10 @@ pub fn run(args: &TransferArgs) -> Result<()> {
             let lines = report.stage("read template lines", || FeatureLines::read_json(path))?;
             args.in_frame(lines, path)?
         }
-        None => args.lines_of(&args.template, &options, &mut report)?,
+        None => args.lines_of(&args.template, options, &mut report)?,
     };
-    let subject = args.lines_of(&args.subject, &options, &mut report)?;
-    let carried = transfer(&template, &subject, &landmarks, &options, &mut report)
+    let subject = args.lines_of(&args.subject, options, &mut report)?;
+    let carried = transfer(&template, &subject, &landmarks, options, &mut report)
         .map_err(|e| naming(e, &args.subject))?;
     println!(
         "{} landmarks, {} flagged; rigid stage: rotation {:.3}°, rms {:.4}; after the \
