@@ -6,7 +6,7 @@
 //! order are kept.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crestline::volume::Volume;
 use crestline::{Point, Vector};
@@ -124,6 +124,29 @@ fn line_points(path: &Path) -> Vec<Point> {
         .collect()
 }
 
+/// `p` as an argument of the tool.
+fn path(p: &Path) -> String {
+    p.to_str().unwrap().to_string()
+}
+
+/// The ridges and valleys of every strength of the mesh `template` (as `transfer`
+/// traces a mesh's lines), written in `dir`, and landmarks chosen on them written
+/// as a CSV there: the lines file, the CSV and the chosen points.
+fn landmarks_on_ridges(template: &Path, dir: &Path) -> (PathBuf, PathBuf, Vec<Point>) {
+    let lines = dir.join("template.json");
+    succeeds(&[
+        "ridges",
+        &path(template),
+        "--threshold",
+        "0",
+        "-o",
+        &path(&lines),
+    ]);
+    let csv = dir.join("landmarks.csv");
+    let chosen = landmarks_on(&lines, &csv);
+    (lines, csv, chosen)
+}
+
 /// About 60 points spread over the lines of `lines` (RAS), written to `csv` as
 /// landmarks P00, P01, …
 fn landmarks_on(lines: &Path, csv: &Path) -> Vec<Point> {
@@ -181,7 +204,6 @@ fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
 
     // The landmarks: points of the template's crest lines, spread over them.
     let lines = dir.path().join("template.json");
-    let path = |p: &Path| p.to_str().unwrap().to_string();
     succeeds(&["crest-lines", MNI, "--level", "60", "-o", &path(&lines)]);
     let csv = dir.path().join("landmarks.csv");
     let chosen = landmarks_on(&lines, &csv);
@@ -216,7 +238,6 @@ fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
 #[test]
 fn landmarks_of_the_mni_isosurface_land_on_a_warped_copy() {
     let dir = tempfile::tempdir().unwrap();
-    let path = |p: &Path| p.to_str().unwrap().to_string();
     let template = dir.path().join("template.ply");
     succeeds(&["iso", MNI, "--level", "60", "-o", &path(&template)]);
     // The subject: the same triangles, every vertex where the warp takes it (its
@@ -228,17 +249,7 @@ fn landmarks_of_the_mni_isosurface_land_on_a_warped_copy() {
     let subject = dir.path().join("subject.ply");
     crestline::io::write_soup(&subject, &soup).unwrap();
 
-    let lines = dir.path().join("template.json");
-    succeeds(&[
-        "ridges",
-        &path(&template),
-        "--threshold",
-        "0",
-        "-o",
-        &path(&lines),
-    ]);
-    let csv = dir.path().join("landmarks.csv");
-    let chosen = landmarks_on(&lines, &csv);
+    let (lines, csv, chosen) = landmarks_on_ridges(&template, dir.path());
     let run = |name: &str, extra: &[&str]| {
         let output = dir.path().join(name);
         let (template, csv, subject, out) =
@@ -278,7 +289,6 @@ fn read_csv(path: &Path) -> Vec<(String, Point, f64, bool)> {
 #[test]
 fn a_cut_subject_keeps_the_landmarks_it_has_and_flags_the_others() {
     let dir = tempfile::tempdir().unwrap();
-    let path = |p: &Path| p.to_str().unwrap().to_string();
     let template = dir.path().join("template.ply");
     succeeds(&["iso", MNI, "--level", "60", "-o", &path(&template)]);
     // The subject: the warped isosurface without its top, every triangle with a
@@ -301,17 +311,7 @@ fn a_cut_subject_keeps_the_landmarks_it_has_and_flags_the_others() {
     };
     crestline::io::write_soup(&subject, &cut_soup).unwrap();
 
-    let lines = dir.path().join("template.json");
-    succeeds(&[
-        "ridges",
-        &path(&template),
-        "--threshold",
-        "0",
-        "-o",
-        &path(&lines),
-    ]);
-    let csv = dir.path().join("landmarks.csv");
-    let chosen = landmarks_on(&lines, &csv);
+    let (lines, csv, chosen) = landmarks_on_ridges(&template, dir.path());
     let output = dir.path().join("out.csv");
     succeeds(&[
         "transfer",
