@@ -3,6 +3,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use crate::common::mesh_of;
 use crate::curvature::{estimate_curvature, ShapeOperator};
 use crate::draw::{
     borders, creases, draw, suggestive_contours, Camera, DrawOptions, Projection,
@@ -12,20 +13,9 @@ use crate::lines::{FeatureLines, LineKind};
 use crate::mesh::generate::{
     height_field, sphere, torus, HeightFunction, ImplicitSurface, Sampling, Torus,
 };
-use crate::mesh::{Mesh, TriangleSoup};
+use crate::mesh::Mesh;
 use crate::{Point, Vector};
 use nalgebra::Matrix3;
-
-fn mesh(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
-    let soup = TriangleSoup {
-        positions,
-        triangles,
-        vertex_scalars: Vec::new(),
-        space: None,
-        volume_geometry: None,
-    };
-    Mesh::from_soup(soup).unwrap().0
-}
 
 /// The unit disk in the plane z = 0: its centre and `rings` rings of `sectors`
 /// points each, the outer one on the unit circle.
@@ -53,7 +43,7 @@ fn disk(rings: usize, sectors: usize) -> Mesh {
             triangles.push([a, c, d]);
         }
     }
-    mesh(positions, triangles)
+    mesh_of(positions, triangles)
 }
 
 /// The cube [−1, 1]³, every face a grid of `n` × `n` squares split in two
@@ -89,7 +79,7 @@ fn cube(n: usize) -> Mesh {
             }
         }
     }
-    mesh(positions, triangles)
+    mesh_of(positions, triangles)
 }
 
 fn unit_sphere() -> Mesh {
@@ -170,7 +160,7 @@ fn a_loop_of_crease_edges_is_one_closed_line() {
         triangles.push([low(s), low(s + 1), high(s + 1)]);
         triangles.push([low(s), high(s + 1), high(s)]);
     }
-    let lines = creases(&mesh(positions, triangles), 30.0).unwrap();
+    let lines = creases(&mesh_of(positions, triangles), 30.0).unwrap();
     assert_eq!(lines.len(), 2);
     for line in &lines {
         assert!(line.closed);

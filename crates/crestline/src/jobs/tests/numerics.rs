@@ -5,6 +5,7 @@
 
 use std::time::Instant;
 
+use crate::common::mesh_of;
 use crate::curvature::{
     estimate_curvature, repair_outliers, CurvatureEstimator, JetFit, ShapeOperator,
 };
@@ -17,17 +18,6 @@ use crate::progress::Silent;
 use crate::ridges::presmooth_surface;
 use crate::ridges::ExtremalityTracer;
 use crate::Point;
-
-fn mesh_from(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
-    let soup = TriangleSoup {
-        positions,
-        triangles,
-        vertex_scalars: Vec::new(),
-        space: None,
-        volume_geometry: None,
-    };
-    Mesh::from_soup(soup).unwrap().0
-}
 
 fn all_finite(mesh: &Mesh) -> bool {
     mesh.positions()
@@ -52,7 +42,7 @@ fn presmoothing_an_open_height_field_is_finite() {
 fn presmoothing_a_very_obtuse_triangle_is_finite() {
     // A lone sliver: its angle at the apex is nearly π, the cotan weight of the
     // opposite edge very negative.
-    let lone = mesh_from(
+    let lone = mesh_of(
         vec![
             Point::new(0.0, 0.0, 0.0),
             Point::new(1.0, 0.0, 0.0),
@@ -70,7 +60,7 @@ fn presmoothing_a_very_obtuse_triangle_is_finite() {
     let (a, b) = (ball.position(ring[0]), ball.position(ring[1]));
     let mut positions = ball.positions().to_vec();
     positions[v.idx()] = nalgebra::center(&a, &b) + (positions[v.idx()] - a) * 1e-3;
-    let sliver = mesh_from(positions, ball.triangles());
+    let sliver = mesh_of(positions, ball.triangles());
     let smoothed = presmooth_surface(&sliver, 3).unwrap();
     assert!(all_finite(&smoothed));
 }
@@ -106,7 +96,7 @@ fn a_spike_is_flagged_unreliable_and_ridges_still_run() {
     let spike = VertexId(321);
     let mut positions = ball.positions().to_vec();
     positions[spike.idx()] *= 1e4;
-    let mesh = mesh_from(positions, ball.triangles());
+    let mesh = mesh_of(positions, ball.triangles());
     for estimator in [
         &ShapeOperator as &dyn CurvatureEstimator,
         &JetFit::default(),
@@ -137,7 +127,7 @@ fn a_spike_is_flagged_unreliable_and_ridges_still_run() {
 fn a_non_finite_estimate_is_flagged_not_fatal() {
     // A vertex whose link is a bow-tie with parallel diagonals: the area vectors of
     // its four (sound) triangles sum to zero, so it has no normal.
-    let mesh = mesh_from(
+    let mesh = mesh_of(
         vec![
             Point::new(1.0, 0.5, 1.0),
             Point::new(0.0, 0.0, 0.0),
@@ -308,7 +298,7 @@ fn fan(valence: usize) -> Mesh {
     let triangles = (0..valence as u32)
         .map(|i| [0, 1 + i, 1 + (i + 1) % valence as u32])
         .collect();
-    mesh_from(positions, triangles)
+    mesh_of(positions, triangles)
 }
 
 #[test]

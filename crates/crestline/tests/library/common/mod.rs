@@ -10,6 +10,17 @@ use rayon::prelude::*;
 
 // Each test module takes what it needs, in the library's unit tests and here.
 
+/// The mesh of `positions` and `triangles` (repaired as a file's would be).
+#[allow(dead_code)]
+pub fn mesh_of(positions: Vec<Point>, triangles: Vec<[u32; 3]>) -> Mesh {
+    let soup = TriangleSoup {
+        positions,
+        triangles,
+        ..TriangleSoup::default()
+    };
+    Mesh::from_soup(soup).unwrap().0
+}
+
 /// A copy of `mesh` with every position mapped by `map` (same triangles).
 #[allow(dead_code)]
 pub fn transformed(mesh: &Mesh, map: impl Fn(&Point) -> Point) -> Mesh {
