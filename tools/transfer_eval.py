@@ -5,7 +5,7 @@ where each landmark truly lands, run a transfer command on every subject and
 measure the distances.
 
     python3 tools/transfer_eval.py volumes/mni152_t1_1mm.nii.gz --level 60
-        [--subjects 3] [--seed 1] [--method rigid|transfer] [--command "..."]
+        [--subjects 3] [--seed 1] [--method rigid|transfer|sitk] [--command "..."]
         [--meshes] [--keep DIR]
 
 The landmarks: the template's extremal points (`crestline landmarks`), the 400 of
@@ -27,7 +27,11 @@ is the same.
 
 Methods: `rigid` (today's `crestline register` of the template's crest lines onto
 the subject's, the landmarks moved by that motion), `transfer` (`crestline
-transfer`), or any --command with the fields {crestline} {template} {landmarks}
+transfer`), `sitk` (SimpleITK's registration of the template image onto the
+subject's by mean squares on a random 5% of the voxels: an affine map, then a
+B-spline free-form deformation on a 10×10×10 mesh; the landmarks moved by the
+inverse of the map, found by Newton's method from the affine map's inverse; images
+only), or any --command with the fields {crestline} {template} {landmarks}
 {subject} {template_lines} {level} {level_option} (`--level` and the level, empty
 with --meshes) {out}, whose output {out} is a markups file
 (.mrk.json) with the same labels. The template's crest lines are computed once,
@@ -56,6 +60,7 @@ FLIP = np.array([-1.0, -1.0, 1.0])
 COUNT, POOL = 40, 400
 GRID, SMOOTH, SPREAD = 4.0, 12.0, 4.0
 DEGREES, SHIFT = 6.0, 4.0
+SAMPLING_SEED = 1
 
 TRANSFER = ("{crestline} transfer {template} {landmarks} {subject} -o {out} {level_option} "
             "--template-lines {template_lines}")
@@ -140,6 +145,26 @@ def rigid_motion(image, rng):
     return transform
 
 
+def invert(transform_point, p, start):
+    """The x with transform_point(x) = p, by Newton's method from `start`, the
+    Jacobian by central differences."""
+    x = np.array(start, dtype=float)
+    for _ in range(50):
+        residual = transform_point(x) - p
+        if np.linalg.norm(residual) < 1e-9:
+            break
+        jacobian = np.column_stack([(transform_point(x + h) - transform_point(x - h)) / 0.02
+                                    for h in np.eye(3) * 0.01])
+        x -= np.linalg.solve(jacobian, residual)
+    assert np.linalg.norm(transform_point(x) - p) < 1e-5, "the map was not inverted"
+    return x
+
+
+def point_map(transform):
+    """A transform as a function of numpy points."""
+    return lambda x: np.array(transform.TransformPoint(tuple(map(float, x))))
+
+
 def make_subject(image, seed):
     """The subject image, the map subject → template (LPS), and the inverse map of
     template points."""
@@ -149,16 +174,7 @@ def make_subject(image, seed):
     inverse_motion = motion.GetInverse()
 
     def to_subject(p):
-        moved = lambda y: np.array(field.TransformPoint(tuple(map(float, y))))
-        y = np.array(p, dtype=float)
-        for _ in range(50):  # Newton's method, the Jacobian by central differences
-            residual = moved(y) - p
-            if np.linalg.norm(residual) < 1e-9:
-                break
-            jacobian = np.column_stack([(moved(y + h) - moved(y - h)) / 0.02
-                                        for h in np.eye(3) * 0.01])
-            y -= np.linalg.solve(jacobian, residual)
-        x = np.array(inverse_motion.TransformPoint(tuple(map(float, y))))
+        x = point_map(inverse_motion)(invert(point_map(field), p, p))
         assert np.linalg.norm(warp(x) - p) < 1e-5, "the warp was not inverted"
         return x
 
@@ -203,6 +219,55 @@ def rigid_transfer(tool, fields, level):
     write_markups(fields["out"], list(moved), list(moved.values()))
 
 
+def registration(shrink, smooth):
+    """A SimpleITK registration by mean squares on a random 5% of the voxels,
+    linearly interpolated, over levels shrunk and smoothed (σ in voxels)."""
+    method = sitk.ImageRegistrationMethod()
+    method.SetMetricAsMeanSquares()
+    method.SetMetricSamplingStrategy(method.RANDOM)
+    method.SetMetricSamplingPercentage(0.05, SAMPLING_SEED)
+    method.SetInterpolator(sitk.sitkLinear)
+    method.SetShrinkFactorsPerLevel(shrink)
+    method.SetSmoothingSigmasPerLevel(smooth)
+    method.SmoothingSigmasAreSpecifiedInPhysicalUnitsOff()
+    return method
+
+
+def sitk_transfer(fields):
+    """SimpleITK's intensity registration: the map of subject points to template
+    points, affine then a B-spline FFD, inverted at the landmarks."""
+    fixed = sitk.ReadImage(fields["subject"], sitk.sitkFloat32)
+    moving = sitk.ReadImage(fields["template"], sitk.sitkFloat32)
+    affine = sitk.CenteredTransformInitializer(fixed, moving, sitk.AffineTransform(3),
+                                               sitk.CenteredTransformInitializerFilter.GEOMETRY)
+    method = registration([4, 2, 1], [2, 1, 0])
+    method.SetOptimizerAsRegularStepGradientDescent(learningRate=1.0, minStep=1e-4,
+                                                    numberOfIterations=200)
+    method.SetOptimizerScalesFromPhysicalShift()
+    method.SetInitialTransform(affine, inPlace=True)
+    method.Execute(fixed, moving)
+    bspline = sitk.BSplineTransformInitializer(fixed, [10, 10, 10])
+    method = registration([4, 2], [2, 1])
+    method.SetOptimizerAsLBFGSB(gradientConvergenceTolerance=1e-5, numberOfIterations=50,
+                                maximumNumberOfCorrections=5,
+                                maximumNumberOfFunctionEvaluations=1000,
+                                costFunctionConvergenceFactor=1e7)
+    method.SetMovingInitialTransform(affine)
+    method.SetInitialTransform(bspline, inPlace=True)
+    method.Execute(fixed, moving)
+    composite = sitk.CompositeTransform(3)
+    composite.AddTransform(affine)
+    composite.AddTransform(bspline)  # the last added applies first: x ↦ A(B(x))
+    to_template = point_map(composite)
+    probe = np.array(fixed.TransformContinuousIndexToPhysicalPoint((70.5, 90.25, 80.0)))
+    assert np.linalg.norm(to_template(probe)
+                          - point_map(affine)(point_map(bspline)(probe))) < 1e-9
+    start = point_map(affine.GetInverse())
+    points = read_markups(fields["landmarks"])
+    moved = {label: invert(to_template, p, start(p)) for label, p in points.items()}
+    write_markups(fields["out"], list(moved), list(moved.values()))
+
+
 def summary(errors):
     return f"median {np.median(errors):5.2f} mm, p90 {np.percentile(errors, 90):5.2f} mm"
 
@@ -213,13 +278,15 @@ def main():
     parser.add_argument("--level", type=float, required=True)
     parser.add_argument("--subjects", type=int, default=3)
     parser.add_argument("--seed", type=int, default=1, help="of the first subject")
-    parser.add_argument("--method", choices=["rigid", "transfer"], default="rigid")
+    parser.add_argument("--method", choices=["rigid", "transfer", "sitk"], default="rigid")
     parser.add_argument("--command", help="a transfer command (see above) instead of --method")
     parser.add_argument("--crestline", default="target/release/crestline")
     parser.add_argument("--meshes", action="store_true",
                         help="transfer between the isosurface meshes of the images")
     parser.add_argument("--keep", help="a folder to keep the subjects and outputs in")
     args = parser.parse_args()
+    if args.meshes and args.method == "sitk" and not args.command:
+        parser.error("--method sitk registers images, not meshes")
     image = sitk.ReadImage(args.template)
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.keep or scratch
@@ -250,6 +317,8 @@ def main():
             start = time.perf_counter()
             if args.command or args.method == "transfer":
                 run(*shlex.split((args.command or TRANSFER).format(**fields)))
+            elif args.method == "sitk":
+                sitk_transfer(fields)
             else:
                 rigid_transfer(args.crestline, fields, level)
             times.append(time.perf_counter() - start)
