@@ -34,8 +34,9 @@ inverse of the map, found by Newton's method from the affine map's inverse; imag
 only), or any --command with the fields {crestline} {template} {landmarks}
 {subject} {template_lines} {level} {level_option} (`--level` and the level, empty
 with --meshes) {out}, whose output {out} is a markups file
-(.mrk.json) with the same labels. The template's crest lines are computed once,
-outside the timing; a subject's own are timed.
+(.mrk.json) with the same labels. The template's lines are computed once,
+outside the timing (for `transfer`, by `crestline transfer --save-template-lines`);
+a subject's own are timed.
 
 Prints per subject the median and 90th percentile error (mm), the time, and the
 error of the best affine map fitted to the true positions (a floor for affine
@@ -204,6 +205,16 @@ def lines_command(tool, scan, level, out):
     return [tool, "crest-lines", scan, "--level", str(level), "-o", out]
 
 
+def save_transfer_lines(tool, template, landmarks, level, out):
+    """The template's lines as `crestline transfer` traces them, written to `out`
+    (by a transfer of the template onto itself)."""
+    scratch = out + ".self.mrk.json"
+    level_option = [] if level is None else ["--level", str(level)]
+    run(tool, "transfer", template, landmarks, template, "-o", scratch, *level_option,
+        "--save-template-lines", out)
+    os.remove(scratch)
+
+
 def rigid_transfer(tool, fields, level):
     """Today's answer: the template's crest lines registered rigidly onto the
     subject's, the landmarks moved by that motion."""
@@ -299,7 +310,10 @@ def main():
             run(args.crestline, "iso", args.template, "--level", str(args.level), "-o", template)
         level = None if args.meshes else args.level
         template_lines = os.path.join(folder, "template.lines.json")
-        run(*lines_command(args.crestline, template, level, template_lines))
+        if args.method == "rigid" and not args.command:
+            run(*lines_command(args.crestline, template, level, template_lines))
+        else:
+            save_transfer_lines(args.crestline, template, landmarks, level, template_lines)
         every, times = [], []
         for seed in range(args.seed, args.seed + args.subjects):
             subject, to_subject = make_subject(image, seed)

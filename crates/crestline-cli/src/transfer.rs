@@ -6,15 +6,15 @@
 use std::path::{Path, PathBuf};
 
 use crestline::io::is_volume_path;
-use crestline::jobs::{crest_lines, ridges, transfer, CrestLinesOptions, Surface};
+use crestline::jobs::{image_lines, ridges, transfer, Surface};
 use crestline::landmarks::LandmarkFormat;
-use crestline::lines::FeatureLines;
+use crestline::lines::{FeatureLines, LineFormat};
 use crestline::transfer::{read_labelled, write_labelled, LabelledPoint, TransferOptions};
 use crestline::{Error, Result, Space};
 
 use super::failure::explain;
 use super::load::{load_mesh, report_with_progress, StrictArg};
-use super::outputs::check_paths;
+use super::outputs::{check_paths, OutputSet};
 use super::report::Report;
 use super::surface::{naming, read_image, SeriesArg, IMAGES};
 use super::ReportArg;
@@ -44,11 +44,14 @@ pub struct TransferArgs {
     /// The isosurface level of both images (not for meshes).
     #[arg(long, value_name = "I", allow_hyphen_values = true)]
     pub level: Option<f64>,
-    /// The template's lines, computed once instead of from the template (.json):
-    /// of an image, `crestline crest-lines TEMPLATE --level I -o FILE`; of a mesh,
-    /// `crestline ridges TEMPLATE -o FILE`.
+    /// The template's lines, computed once instead of from the template (.json),
+    /// as --save-template-lines wrote them.
     #[arg(long, value_name = "FILE")]
     pub template_lines: Option<PathBuf>,
+    /// Also write the template's lines, as traced here, to FILE (.json): the
+    /// --template-lines of the runs on other subjects.
+    #[arg(long, value_name = "FILE", conflicts_with = "template_lines")]
+    pub save_template_lines: Option<PathBuf>,
     /// The frame of the meshes' coordinates when a mesh does not state it (3D
     /// Slicer's `SPACE=` mark): RAS or LPS; default LPS, as 3D Slicer reads models.
     #[arg(long, ignore_case = true, value_parser = super::named::<Space>(Space::NAMES))]
@@ -118,8 +121,7 @@ impl TransferArgs {
         match self.level {
             Some(level) if is_volume_path(path) => {
                 let volume = read_image(path, &self.series, report)?;
-                crest_lines(&volume, level, &CrestLinesOptions::default(), report)
-                    .map_err(|e| naming(e, path))
+                image_lines(&volume, level, options, report).map_err(|e| naming(e, path))
             }
             _ => {
                 let (mesh, _) = load_mesh(path, self.strict, report)?;
@@ -142,10 +144,24 @@ impl TransferArgs {
 /// Carry the landmarks and write them.
 pub fn run(args: &TransferArgs) -> Result<()> {
     LandmarkFormat::from_path(&args.output)?;
+    if let Some(path) = &args.save_template_lines {
+        if LineFormat::from_path(path)? != LineFormat::Json {
+            return Err(Error::File {
+                path: path.clone(),
+                message: "the template's lines are saved as .json, which --template-lines reads"
+                    .into(),
+            });
+        }
+    }
     let images = args.images()?;
     let options = &args.options;
     options.validate()?;
     let outputs: Vec<_> = std::iter::once(("-o", args.output.as_path()))
+        .chain(
+            args.save_template_lines
+                .as_deref()
+                .map(|p| ("--save-template-lines", p)),
+        )
         .chain(args.report.output())
         .collect();
     let mut inputs = vec![
@@ -174,6 +190,13 @@ pub fn run(args: &TransferArgs) -> Result<()> {
         }
         None => args.lines_of(&args.template, options, &mut report)?,
     };
+    if let Some(path) = &args.save_template_lines {
+        let mut files = OutputSet::default();
+        report.stage("write template lines", || {
+            files.write(path, |p| LineFormat::Json.write(p, &template))
+        })?;
+        files.commit()?;
+    }
     let subject = args.lines_of(&args.subject, options, &mut report)?;
     let carried = transfer(&template, &subject, &landmarks, options, &mut report)
         .map_err(|e| naming(e, &args.subject))?;

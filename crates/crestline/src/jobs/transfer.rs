@@ -1,10 +1,13 @@
 //! A template's labelled landmarks carried onto another scan through their crest
 //! lines (`crestline transfer`; [`crate::transfer`]).
 
+use super::image::{image_units, voxel_size};
 use super::ridges::RidgesOptions;
+use super::{crest_lines, CrestLinesOptions, Length, Units};
 use crate::lines::FeatureLines;
 use crate::progress::Observer;
 use crate::space::Space;
+use crate::volume::Volume;
 use crate::transfer::{transfer as carry, LabelledPoint, Transfer, TransferOptions};
 use crate::{Error, Result};
 
@@ -73,4 +76,62 @@ impl TransferOptions {
             ..RidgesOptions::default()
         }
     }
+}
+
+/// The lines [`transfer`] registers of the image `volume` whose landmarks lie on
+/// its isosurface `level` (inside is `f ≥ level`): the crest lines of that
+/// isosurface and of the inner ones at [`TransferOptions::inner_levels`] (the
+/// quantiles of the samples at or above the level), all traced at
+/// [`TransferOptions::image_scale`]; each isosurface's stages are told to
+/// `observer` as [`crest_lines`] tells them.
+///
+/// Errors as [`crest_lines`] (no isosurface at the level), or if an option is
+/// out of range.
+pub fn image_lines(
+    volume: &Volume,
+    level: f64,
+    options: &TransferOptions,
+    observer: &mut dyn Observer,
+) -> Result<FeatureLines> {
+    options.validate()?;
+    let units = match options.image_scale {
+        Length::Scaled { .. } => image_units(volume, level, None, observer)?,
+        // No feature scale is needed, and none is told.
+        _ => Units {
+            sample: voxel_size(volume),
+            scale: f64::NAN,
+        },
+    };
+    let scale = options.image_scale.resolve(units);
+    let tracing = CrestLinesOptions {
+        scale: Some(scale),
+        ..CrestLinesOptions::default()
+    };
+    let mut lines = crest_lines(volume, level, &tracing, observer)?;
+    for inner in inner_levels(volume, level, &options.inner_levels) {
+        let more = crest_lines(volume, inner, &tracing, observer)?;
+        lines.lines.extend(more.lines);
+    }
+    Ok(lines)
+}
+
+/// The `quantiles` of the finite samples of `volume` at or above `level`, those
+/// above the level only (a quantile equal to it would trace its lines twice).
+fn inner_levels(volume: &Volume, level: f64, quantiles: &[f64]) -> Vec<f64> {
+    let mut inside: Vec<f32> = volume
+        .samples()
+        .iter()
+        .copied()
+        .filter(|s| s.is_finite() && f64::from(*s) >= level)
+        .collect();
+    if inside.is_empty() {
+        return Vec::new();
+    }
+    inside.sort_unstable_by(f32::total_cmp);
+    let last = inside.len() - 1;
+    quantiles
+        .iter()
+        .map(|q| f64::from(inside[(q * last as f64).round() as usize]))
+        .filter(|inner| *inner > level)
+        .collect()
 }

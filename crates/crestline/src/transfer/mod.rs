@@ -39,6 +39,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::jobs::Length;
 use crate::lines::{FeatureLines, LineKind};
 use crate::progress::{checkpoint, Observer};
 use crate::register::{register, PointSet, Registration, RegistrationOptions};
@@ -85,6 +86,22 @@ pub struct TransferOptions {
     #[cfg_attr(feature = "clap", arg(long, value_name = "R",
         default_value_t = TransferOptions::default().confidence_radius))]
     pub confidence_radius: f64,
+    /// Of images: the feature scale at which the crest lines registered are traced
+    /// (σ and the shortest line follow from it, as in `crest-lines`), in world
+    /// units (mm) or voxels ("1 unit"). Finer than the landmarks' scale: many
+    /// short lines pin the deformation down where a few long ones let it slide
+    /// along them, and the smooth deformation averages out their noise (measured
+    /// in docs/design/landmarks.md, "Transfer").
+    #[cfg_attr(feature = "clap", arg(long, value_name = "L",
+        default_value_t = TransferOptions::default().image_scale))]
+    pub image_scale: Length,
+    /// Of images: more isosurfaces, inside the level's, whose crest lines are
+    /// registered with its own, at these quantiles of the samples at or above the
+    /// level (each between 0 and 1, comma-separated): the anatomy under the
+    /// surface holds the deformation of the surface in place.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "Q,Q,…", value_delimiter = ',',
+        default_values_t = TransferOptions::default().inner_levels))]
+    pub inner_levels: Vec<f64>,
     /// Of meshes: the least strength of the ridges and valleys registered (the
     /// ridges' threshold; at least 0). 0, every line, places the landmarks best
     /// (measured in docs/design/landmarks.md, "Transfer").
@@ -103,12 +120,14 @@ impl Default for TransferOptions {
     fn default() -> Self {
         TransferOptions {
             registration: RegistrationOptions::default(),
-            scales: vec![24.0, 16.0, 10.0, 6.0, 4.0],
-            iterations: 6,
+            scales: vec![32.0, 24.0, 16.0, 12.0, 8.0],
+            iterations: 20,
             max_distance: 2.0,
             max_angle: 30.0,
-            max_points: 40_000,
+            max_points: 200_000,
             confidence_radius: 5.0,
+            image_scale: Length::units(1.0),
+            inner_levels: vec![0.5],
             mesh_threshold: 0.0,
             min_coverage: 0.5,
         }
@@ -139,6 +158,20 @@ impl TransferOptions {
             if !(value.is_finite() && value > 0.0) {
                 return bad(format!("`{name}` is {value}, expected a positive number"));
             }
+        }
+        let (Length::World(scale) | Length::Relative { units: scale } | Length::Scaled { scales: scale }) =
+            self.image_scale;
+        if !(scale.is_finite() && scale > 0.0) {
+            return bad(format!(
+                "`image_scale` is {}, expected a positive length",
+                self.image_scale
+            ));
+        }
+        if !self.inner_levels.iter().all(|q| *q > 0.0 && *q < 1.0) {
+            return bad(format!(
+                "`inner_levels` is {:?}, expected quantiles between 0 and 1",
+                self.inner_levels
+            ));
         }
         if !(self.mesh_threshold.is_finite() && self.mesh_threshold >= 0.0) {
             return bad(format!(
