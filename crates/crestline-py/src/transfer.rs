@@ -1,6 +1,7 @@
 //! Landmark transfer as Python sees it: a template's labelled landmarks carried
-//! onto a subject through their lines ([`jobs::transfer`]), the lines of a mesh
-//! it registers ([`TransferOptions::mesh_tracing`]), and the labelled landmark files
+//! onto a subject through their lines ([`jobs::transfer`]), the lines of an image
+//! ([`jobs::image_lines`]) or a mesh ([`TransferOptions::mesh_tracing`]) it
+//! registers, and the labelled landmark files
 //! ([`crestline::transfer::read_labelled`], [`write_labelled`]) and the lines
 //! files a cohort computes the template's lines into.
 
@@ -10,7 +11,7 @@ use crestline::jobs::{self, Surface};
 use crestline::mesh::Mesh;
 use crestline::transfer::{read_labelled, write_labelled, LabelledPoint, TransferOptions};
 use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -20,11 +21,12 @@ use crate::errors::raised;
 use crate::jobs::job_options;
 use crate::lines::{feature_lines, line_dicts, LineParts};
 use crate::progress::Callback;
-use crate::volume::frame;
+use crate::volume::{frame, volume_of};
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(transfer_landmarks, m)?)?;
+    m.add_function(wrap_pyfunction!(transfer_image_lines, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_mesh_lines, m)?)?;
     m.add_function(wrap_pyfunction!(transfer_mesh_file_lines, m)?)?;
     m.add_function(wrap_pyfunction!(read_lines_file, m)?)?;
@@ -85,6 +87,26 @@ fn transfer_landmarks<'py>(
     let matrix = Array2::from_shape_fn((4, 4), |(r, c)| matrix[(r, c)]);
     dict.set_item("rigid", matrix.into_pyarray(py))?;
     Ok(dict)
+}
+
+/// The lines of the image that [`jobs::transfer`] registers, its landmarks on the
+/// isosurface `level` ([`jobs::image_lines`], the JSON `options` of
+/// [`TransferOptions`]), as line dicts.
+#[pyfunction]
+#[pyo3(signature = (samples, affine, level, options, progress=None))]
+fn transfer_image_lines<'py>(
+    py: Python<'py>,
+    samples: PyReadonlyArray3<'py, f32>,
+    affine: PyReadonlyArray2<'py, f64>,
+    level: f64,
+    options: &str,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let volume = volume_of(&samples, &affine)?;
+    let options: TransferOptions = job_options("transfer", options)?;
+    let mut observer = Callback::new(progress);
+    let lines = py.detach(|| jobs::image_lines(&volume, level, &options, &mut observer));
+    line_dicts(py, &observer.outcome(lines)?.lines, None)
 }
 
 /// The lines of the mesh that [`jobs::transfer`] registers

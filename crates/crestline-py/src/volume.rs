@@ -87,7 +87,10 @@ fn image_arrays<'py>(py: Python<'py>, volume: &Volume) -> ImageArrays<'py> {
 
 /// The volume of the samples `(nz, ny, nx)` and the affine, checked by
 /// [`Volume::new`].
-fn volume_of(samples: &PyReadonlyArray3<f32>, affine: &PyReadonlyArray2<f64>) -> PyResult<Volume> {
+pub(crate) fn volume_of(
+    samples: &PyReadonlyArray3<f32>,
+    affine: &PyReadonlyArray2<f64>,
+) -> PyResult<Volume> {
     let samples = samples.as_array();
     let affine = affine.as_array();
     let (nz, ny, nx) = samples.dim();

@@ -208,31 +208,31 @@ fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
     let csv = dir.path().join("landmarks.csv");
     let chosen = landmarks_on(&lines, &csv);
 
-    let run = |name: &str, scales: &str| {
+    let saved = dir.path().join("template.lines.json");
+    let run = |name: &str, extra: &[&str]| {
         let output = dir.path().join(name);
-        succeeds(&[
-            "transfer",
-            MNI,
-            &path(&csv),
-            &path(&subject),
-            "-o",
-            &path(&output),
-            "--level",
-            "60",
-            "--template-lines",
-            &path(&lines),
-            "--scales",
-            scales,
-        ]);
+        let (csv, subject, out) = (path(&csv), path(&subject), path(&output));
+        let mut args = vec!["transfer", MNI, &csv, &subject, "-o", &out, "--level", "60"];
+        args.extend_from_slice(extra);
+        succeeds(&args);
         median_error(&output, &chosen)
     };
-    let deformed = run("deformed.mrk.json", "24,16,10,6,4");
+    // The template's lines traced and saved by the first run, read by the others.
+    let deformed = run(
+        "deformed.mrk.json",
+        &["--save-template-lines", &path(&saved)],
+    );
+    let given = run("given.mrk.json", &["--template-lines", &path(&saved)]);
     // One huge scale: a rigid motion and a near-uniform shift.
-    let rigid = run("rigid.mrk.json", "1000");
-    eprintln!("median error: rigid {rigid:.2} mm, deformed {deformed:.2} mm");
-    // Measured: 3.80 mm rigid, 0.58 mm deformed.
+    let rigid = run(
+        "rigid.mrk.json",
+        &["--template-lines", &path(&saved), "--scales", "1000"],
+    );
+    eprintln!("median error: rigid {rigid:.2} mm, deformed {deformed:.2} mm, {given:.2} mm");
+    // Measured: 3.76 mm rigid, 0.31 mm deformed.
     assert!(rigid > 2.5, "the warp should not be rigid: {rigid} mm");
-    assert!(deformed < 0.9, "{deformed} mm; rigid {rigid} mm");
+    assert!(deformed < 0.5, "{deformed} mm; rigid {rigid} mm");
+    assert!((given - deformed).abs() < 1e-9, "{given} mm, {deformed} mm");
 }
 
 #[test]
@@ -358,7 +358,10 @@ fn a_cut_subject_keeps_the_landmarks_it_has_and_flags_the_others() {
         100.0 * share(&lost)
     );
     assert!(kept.len() > 20 && lost.len() > 5, "{kept:?} {lost:?}");
-    assert!(share(&kept) <= 0.1, "{kept:?}");
+    // The coarsest scale (32 mm) still feels the missing top 10–20 mm below the
+    // cut: measured, 4 of 35 kept landmarks flagged there, each off by 3.6–5.4 mm
+    // (rightly doubtful).
+    assert!(share(&kept) <= 0.15, "{kept:?}");
     assert!(share(&lost) >= 0.9, "{lost:?}");
     assert!(error < 1.0, "{error} mm");
 }

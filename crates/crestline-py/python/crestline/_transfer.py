@@ -15,7 +15,7 @@ from ._checks import callback, count, file_path, number, points
 from ._jobs import documented, options
 from ._lines import Lines, _frame
 from ._mesh import Progress
-from ._volume import crest_lines, read_volume
+from ._volume import _image, _space, read_volume
 
 Transferred = Dict[str, Any]
 """What :func:`transfer` returns: ``labels`` (a list, in the order given),
@@ -61,14 +61,17 @@ def _landmarks(value: Any) -> Labelled:
 
 def scan_lines(scan: Any, name: str, level: Optional[float], given: str, progress: Progress = None) -> Lines:
     """The lines ``transfer`` registers of ``scan``: lines as given; of an image
-    (with ``level``), the crest lines of its isosurface; of a mesh, its ridges and
+    (with ``level``), the crest lines of its isosurface and of the inner ones
+    (``image_scale``, ``inner_levels``); of a mesh, its ridges and
     valleys of every strength down to the transfer's ``mesh_threshold``
     (``given``: the transfer's options as JSON)."""
     if isinstance(scan, Lines):
         return scan
     if level is not None:
         image = read_volume(scan) if isinstance(scan, (str, PathLike)) else scan
-        return crest_lines(image, level, progress=progress)
+        samples, affine = _image(image, None, None)
+        dicts = _crestline.transfer_image_lines(samples, affine, level, given, progress)
+        return Lines._from_dicts(dicts, space=_space(image))
     if isinstance(scan, (str, PathLike)):
         dicts, space = _crestline.transfer_mesh_file_lines(file_path(scan, name), given, progress)
         return Lines._from_dicts(dicts, space=space)
@@ -76,7 +79,7 @@ def scan_lines(scan: Any, name: str, level: Optional[float], given: str, progres
     return Lines._from_dicts(dicts)
 
 
-@documented("transfer", unit="mm")
+@documented("transfer")
 def transfer(
     template: Any,
     landmarks: Union[str, "PathLike[str]", Mapping[str, Sequence[float]], Labelled],
@@ -93,6 +96,8 @@ def transfer(
     confidence_radius: Optional[float] = None,
     mesh_threshold: Optional[float] = None,
     min_coverage: Optional[float] = None,
+    image_scale: Optional[float] = None,
+    inner_levels: Optional[Sequence[float]] = None,
     output: Union[str, "PathLike[str]", None] = None,
     output_space: Optional[str] = None,
     progress: Progress = None,
@@ -113,12 +118,15 @@ def transfer(
     placed.
 
     ``template`` and ``subject`` are two images (a :class:`Volume`, a nibabel
-    image or a file) with ``level``: the crest lines of their isosurfaces; or,
+    image or a file) with ``level``: the crest lines of their isosurfaces at the
+    level and at the ``inner_levels`` (quantiles of the samples inside it;
+    default {inner_levels}), traced at ``image_scale`` (mm; default
+    {image_scale}); or,
     without ``level``, two meshes (a :class:`Mesh`, a mesh object or a file):
     their ridges and valleys at least ``mesh_threshold`` strong (default
     {mesh_threshold}); or :class:`Lines` already traced. ``template_lines``, the
     template's lines computed once (:class:`Lines`, or a lines ``.json`` file as
-    :meth:`Lines.save` and the tool's ``crest-lines`` and ``ridges`` write it), are
+    :meth:`Lines.save` and the tool's ``transfer --save-template-lines`` write it), are
     used in place of the template's. Lines
     that do not state their frame (those of meshes given as arrays or of files
     without 3D Slicer's ``SPACE=`` mark) are taken in ``space`` (default LPS, as
@@ -147,6 +155,8 @@ def transfer(
                                                                         strict=True),
         mesh_threshold=None if mesh_threshold is None else number(mesh_threshold, "mesh_threshold"),
         min_coverage=None if min_coverage is None else number(min_coverage, "min_coverage"),
+        image_scale=None if image_scale is None else number(image_scale, "image_scale", strict=True),
+        inner_levels=None if inner_levels is None else [number(q, "inner_levels") for q in inner_levels],
     )
     frame = "LPS" if space is None else _frame(space)
     level = None if level is None else number(level, "level", low=-np.inf)

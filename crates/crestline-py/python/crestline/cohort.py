@@ -211,11 +211,13 @@ def _task_curvature(path: str, options: Dict[str, Any], folder: Path) -> Tuple[D
 
 
 def _transfer_options(options: Dict[str, Any]) -> Dict[str, Any]:
-    """The options of the transfer job among ``options`` (``scales`` also as
-    comma-separated text, as ``--option scales=24,16`` gives it)."""
+    """The options of the transfer job among ``options`` (the lists ``scales`` and
+    ``inner_levels`` also as comma-separated text, as ``--option scales=24,16``
+    gives it)."""
     found = {k: v for k, v in options.items() if k in DEFAULTS["transfer"] and k != "registration"}
-    if isinstance(found.get("scales"), (str, int, float)):
-        found["scales"] = [float(s) for s in str(found["scales"]).split(",")]
+    for key in ("scales", "inner_levels"):
+        if isinstance(found.get(key), (str, int, float)):
+            found[key] = [float(s) for s in str(found[key]).split(",")]
     return found
 
 

@@ -7,8 +7,8 @@ use super::{crest_lines, CrestLinesOptions, Length, Units};
 use crate::lines::FeatureLines;
 use crate::progress::Observer;
 use crate::space::Space;
-use crate::volume::Volume;
 use crate::transfer::{transfer as carry, LabelledPoint, Transfer, TransferOptions};
+use crate::volume::Volume;
 use crate::{Error, Result};
 
 /// The `landmarks` of the template (positions in RAS), whose crest lines are

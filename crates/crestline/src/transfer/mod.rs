@@ -159,8 +159,9 @@ impl TransferOptions {
                 return bad(format!("`{name}` is {value}, expected a positive number"));
             }
         }
-        let (Length::World(scale) | Length::Relative { units: scale } | Length::Scaled { scales: scale }) =
-            self.image_scale;
+        let (Length::World(scale)
+        | Length::Relative { units: scale }
+        | Length::Scaled { scales: scale }) = self.image_scale;
         if !(scale.is_finite() && scale > 0.0) {
             return bad(format!(
                 "`image_scale` is {}, expected a positive length",
