@@ -77,9 +77,8 @@ def test_images_give_the_tools_landmarks(tool, tmp_path):
     truth = motion((0.03, -0.04, 0.05), (2.0, -3.0, 1.5))
     subject = tmp_path / "subject.nii.gz"
     nib.save(nib.Nifti1Image(template.data, truth @ template.affine), subject)
-    lines = crestline.crest_lines(template, level=60)
     csv_path = tmp_path / "landmarks.csv"
-    labels, chosen = landmarks_csv(csv_path, lines)
+    labels, chosen = landmarks_csv(csv_path, crestline.crest_lines(template, level=60))
     out = tmp_path / "tool.csv"
     run_tool(tool, MNI, csv_path, subject, "-o", out, "--level", "60")
     tool_labels, tool_positions, tool_confidence = read_csv(out)
@@ -88,9 +87,10 @@ def test_images_give_the_tools_landmarks(tool, tmp_path):
     assert from_files["labels"] == tool_labels == labels
     assert np.abs(from_files["positions"] - tool_positions).max() < 1e-9
     assert np.abs(from_files["confidence"] - tool_confidence).max() < 1e-9
-    # The same from objects, the template's lines given once.
+    # The same from objects, the template's lines given once, as the first
+    # transfer registered them.
     from_objects = crestline.transfer(template, dict(zip(labels, chosen)), crestline.read_volume(subject),
-                                      level=60, template_lines=lines)
+                                      level=60, template_lines=from_files["template_lines"])
     assert np.abs(from_objects["positions"] - tool_positions).max() < 1e-9
     errors = np.linalg.norm(from_files["positions"] - moved(truth, chosen), axis=1)
     assert np.median(errors) < 0.3, errors

@@ -393,5 +393,9 @@ fn a_mesh_and_an_image_are_refused() {
     assert_one_line_error(&refused, mesh, "--level applies to 3D images");
     let refused = run(MNI, MNI, &[]);
     assert_one_line_error(&refused, MNI, "images need --level");
+    let saved = dir.path().join("template.lines.obj");
+    let saved = saved.to_str().unwrap();
+    let refused = run(mesh, mesh, &["--save-template-lines", saved]);
+    assert_one_line_error(&refused, saved, "saved as .json");
     assert!(!out.exists());
 }

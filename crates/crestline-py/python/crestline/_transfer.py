@@ -24,8 +24,9 @@ better, infinite where no line is near), ``coverage`` ((n,) float64: the
 subject's lines around each landmark over the template's, near 1 where the
 subject shows that part), ``flagged`` (a list of bools: coverage below
 ``min_coverage`` or no confidence, a part cut off or missing in the subject),
-``rms`` (float) and ``rigid`` (the rigid stage's 4 × 4 matrix, template →
-subject, RAS)."""
+``rms`` (float), ``rigid`` (the rigid stage's 4 × 4 matrix, template →
+subject, RAS) and ``template_lines`` (the template's :class:`Lines` as
+registered: the ``template_lines=`` of the transfers onto other subjects)."""
 
 Labelled = Tuple[List[str], npt.NDArray[np.float64]]
 
@@ -140,8 +141,8 @@ def transfer(
     ``output_space`` (default RAS).
 
     Returns ``Transferred``: ``labels``, ``positions`` ((n, 3), RAS),
-    ``confidence``, ``coverage``, ``flagged``, ``rms`` and ``rigid`` (4 × 4,
-    RAS).
+    ``confidence``, ``coverage``, ``flagged``, ``rms``, ``rigid`` (4 × 4, RAS)
+    and ``template_lines`` (to give to the next subject's transfer).
     """
     progress = callback(progress, "progress")
     labels, positions = _landmarks(landmarks)
@@ -170,6 +171,7 @@ def transfer(
         labels, positions, given, progress,
     )
     result["labels"] = labels
+    result["template_lines"] = found[0]
     if output is not None:
         frame_out = "RAS" if output_space is None else _frame(output_space)
         _crestline.write_labelled_points(file_path(output, "output"), labels, result["positions"],

@@ -135,3 +135,56 @@ fn inner_levels(volume: &Volume, level: f64, quantiles: &[f64]) -> Vec<f64> {
         .filter(|inner| *inner > level)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 10 × 10 × 10 image of the samples 0, 1, …, 999 (unit spacing).
+    fn counting() -> Volume {
+        let samples = (0..1000).map(|s| s as f32).collect();
+        Volume::new(
+            [10; 3],
+            [1.0; 3],
+            [0.0; 3],
+            nalgebra::Matrix3::identity(),
+            samples,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn inner_levels_are_quantiles_of_the_samples_inside_the_level() {
+        // Inside 600: the samples 600…999, whose median is 799.5 → 800 (rounded
+        // index), first 600 and last 999.
+        let levels = inner_levels(&counting(), 600.0, &[0.5, 0.0, 1.0]);
+        assert_eq!(levels, vec![800.0, 999.0]);
+        assert!(inner_levels(&counting(), 1000.0, &[0.5]).is_empty());
+    }
+
+    #[test]
+    fn out_of_range_image_options_are_refused() {
+        for (options, name) in [
+            (
+                TransferOptions {
+                    inner_levels: vec![1.0],
+                    ..TransferOptions::default()
+                },
+                "inner_levels",
+            ),
+            (
+                TransferOptions {
+                    image_scale: Length::units(0.0),
+                    ..TransferOptions::default()
+                },
+                "image_scale",
+            ),
+        ] {
+            let error = image_lines(&counting(), 500.0, &options, &mut crate::progress::Silent);
+            assert!(
+                matches!(&error, Err(Error::Argument(m)) if m.contains(name)),
+                "{error:?}"
+            );
+        }
+    }
+}
