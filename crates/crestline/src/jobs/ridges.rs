@@ -114,6 +114,8 @@ impl RidgesOptions {
             threshold: self.threshold,
             presmooth_steps: self.presmooth,
             presmooth_time: ExtremalityTracer::DEFAULT_PRESMOOTH_TIME,
+            curvature_smooth_steps: 0,
+            curvature_smooth_time: 1.0,
             fair: self.fair.then(Fairing::default),
             smoothing_weights: self.smoothing_weights.clone(),
             all_extrema: self.all_extrema,
