@@ -207,9 +207,10 @@ def ridges(
     smoothing steps; default {presmooth}), ``solver`` (default {solver}), ``fair``
     (default {fair}) and ``all_extrema`` (default {all_extrema}) are the tool's
     options of the same names. With a feature ``scale`` (world units; default
-    none) the surface is smoothed for a time of scale² and the extremalities for
-    (scale/2)², in world units rather than mean edge lengths, so that another
-    sampling of the same surface gives the same lines.
+    none) the surface is smoothed for a time of (0.7 scale)², its curvature
+    tensor field for scale² and the extremalities for (scale/2)², in world units
+    rather than mean edge lengths, so that another sampling of the same surface
+    gives the same lines.
 
     Returns :class:`Lines` of kind ``"ridge"`` (convex crests) and ``"valley"``
     (concave creases), with per-point ``k_max``, ``k_min``, ``e_max``, ``e_min``

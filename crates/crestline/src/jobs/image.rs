@@ -75,9 +75,10 @@ pub struct IsoOptions {
     /// The feature scale in world units, so that a rescan or another sampling finds
     /// the same features. For a 3D image σ and the landmarks' lengths are derived
     /// from it; default: 2% of the cube root of the volume the isosurface encloses,
-    /// at least a voxel. For a mesh the surface is smoothed for a time of scale²
-    /// and the extremalities for (scale/2)², in world units; default: none (the
-    /// smoothing counts mean edge lengths).
+    /// at least a voxel. For a mesh the surface is smoothed for a time of
+    /// (0.7 scale)², its curvature tensor field for scale² and the extremalities
+    /// for (scale/2)², in world units; default: none (the smoothing counts mean
+    /// edge lengths).
     #[cfg_attr(feature = "clap", arg(long, value_name = "L"))]
     pub scale: Option<f64>,
     /// For a 3D image: standard deviation of the Gaussian smoothing, for the

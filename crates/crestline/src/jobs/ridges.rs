@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::image::Surface;
-use super::scale::SCALE_SMOOTH_STEPS;
+use super::scale::{SCALE_PRESMOOTH_SHARE, SCALE_SMOOTH_STEPS};
 use crate::curvature::Estimator;
 use crate::linalg::Solver;
 use crate::lines::FeatureLines;
@@ -61,10 +61,11 @@ pub struct RidgesOptions {
     #[cfg_attr(feature = "clap", arg(long))]
     pub all_extrema: bool,
     /// The feature scale of a mesh, in world units (`super::scale`): the surface
-    /// is smoothed for a time of scale² before its curvature is estimated, and the
-    /// extremalities for (scale/2)², both in world units rather than in mean edge
-    /// lengths, so that another sampling of the same surface gives the same lines
-    /// (`smooth_steps`, `smooth_time` and `presmooth`, when given, still apply).
+    /// is smoothed for a time of (0.7 scale)² before its curvature is estimated,
+    /// the curvature tensor field for scale² and the extremalities for
+    /// (scale/2)², all in world units rather than in mean edge lengths, so that
+    /// another sampling of the same surface gives the same lines (`smooth_steps`,
+    /// `smooth_time` and `presmooth`, when given, still apply).
     /// An image's isosurface takes its image's scale instead (σ,
     /// [`super::IsoOptions::scale`]). Default: none, the smoothing counts mean edge
     /// lengths. (The tool's `--scale` is shared with the image's options.)
@@ -114,6 +115,8 @@ impl RidgesOptions {
             threshold: self.threshold,
             presmooth_steps: self.presmooth,
             presmooth_time: ExtremalityTracer::DEFAULT_PRESMOOTH_TIME,
+            curvature_smooth_steps: 0,
+            curvature_smooth_time: 1.0,
             fair: self.fair.then(Fairing::default),
             smoothing_weights: self.smoothing_weights.clone(),
             all_extrema: self.all_extrema,
@@ -125,14 +128,18 @@ impl RidgesOptions {
         }
     }
 
-    /// `tracer` with its smoothing times in world units: the surface smoothed for
-    /// scale², the extremalities for (scale/2)², each in `presmooth` (or
-    /// [`SCALE_SMOOTH_STEPS`]) and `smooth_steps` (or as many) steps, on a mesh of
-    /// mean edge length `edge` (the unit of the tracer's times). Measured
-    /// (`tools/sampling_invariance.py`, the test `sampling`): a scale of 3 mean
-    /// edge lengths or more keeps the lines of an irregular mesh; at 1.5 the
-    /// smoothing, as long as the cotan Laplacian's pointwise error on irregular
-    /// triangles, adds as much curvature noise as it removes.
+    /// `tracer` with its smoothing times in world units, on a mesh of mean edge
+    /// length `edge` (the unit of the tracer's times): the surface smoothed for
+    /// ([`SCALE_PRESMOOTH_SHARE`] · scale)² in `presmooth` (or
+    /// [`SCALE_SMOOTH_STEPS`]) steps, its curvature tensor field for scale² and
+    /// the extremalities for (scale/2)², each in `smooth_steps` (or
+    /// [`SCALE_SMOOTH_STEPS`]) steps. The heat operator M + tK with the lumped
+    /// mass matrix converges as the mesh is refined, so a time in world units is
+    /// the same filter on every sampling of the surface. Smoothing the surface
+    /// lightly first evens out the curvature of irregular triangles before it is
+    /// estimated; smoothing the tensors rather than the surface for the rest
+    /// keeps parts thinner than the scale in place, which mean curvature flow
+    /// would shrink.
     fn at_scale(&self, tracer: ExtremalityTracer, scale: f64, edge: f64) -> ExtremalityTracer {
         let presmooth_steps = if self.presmooth > 0 {
             self.presmooth
@@ -143,7 +150,9 @@ impl RidgesOptions {
         let in_edges = |length: f64, steps: usize| (length / edge).powi(2) / steps as f64;
         ExtremalityTracer {
             presmooth_steps,
-            presmooth_time: in_edges(scale, presmooth_steps),
+            presmooth_time: in_edges(SCALE_PRESMOOTH_SHARE * scale, presmooth_steps),
+            curvature_smooth_steps: SCALE_SMOOTH_STEPS,
+            curvature_smooth_time: in_edges(scale, SCALE_SMOOTH_STEPS),
             smooth_steps,
             smooth_time: self
                 .smooth_time

@@ -21,13 +21,20 @@ pub const IMAGE_SCALE_SHARE: f64 = 0.02;
 
 /// The feature scale of a mesh as a share of the square root of its area: 1.5
 /// mean edge lengths of the bundled bunny (28k vertices). Measured with
-/// `tools/sampling_invariance.py`: at this scale (`RidgesOptions::scale`) the
-/// bunny remeshed at 0.5× to 2× its edge length or decimated to half its faces
-/// keeps 86–98% of its ridges; 1.5% and 2% kept fewer lines, less stable.
+/// `tools/sampling_invariance.py` (the figures are in `docs/design/scale.md`):
+/// at this scale (`RidgesOptions::scale`) the bunny remeshed at 0.5× to 2× its
+/// edge length or decimated to a half or a quarter of its faces keeps its
+/// ridges and valleys; 1.5% and 2% kept fewer lines, less stable.
 pub const MESH_SCALE_SHARE: f64 = 0.01;
 
-/// The implicit smoothing steps of a mesh's surface and of its extremalities at
-/// a feature scale ([`super::RidgesOptions::scale`]), unless given.
+/// The share of a mesh's feature scale for which its surface is smoothed
+/// before its curvature is estimated ([`super::RidgesOptions::scale`]): a time
+/// of (share · scale)²; the curvature tensor field is smoothed for the scale.
+pub const SCALE_PRESMOOTH_SHARE: f64 = 0.7;
+
+/// The implicit smoothing steps of a mesh's surface, of its curvature tensor
+/// field and of its extremalities at a feature scale
+/// ([`super::RidgesOptions::scale`]), unless given.
 pub const SCALE_SMOOTH_STEPS: usize = 3;
 
 /// [`Volume::feature_scale`].

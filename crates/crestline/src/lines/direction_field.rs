@@ -92,6 +92,12 @@ impl EdgeSigns {
         EdgeSigns(signs)
     }
 
+    /// σ = +1 on every edge of `mesh`: the signs of a field with no sign
+    /// ambiguity (a scalar or tensor field's entries).
+    pub fn positive(mesh: &Mesh) -> EdgeSigns {
+        EdgeSigns(vec![1; mesh.edge_count()])
+    }
+
     /// σ of edge `e` (±1).
     pub fn sign(&self, e: EdgeId) -> f64 {
         f64::from(self.0[e.idx()].signum())

@@ -10,6 +10,9 @@
 //!    ([`CurvatureField::extremality`]: [`crate::curvature::JetFit`], from the
 //!    third-order terms of its fitted jets) is used as it is, which keeps the
 //!    fit's precision that differentiating its curvature over the 1-ring loses;
+//!    optionally after heat smoothing of the curvature tensor field
+//!    ([`ExtremalityTracer::curvature_smooth_steps`], `ridges/tensor.rs`), whose
+//!    extremalities are then those of eq. 4;
 //! 3. sign-aware implicit smoothing of the extremalities (§5.1)
 //!    (`ridges/smoothing.rs`); fitted extremalities are smoothed in
 //!    proportion to the noise their fit residual shows
@@ -35,6 +38,7 @@
 
 pub(crate) mod extremality;
 pub(crate) mod smoothing;
+mod tensor;
 #[cfg(test)]
 mod tests;
 pub(crate) mod trace;
@@ -138,6 +142,16 @@ pub struct ExtremalityTracer {
     /// Time step of the surface's smoothing, in units of the input's mean edge
     /// length squared ([`Self::DEFAULT_PRESMOOTH_TIME`]).
     pub presmooth_time: f64,
+    /// Implicit heat steps (M + tK) S' = M S of the curvature tensor field
+    /// S = k_max d_max d_maxᵀ + k_min d_min d_minᵀ before the extremalities are
+    /// taken (eq. 4, from the smoothed principal curvatures and directions),
+    /// estimated or given: the surface stays in place. 0 (the default) leaves the
+    /// field as it is.
+    pub curvature_smooth_steps: usize,
+    /// Time step of the curvature tensor's smoothing, in units of the mean edge
+    /// length squared of the surface the curvature belongs to (after
+    /// presmoothing, if any).
+    pub curvature_smooth_time: f64,
     /// Optional fairing of the lines as space curves.
     pub fair: Option<Fairing>,
     /// Optional per-vertex factors for inhomogeneous extremality smoothing (§6).
@@ -256,6 +270,8 @@ impl Default for ExtremalityTracer {
             threshold: Self::DEFAULT_THRESHOLD,
             presmooth_steps: 0,
             presmooth_time: Self::DEFAULT_PRESMOOTH_TIME,
+            curvature_smooth_steps: 0,
+            curvature_smooth_time: 1.0,
             fair: None,
             smoothing_weights: None,
             all_extrema: false,
@@ -303,6 +319,7 @@ impl ExtremalityTracer {
                 let field = try_stage(log, "curvature", || {
                     estimate_curvature(work, self.estimator.as_ref())
                 })?;
+                let field = self.smoothed_curvature(&unit, field, log)?;
                 let fields = self.fields(&unit, factor, &field, log);
                 Ok((field, fields))
             })?;
@@ -386,6 +403,12 @@ impl ExtremalityTracer {
         }
         field.check(mesh)?;
         let (unit, factor) = mesh.in_unit_frame();
+        let smoothed = if self.curvature_smooth_steps > 0 {
+            Some(self.smoothed_curvature(&unit, field.clone(), observer)?)
+        } else {
+            None
+        };
+        let field = smoothed.as_ref().unwrap_or(field);
         let (fields, smoother) =
             self.alongside_analysis(&unit, None, "extremality", observer, |log| {
                 Ok(self.fields(&unit, factor, field, log))
@@ -512,6 +535,14 @@ impl ExtremalityTracer {
         if !(self.smooth_time.is_finite() && self.smooth_time > 0.0) {
             return Err(bad("the smoothing time `smooth_time`", self.smooth_time));
         }
+        if self.curvature_smooth_steps > 0
+            && !(self.curvature_smooth_time.is_finite() && self.curvature_smooth_time > 0.0)
+        {
+            return Err(bad(
+                "the curvature smoothing time `curvature_smooth_time`",
+                self.curvature_smooth_time,
+            ));
+        }
         if !(self.threshold.is_finite() && self.threshold >= 0.0) {
             return Err(negative(
                 "the strength threshold `threshold`",
@@ -529,6 +560,10 @@ impl ExtremalityTracer {
                 self.smooth_steps,
             ),
             ("presmoothing steps (`presmooth`)", self.presmooth_steps),
+            (
+                "curvature smoothing steps (`curvature_smooth_steps`)",
+                self.curvature_smooth_steps,
+            ),
         ] {
             if steps > Self::MAX_STEPS {
                 return Err(Error::Argument(format!(
@@ -538,6 +573,29 @@ impl ExtremalityTracer {
             }
         }
         Ok(())
+    }
+
+    /// `field` of `work` (in the unit frame) with its tensors smoothed as
+    /// [`Self::curvature_smooth_steps`] says (stage `curvature smoothing`).
+    fn smoothed_curvature(
+        &self,
+        work: &Mesh,
+        field: CurvatureField,
+        observer: &mut dyn Observer,
+    ) -> Result<CurvatureField> {
+        if self.curvature_smooth_steps == 0 {
+            return Ok(field);
+        }
+        try_stage_with(observer, "curvature smoothing", |log| {
+            tensor::smooth_curvature(
+                work,
+                &field,
+                self.curvature_smooth_steps,
+                self.curvature_smooth_time,
+                self.solver,
+                log,
+            )
+        })
     }
 
     /// The smoothed surface, if pre-smoothing is asked for, and the analysis of

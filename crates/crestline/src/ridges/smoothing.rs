@@ -416,9 +416,13 @@ impl ExtremalitySmoother {
         match fields {
             // Two fields in lockstep: every pass over the matrix serves both.
             [a, b] => self.run_steps::<Pair>(&mut solver, &mass, &mut [a, b], steps, observer),
-            _ => fields.iter_mut().try_for_each(|e| {
-                self.run_steps::<f64>(&mut solver, &mass, &mut [e], steps, observer)
-            }),
+            // More fields: two at a time, the last alone if their number is odd.
+            _ => fields
+                .chunks_mut(2)
+                .try_for_each(|chunk| match chunk.len() {
+                    2 => self.run_steps::<Pair>(&mut solver, &mass, chunk, steps, observer),
+                    _ => self.run_steps::<f64>(&mut solver, &mass, chunk, steps, observer),
+                }),
         }
     }
 

@@ -6,6 +6,7 @@ use crate::common;
 
 use common::transformed;
 use crestline::curvature::{CurvatureEstimator, CurvatureField, Estimator, JetFit, ShapeOperator};
+use crestline::jobs;
 use crestline::lines::{
     FeatureLines, LineExtractor, LineKind, SurfaceLocation, SurfaceWithCurvature,
 };
@@ -647,4 +648,24 @@ fn the_default_estimator_takes_the_jet_fit_only_on_clean_meshes() {
     )))
     .unwrap();
     assert!(!AutoEstimator::is_clean(&Mesh::from_soup(bunny).unwrap().0));
+}
+
+/// At the mesh's feature scale (`RidgesOptions::scale`: the surface smoothed
+/// lightly, then its curvature tensor field and its extremalities, all for times
+/// in world units) the ridge of the irregular ellipsoid is its sharpest principal
+/// ellipse, one closed line on the principal plane.
+#[test]
+fn ridges_at_the_feature_scale_keep_the_ridge_of_an_ellipsoid() {
+    let (mesh, back) = big_rotated_ellipsoid();
+    let options = jobs::RidgesOptions {
+        scale: Some(jobs::mesh_info(&mesh, &mut Silent).feature_scale),
+        ..Default::default()
+    };
+    let surface = jobs::Surface::of_mesh(mesh.clone());
+    let lines = jobs::ridges(&surface, &options, &mut Silent).unwrap();
+    let (mean, covered) = ridge_accuracy("at the feature scale", &lines, &mesh, &back);
+    assert!(mean < 0.0005, "{mean}");
+    assert!(covered >= 0.98, "{covered}");
+    assert_eq!(lines.len(), 1);
+    assert!(lines.lines[0].closed && lines.lines[0].kind == LineKind::Ridge);
 }
