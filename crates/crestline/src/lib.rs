@@ -76,6 +76,7 @@ pub mod io;
 pub mod isosurface;
 pub mod jobs;
 pub mod landmarks;
+mod length;
 pub(crate) mod linalg;
 pub mod lines;
 pub mod mesh;

@@ -39,7 +39,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::jobs::Length;
+use crate::length::Length;
 use crate::lines::{FeatureLines, LineKind};
 use crate::progress::{checkpoint, Observer};
 use crate::register::{register, PointSet, Registration, RegistrationOptions};

@@ -16,6 +16,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("atomic", 0),
     ("differential", 0),
     ("progress", 0),
+    ("length", 0),
     ("linalg", 0),
     ("named", 0),
     ("slices", 0),

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 /// A length: in world units (millimetres for most scans), a multiple of the
 /// input's own unit — the largest voxel spacing of an image, the mean edge length
-/// of a mesh — or a multiple of the feature scale (`super::scale`), resolved by
+/// of a mesh — or a multiple of the feature scale (`jobs::scale`), resolved by
 /// the job. Serialized as a number, as `{"units": x}` or as `{"scales": x}`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -30,7 +30,7 @@ pub(crate) struct Units {
     /// The input's sampling: one voxel (the largest spacing), or the mean edge
     /// length of a mesh.
     pub sample: f64,
-    /// The feature scale (`super::scale`).
+    /// The feature scale (`jobs::scale`).
     pub scale: f64,
 }
 
