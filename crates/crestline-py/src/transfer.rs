@@ -21,7 +21,7 @@ use crate::errors::raised;
 use crate::jobs::job_options;
 use crate::lines::{feature_lines, line_dicts, LineParts};
 use crate::progress::Callback;
-use crate::volume::{frame, volume_of};
+use crate::volume::{frame, lines_of_image};
 
 /// The functions of this module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -102,11 +102,13 @@ fn transfer_image_lines<'py>(
     options: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    let volume = volume_of(&samples, &affine)?;
-    let options: TransferOptions = job_options("transfer", options)?;
-    let mut observer = Callback::new(progress);
-    let lines = py.detach(|| jobs::image_lines(&volume, level, &options, &mut observer));
-    line_dicts(py, &observer.outcome(lines)?.lines, None)
+    lines_of_image(
+        py,
+        (samples, affine),
+        ("transfer", options),
+        progress,
+        |v, o: &TransferOptions, b| jobs::image_lines(v, level, o, b),
+    )
 }
 
 /// The lines of the mesh that [`jobs::transfer`] registers

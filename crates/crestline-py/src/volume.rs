@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use crestline::io::VolumeReadOptions;
 use crestline::jobs;
+use crestline::lines::FeatureLines;
 use crestline::mesh::TriangleSoup;
 use crestline::register::{PointSet, RegistrationOptions, RigidTransform};
 use crestline::volume::Volume;
@@ -144,10 +145,32 @@ fn crest_lines<'py>(
     options: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    lines_of_image(
+        py,
+        (samples, affine),
+        ("crest_lines", options),
+        progress,
+        |v, o, b| jobs::crest_lines(v, level, o, b),
+    )
+}
+
+/// The line dicts of the lines `trace` finds in the image of `samples` and
+/// `affine` (`image`) with the JSON `options` of the job `job` (`given`),
+/// `progress` told of its stages.
+pub(crate) fn lines_of_image<'py, O>(
+    py: Python<'py>,
+    (samples, affine): (PyReadonlyArray3<'py, f32>, PyReadonlyArray2<'py, f64>),
+    (job, given): (&str, &str),
+    progress: Option<Py<PyAny>>,
+    trace: impl FnOnce(&Volume, &O, &mut Callback) -> crestline::Result<FeatureLines> + Send,
+) -> PyResult<Vec<Bound<'py, PyDict>>>
+where
+    O: serde::de::DeserializeOwned + serde::Serialize + Default + Sync,
+{
     let volume = volume_of(&samples, &affine)?;
-    let options: jobs::CrestLinesOptions = job_options("crest_lines", options)?;
+    let options: O = job_options(job, given)?;
     let mut observer = Callback::new(progress);
-    let lines = py.detach(|| jobs::crest_lines(&volume, level, &options, &mut observer));
+    let lines = py.detach(|| trace(&volume, &options, &mut observer));
     line_dicts(py, &observer.outcome(lines)?.lines, None)
 }
 
