@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crestline::io::is_volume_path;
-use crestline::jobs::{image_lines, ridges, transfer, Surface};
+use crestline::jobs::{ridges, transfer, Surface};
 use crestline::landmarks::LandmarkFormat;
 use crestline::lines::{FeatureLines, LineFormat};
 use crestline::transfer::{read_labelled, write_labelled, LabelledPoint, TransferOptions};
@@ -121,7 +121,9 @@ impl TransferArgs {
         match self.level {
             Some(level) if is_volume_path(path) => {
                 let volume = read_image(path, &self.series, report)?;
-                image_lines(&volume, level, options, report).map_err(|e| naming(e, path))
+                options
+                    .image_lines(&volume, level, report)
+                    .map_err(|e| naming(e, path))
             }
             _ => {
                 let (mesh, _) = load_mesh(path, self.strict, report)?;

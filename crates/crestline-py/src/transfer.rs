@@ -1,6 +1,6 @@
 //! Landmark transfer as Python sees it: a template's labelled landmarks carried
 //! onto a subject through their lines ([`jobs::transfer`]), the lines of an image
-//! ([`jobs::image_lines`]) or a mesh ([`TransferOptions::mesh_tracing`]) it
+//! ([`TransferOptions::image_lines`]) or a mesh ([`TransferOptions::mesh_tracing`]) it
 //! registers, and the labelled landmark files
 //! ([`crestline::transfer::read_labelled`], [`write_labelled`]) and the lines
 //! files a cohort computes the template's lines into.
@@ -90,7 +90,7 @@ fn transfer_landmarks<'py>(
 }
 
 /// The lines of the image that [`jobs::transfer`] registers, its landmarks on the
-/// isosurface `level` ([`jobs::image_lines`], the JSON `options` of
+/// isosurface `level` ([`TransferOptions::image_lines`], the JSON `options` of
 /// [`TransferOptions`]), as line dicts.
 #[pyfunction]
 #[pyo3(signature = (samples, affine, level, options, progress=None))]
@@ -107,7 +107,7 @@ fn transfer_image_lines<'py>(
         (samples, affine),
         ("transfer", options),
         progress,
-        |v, o: &TransferOptions, b| jobs::image_lines(v, level, o, b),
+        |v, o: &TransferOptions, b| o.image_lines(v, level, b),
     )
 }
 

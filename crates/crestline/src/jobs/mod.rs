@@ -63,7 +63,7 @@ pub use mesh::build_mesh;
 pub use morse::{morse, MorseOptions};
 pub use register::register;
 pub use ridges::{ridges, RidgesOptions};
-pub use transfer::{image_lines, transfer};
+pub use transfer::transfer;
 pub use view::{view, ViewOptions};
 
 /// The defaults of every job's options, as JSON: `{"curvature": {...}, "iso": {...}, "crest_lines":

@@ -76,43 +76,43 @@ impl TransferOptions {
             ..RidgesOptions::default()
         }
     }
-}
 
-/// The lines [`transfer`] registers of the image `volume` whose landmarks lie on
-/// its isosurface `level` (inside is `f ≥ level`): the crest lines of that
-/// isosurface and of the inner ones at [`TransferOptions::inner_levels`] (the
-/// quantiles of the samples at or above the level), all traced at
-/// [`TransferOptions::image_scale`]; each isosurface's stages are told to
-/// `observer` as [`crest_lines`] tells them.
-///
-/// Errors as [`crest_lines`] (no isosurface at the level), or if an option is
-/// out of range.
-pub fn image_lines(
-    volume: &Volume,
-    level: f64,
-    options: &TransferOptions,
-    observer: &mut dyn Observer,
-) -> Result<FeatureLines> {
-    options.validate()?;
-    let units = match options.image_scale {
-        Length::Scaled { .. } => image_units(volume, level, None, observer)?,
-        // No feature scale is needed, and none is told.
-        _ => Units {
-            sample: voxel_size(volume),
-            scale: f64::NAN,
-        },
-    };
-    let scale = options.image_scale.resolve(units);
-    let tracing = CrestLinesOptions {
-        scale: Some(scale),
-        ..CrestLinesOptions::default()
-    };
-    let mut lines = crest_lines(volume, level, &tracing, observer)?;
-    for inner in inner_levels(volume, level, &options.inner_levels) {
-        let more = crest_lines(volume, inner, &tracing, observer)?;
-        lines.lines.extend(more.lines);
+    /// The lines [`transfer`] registers of the image `volume` whose landmarks lie on
+    /// its isosurface `level` (inside is `f ≥ level`): the crest lines of that
+    /// isosurface and of the inner ones at [`inner_levels`](Self::inner_levels) (the
+    /// quantiles of the samples at or above the level), all traced at
+    /// [`image_scale`](Self::image_scale); each isosurface's stages are told to
+    /// `observer` as [`crest_lines`] tells them.
+    ///
+    /// Errors as [`crest_lines`] (no isosurface at the level), or if an option is
+    /// out of range.
+    pub fn image_lines(
+        &self,
+        volume: &Volume,
+        level: f64,
+        observer: &mut dyn Observer,
+    ) -> Result<FeatureLines> {
+        self.validate()?;
+        let units = match self.image_scale {
+            Length::Scaled { .. } => image_units(volume, level, None, observer)?,
+            // No feature scale is needed, and none is told.
+            _ => Units {
+                sample: voxel_size(volume),
+                scale: f64::NAN,
+            },
+        };
+        let scale = self.image_scale.resolve(units);
+        let tracing = CrestLinesOptions {
+            scale: Some(scale),
+            ..CrestLinesOptions::default()
+        };
+        let mut lines = crest_lines(volume, level, &tracing, observer)?;
+        for inner in inner_levels(volume, level, &self.inner_levels) {
+            let more = crest_lines(volume, inner, &tracing, observer)?;
+            lines.lines.extend(more.lines);
+        }
+        Ok(lines)
     }
-    Ok(lines)
 }
 
 /// The `quantiles` of the finite samples of `volume` at or above `level`, those
@@ -180,7 +180,7 @@ mod tests {
                 "image_scale",
             ),
         ] {
-            let error = image_lines(&counting(), 500.0, &options, &mut crate::progress::Silent);
+            let error = options.image_lines(&counting(), 500.0, &mut crate::progress::Silent);
             assert!(
                 matches!(&error, Err(Error::Argument(m)) if m.contains(name)),
                 "{error:?}"
