@@ -7,7 +7,6 @@ Slicer's schema. Skipped when the tool is not built
 
 import csv
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,19 +14,10 @@ import pytest
 import crestline
 
 from test_frames import markups_points
-from test_same_as_cli import rotation, write_obj
+from test_same_as_cli import ROOT, rotation, tool, write_obj  # noqa: F401 (tool: a fixture)
 
-ROOT = Path(__file__).resolve().parents[3]
 MNI = ROOT / "volumes" / "mni152_t1_1mm.nii.gz"
 BUNNY = ROOT / "meshes" / "bunny_small.obj"
-TOOL = ROOT / "target" / "release" / "crestline"
-
-
-@pytest.fixture(scope="module")
-def tool():
-    if not TOOL.exists():
-        pytest.skip(f"{TOOL} is not built (run cargo build --release)")
-    return TOOL
 
 
 def motion(angles, shift):

@@ -183,6 +183,18 @@ fn median_error(output: &Path, chosen: &[Point]) -> f64 {
     median(errors)
 }
 
+/// `crestline transfer TEMPLATE LANDMARKS SUBJECT -o OUTPUT` (`scans`) with
+/// `extra`, which must succeed: the median error of its landmarks
+/// ([`median_error`]).
+fn transfer_error(scans: [&Path; 3], output: &Path, extra: &[&str], chosen: &[Point]) -> f64 {
+    let [template, landmarks, subject] = scans.map(path);
+    let out = path(output);
+    let mut args = vec!["transfer", &template, &landmarks, &subject, "-o", &out];
+    args.extend_from_slice(extra);
+    succeeds(&args);
+    median_error(output, chosen)
+}
+
 #[test]
 fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
     let dir = tempfile::tempdir().unwrap();
@@ -210,12 +222,9 @@ fn landmarks_of_the_mni_template_land_on_a_warped_copy() {
 
     let saved = dir.path().join("template.lines.json");
     let run = |name: &str, extra: &[&str]| {
-        let output = dir.path().join(name);
-        let (csv, subject, out) = (path(&csv), path(&subject), path(&output));
-        let mut args = vec!["transfer", MNI, &csv, &subject, "-o", &out, "--level", "60"];
-        args.extend_from_slice(extra);
-        succeeds(&args);
-        median_error(&output, &chosen)
+        let scans = [Path::new(MNI), &csv, &subject];
+        let level = [&["--level", "60"], extra].concat();
+        transfer_error(scans, &dir.path().join(name), &level, &chosen)
     };
     // The template's lines traced and saved by the first run, read by the other
     // (the meshes' test checks that reading them changes nothing).
@@ -251,13 +260,8 @@ fn landmarks_of_the_mni_isosurface_land_on_a_warped_copy() {
     let (_, csv, chosen) = landmarks_on_ridges(&template, dir.path());
     let saved = dir.path().join("template.lines.json");
     let run = |name: &str, extra: &[&str]| {
-        let output = dir.path().join(name);
-        let (template, csv, subject, out) =
-            (path(&template), path(&csv), path(&subject), path(&output));
-        let mut args = vec!["transfer", &template, &csv, &subject, "-o", &out];
-        args.extend_from_slice(extra);
-        succeeds(&args);
-        median_error(&output, &chosen)
+        let scans = [template.as_path(), &csv, &subject];
+        transfer_error(scans, &dir.path().join(name), extra, &chosen)
     };
     // The template's lines traced and saved here, and read from the file.
     let deformed = run(

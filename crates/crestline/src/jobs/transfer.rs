@@ -127,11 +127,14 @@ fn inner_levels(volume: &Volume, level: f64, quantiles: &[f64]) -> Vec<f64> {
     if inside.is_empty() {
         return Vec::new();
     }
-    inside.sort_unstable_by(f32::total_cmp);
+    // A selection per quantile, not a sort of the whole image.
     let last = inside.len() - 1;
     quantiles
         .iter()
-        .map(|q| f64::from(inside[(q * last as f64).round() as usize]))
+        .map(|q| {
+            let rank = (q * last as f64).round() as usize;
+            f64::from(*inside.select_nth_unstable_by(rank, f32::total_cmp).1)
+        })
         .filter(|inner| *inner > level)
         .collect()
 }
