@@ -75,10 +75,6 @@ impl TransferArgs {
     /// `--level` is given) or both meshes (and it is not); whether they are images.
     fn images(&self) -> Result<bool> {
         let images = is_volume_path(&self.template);
-        let argument = |path: &Path, message: String| Error::File {
-            path: path.to_path_buf(),
-            message,
-        };
         if is_volume_path(&self.subject) != images {
             let (template, subject) = if images {
                 ("an image", "a mesh")
@@ -143,16 +139,23 @@ impl TransferArgs {
     }
 }
 
+/// The error of an argument that names the file `path`.
+fn argument(path: &Path, message: String) -> Error {
+    Error::File {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
 /// Carry the landmarks and write them.
 pub fn run(args: &TransferArgs) -> Result<()> {
     LandmarkFormat::from_path(&args.output)?;
     if let Some(path) = &args.save_template_lines {
         if LineFormat::from_path(path)? != LineFormat::Json {
-            return Err(Error::File {
-                path: path.clone(),
-                message: "the template's lines are saved as .json, which --template-lines reads"
-                    .into(),
-            });
+            return Err(argument(
+                path,
+                "the template's lines are saved as .json, which --template-lines reads".into(),
+            ));
         }
     }
     let images = args.images()?;
